@@ -1,0 +1,58 @@
+#include "cli/stage_main.h"
+
+#include <cstdio>
+#include <exception>
+
+#include "core/log.h"
+
+namespace ausbau {
+
+int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
+             const std::function<int()>& run) {
+  SetLogProgramName(info.name);
+  CLI::App app(info.description, info.name);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "error, warn, info or debug (stderr)")->capture_default_str();
+  app.set_version_flag("--version", std::string(AUSBAU_VERSION));
+  try {
+    declare(app);
+    app.parse(argc, argv);
+    SetLogLevel(ParseLogLevel(log_level));
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", info.name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", info.name.c_str(), e.what());
+    return kExitBadInput;
+  }
+  try {
+    return run();
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", info.name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", info.name.c_str(), e.what());
+    return kExitInternal;
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error: unknown exception\n", info.name.c_str());
+    return kExitInternal;
+  }
+}
+
+std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded) {
+  std::string text;
+  for (const CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_single_name();
+    if (name.empty() || name == "help" || name == "version" || name == "log-level") continue;
+    if (std::find(excluded.begin(), excluded.end(), name) != excluded.end()) continue;
+    std::string value;
+    for (const std::string& r : option->results()) value += (value.empty() ? "" : " ") + r;
+    if (value.empty()) value = option->get_default_str();
+    text += name + ": \"" + value + "\"\n";
+  }
+  return text;
+}
+
+}  // namespace ausbau

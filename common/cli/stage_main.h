@@ -1,0 +1,29 @@
+// What every stage's main shares: the CLI11 app with the common flags
+// (--log-level, --version), the try/catch that maps exceptions to the
+// documented exit codes, and the one-line error format
+//   ausbau-<stage>: error: <what>: <where>
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+#include "core/error.h"
+
+namespace ausbau {
+
+struct StageInfo {
+  std::string name;         // "ausbau-plan"
+  std::string description;  // one line for --help
+};
+
+// Builds the app, lets `declare` add the stage's options, parses argv and
+// calls `run`, whose return value is the exit code. Never throws.
+int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
+             const std::function<int()>& run);
+
+// The provenance text of a set of options: "key: value" lines in a stable
+// order, recorded in artifacts and hashed for caching.
+std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded = {});
+
+}  // namespace ausbau

@@ -1,0 +1,32 @@
+// Collision between D and S with FCL's BVH (OBBRSS, triangle soups).
+#pragma once
+
+#include <memory>
+
+#include "collision/validity.h"
+#include "geometry/mesh.h"
+
+namespace ausbau {
+
+class FclCollisionChecker : public PoseValidity {
+ public:
+  // `robot` is D relative to its reference point (planning convention);
+  // `environment` is S in world coordinates.
+  FclCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment);
+  ~FclCollisionChecker() override;
+
+  // True when D at `pose` touches or intersects S's surface. Like FCL (and
+  // like OMPL.app), a part entirely inside a closed part of S is not
+  // detected: only surfaces are intersected.
+  bool InCollision(const Pose& pose) const;
+  bool IsValid(const Pose& pose) const override { return !InCollision(pose); }
+
+  // Minimum distance between D at `pose` and S (0 when in collision).
+  double Distance(const Pose& pose) const;
+
+ private:
+  struct Models;
+  std::unique_ptr<Models> models_;
+};
+
+}  // namespace ausbau

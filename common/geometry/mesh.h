@@ -1,0 +1,58 @@
+// Triangle meshes as loaded from CAD exports: an indexed triangle soup,
+// not necessarily watertight or manifold.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace ausbau {
+
+struct Aabb {
+  Eigen::Vector3d min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d max = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+
+  bool Empty() const { return (min.array() > max.array()).any(); }
+  void Extend(const Eigen::Vector3d& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void Extend(const Aabb& other) {
+    min = min.cwiseMin(other.min);
+    max = max.cwiseMax(other.max);
+  }
+  Eigen::Vector3d Center() const { return 0.5 * (min + max); }
+  Eigen::Vector3d Size() const { return max - min; }
+  double Diagonal() const { return Empty() ? 0.0 : (max - min).norm(); }
+  bool Contains(const Eigen::Vector3d& p) const {
+    return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+  }
+  // Strictly separated along some axis (touching counts as overlap).
+  bool SeparatedFrom(const Aabb& other) const {
+    return (max.array() < other.min.array()).any() || (other.max.array() < min.array()).any();
+  }
+};
+
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
+
+  Aabb Bounds() const {
+    Aabb box;
+    for (const auto& v : vertices) box.Extend(v);
+    return box;
+  }
+  // Appends another mesh, keeping indices valid.
+  void Append(const TriangleMesh& other) {
+    const int offset = static_cast<int>(vertices.size());
+    vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
+    for (auto tri : other.triangles) {
+      for (int& i : tri) i += offset;
+      triangles.push_back(tri);
+    }
+  }
+};
+
+}  // namespace ausbau

@@ -1,0 +1,89 @@
+#include "planning/dense_check.h"
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/narrowphase/collision.h>
+
+#include <cmath>
+#include <memory>
+
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
+
+std::unique_ptr<Bvh> Build(const TriangleMesh& mesh) {
+  auto model = std::make_unique<Bvh>();
+  model->beginModel();
+  for (const auto& t : mesh.triangles) {
+    model->addTriangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+  }
+  model->endModel();
+  return model;
+}
+
+}  // namespace
+
+DenseCheckReport DenseCheckPath(const Scene& scene, const Eigen::Vector3d& reference_point,
+                                const std::vector<Pose>& waypoints, double step_fraction) {
+  DenseCheckReport report;
+  const auto robot = Build(scene.dynamic_mesh);  // mesh coordinates, not shifted
+  const auto environment = Build(scene.static_mesh);
+  const double step = step_fraction * scene.dynamic_mesh.Bounds().Diagonal();
+  double radius = 0;  // farthest vertex from the interpolation centre
+  for (const auto& v : scene.dynamic_mesh.vertices) radius = std::max(radius, (v - reference_point).norm());
+
+  // A scene pose (t, q) places mesh point x at R (x - o) + t. About the
+  // reference point r the same pose reads R (x - r) + t + R (r - o).
+  const Eigen::Vector3d r_minus_o = reference_point - scene.dynamic_origin;
+  auto about_reference = [&](const Pose& p) { return Pose{p.t + p.q * r_minus_o, p.q}; };
+  auto check = [&](const Pose& centred, int segment, double fraction) {
+    ++report.poses_checked;
+    const Eigen::Matrix3d rotation = centred.q.toRotationMatrix();
+    // World transform of mesh coordinates: R x + (t_r - R r).
+    fcl::Transform3d tf = fcl::Transform3d::Identity();
+    tf.linear() = rotation;
+    tf.translation() = centred.t - rotation * reference_point;
+    if (scene.bounds) {
+      const Eigen::Vector3d origin_world = tf * scene.dynamic_origin;
+      if (!scene.bounds->Contains(origin_world)) {
+        report.valid = false;
+        report.reason = "leaves the bounds";
+      }
+    }
+    if (report.valid) {
+      fcl::CollisionRequestd request;
+      fcl::CollisionResultd result;
+      fcl::collide(robot.get(), tf, environment.get(), fcl::Transform3d::Identity(), request, result);
+      if (result.isCollision()) {
+        report.valid = false;
+        report.reason = "in collision";
+      }
+    }
+    if (!report.valid) {
+      report.first_bad_segment = segment;
+      report.first_bad_fraction = fraction;
+    }
+    return report.valid;
+  };
+
+  if (waypoints.empty()) {
+    report.valid = false;
+    report.reason = "empty path";
+    return report;
+  }
+  if (!check(about_reference(waypoints[0]), 0, 0.0)) return report;
+  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    const Pose a = about_reference(waypoints[i]), b = about_reference(waypoints[i + 1]);
+    const double displacement = (b.t - a.t).norm() + radius * RotationAngle(a.q, b.q);
+    const int steps = std::max(1, static_cast<int>(std::ceil(displacement / step)));
+    for (int k = 1; k <= steps; ++k) {
+      const double s = static_cast<double>(k) / steps;
+      if (!check(Interpolate(a, b, s), static_cast<int>(i), s)) return report;
+    }
+  }
+  return report;
+}
+
+}  // namespace ausbau

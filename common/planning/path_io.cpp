@@ -1,0 +1,125 @@
+#include "planning/path_io.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace ausbau {
+
+void AlignQuaternionSigns(std::vector<Pose>* path) {
+  for (std::size_t i = 0; i < path->size(); ++i) {
+    Eigen::Quaterniond& q = (*path)[i].q;
+    const bool flip = i == 0 ? q.w() < 0 : q.coeffs().dot((*path)[i - 1].q.coeffs()) < 0;
+    if (flip) q.coeffs() = -q.coeffs();
+  }
+}
+
+void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance) {
+  ArtifactWriter writer(file, kPathSchema, kPathSchemaVersion, provenance);
+  std::vector<double> rows;
+  for (const Pose& p : path.waypoints) {
+    rows.insert(rows.end(), {p.t.x(), p.t.y(), p.t.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z()});
+  }
+  writer.WriteDoubles("waypoints", rows, {path.waypoints.size(), 7});
+  writer.SetAttribute("waypoints", "columns", std::string("x,y,z,qw,qx,qy,qz"));
+  writer.WriteDoubles("reference_point", {path.reference_point.x(), path.reference_point.y(), path.reference_point.z()}, {3});
+  writer.WriteDoubles("dynamic_origin", {path.dynamic_origin.x(), path.dynamic_origin.y(), path.dynamic_origin.z()}, {3});
+  writer.WriteInts("stats/success", {path.success ? 1 : 0}, {});
+  writer.WriteDoubles("stats/time_s", {path.stats.time_s}, {});
+  writer.WriteInts("stats/iterations", {path.stats.iterations}, {});
+  writer.WriteInts("stats/nodes", {path.stats.nodes}, {});
+  writer.WriteInts("stats/collision_checks", {path.stats.collision_checks}, {});
+  writer.WriteDoubles("stats/length", {path.length_normalized}, {});
+  writer.WriteDoubles("stats/length_translation", {path.length_translation}, {});
+  writer.WriteDoubles("stats/length_rotation", {path.length_rotation}, {});
+  writer.SetAttribute("", "planner", path.planner);
+  writer.SetAttribute("", "scene", path.scene);
+  writer.Commit();
+}
+
+namespace {
+
+Eigen::Vector3d ReadVector3(const ArtifactReader& reader, const std::string& name) {
+  const Array<double> a = reader.ReadDoubles(name, 1);
+  if (a.data.size() != 3) throw InputErrorAt(reader.path().string(), "dataset '" + name + "' must hold 3 numbers");
+  return {a.data[0], a.data[1], a.data[2]};
+}
+
+double ReadScalar(const ArtifactReader& reader, const std::string& name) {
+  const Array<double> a = reader.ReadDoubles(name);
+  if (a.data.size() != 1) throw InputErrorAt(reader.path().string(), "dataset '" + name + "' must be a scalar");
+  return a.data[0];
+}
+
+std::int64_t ReadIntScalar(const ArtifactReader& reader, const std::string& name) {
+  const Array<std::int64_t> a = reader.ReadInts(name);
+  if (a.data.size() != 1) throw InputErrorAt(reader.path().string(), "dataset '" + name + "' must be a scalar");
+  return a.data[0];
+}
+
+}  // namespace
+
+PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
+  const ArtifactReader reader(file, kPathSchema, kPathSchemaVersion);
+  PathArtifact path;
+  const Array<double> rows = reader.ReadDoubles("waypoints", 2);
+  if (rows.dims[1] != 7) {
+    throw InputErrorAt(file.string(), "dataset 'waypoints' must have 7 columns (got " + std::to_string(rows.dims[1]) + ")");
+  }
+  for (std::size_t i = 0; i < rows.dims[0]; ++i) {
+    const double* r = &rows.data[7 * i];
+    Pose p;
+    p.t = {r[0], r[1], r[2]};
+    p.q = Eigen::Quaterniond(r[3], r[4], r[5], r[6]);
+    for (int k = 0; k < 7; ++k) {
+      if (!std::isfinite(r[k])) throw InputErrorAt(file.string(), "waypoint " + std::to_string(i) + " is not finite");
+    }
+    if (std::abs(p.q.norm() - 1.0) > 1e-6) {
+      throw InputErrorAt(file.string(), "waypoint " + std::to_string(i) + " has a non-unit quaternion");
+    }
+    path.waypoints.push_back(p);
+  }
+  path.reference_point = ReadVector3(reader, "reference_point");
+  path.dynamic_origin = ReadVector3(reader, "dynamic_origin");
+  path.success = ReadIntScalar(reader, "stats/success") != 0;
+  path.stats.time_s = ReadScalar(reader, "stats/time_s");
+  path.stats.iterations = ReadIntScalar(reader, "stats/iterations");
+  path.stats.nodes = ReadIntScalar(reader, "stats/nodes");
+  path.stats.collision_checks = ReadIntScalar(reader, "stats/collision_checks");
+  path.length_normalized = ReadScalar(reader, "stats/length");
+  path.planner = reader.ReadStringAttribute("", "planner");
+  path.scene = reader.ReadStringAttribute("", "scene");
+  return path;
+}
+
+void WriteTextFileAtomically(const std::filesystem::path& file, const std::string& text) {
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
+  const std::filesystem::path temporary = file.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      throw std::runtime_error(file.string() + ": cannot write file");
+    }
+  }
+  std::filesystem::rename(temporary, file);
+}
+
+void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints) {
+  std::string text = "x,y,z,qw,qx,qy,qz\n";
+  char line[512];
+  for (const Pose& p : waypoints) {
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", p.t.x(), p.t.y(), p.t.z(),
+                  p.q.w(), p.q.x(), p.q.y(), p.q.z());
+    text += line;
+  }
+  WriteTextFileAtomically(file, text);
+}
+
+}  // namespace ausbau

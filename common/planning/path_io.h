@@ -1,0 +1,43 @@
+// Path artifacts (schema ausbau-path, see schemas/path.md) and exports.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "artifact/artifact.h"
+#include "planning/planner.h"
+
+namespace ausbau {
+
+inline constexpr char kPathSchema[] = "ausbau-path";
+inline constexpr int kPathSchemaVersion = 1;
+
+struct PathArtifact {
+  std::vector<Pose> waypoints;                                  // scene convention
+  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();    // interpolation centre, D's mesh coordinates
+  Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
+  std::string planner;
+  std::string scene;
+  bool success = false;
+  PlanStats stats;
+  double length_normalized = 0;
+  double length_translation = 0;
+  double length_rotation = 0;
+};
+
+// Makes consecutive quaternions lie in the same hemisphere (q and -q are one
+// rotation), so that any reader's interpolation takes the short way.
+void AlignQuaternionSigns(std::vector<Pose>* path);
+
+void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance);
+PathArtifact ReadPathArtifact(const std::filesystem::path& file);
+
+// CSV with header x,y,z,qw,qx,qy,qz, one waypoint per row, 17 significant
+// digits; written atomically.
+void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
+
+// Writes a text file atomically (temporary file, then rename).
+void WriteTextFileAtomically(const std::filesystem::path& file, const std::string& text);
+
+}  // namespace ausbau

@@ -1,0 +1,53 @@
+// Planner options, results and the entry point that dispatches on the
+// planner's name.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "planning/state_space.h"
+
+namespace ausbau {
+
+struct PlannerOptions {
+  std::string planner = "cr-rrtc";  // rrtc | cr-rrtc
+  std::uint64_t seed = 1;
+  double time_limit_s = 60.0;       // wall-clock budget
+  std::int64_t max_iterations = 0;  // 0 = unlimited (tests use it for exact budgets)
+  double u = 0.583;                 // rrtc: metric weight (Def-RRTC default)
+  double range_max = 0.417;         // rrtc: maximal edge range (Def-RRTC default)
+  // Edge resolution: between two checked poses no vertex of D moves more
+  // than this fraction of D's AABB diagonal.
+  double resolution = 0.005;
+
+  // Throws InputError naming the option when a value is out of range.
+  void Check() const;
+};
+
+enum class PlanStatus { kSolved, kTimeLimit, kIterationLimit };
+
+struct PlanStats {
+  double time_s = 0;
+  std::int64_t iterations = 0;
+  std::int64_t nodes = 0;
+  std::int64_t collision_checks = 0;
+};
+
+struct PlanResult {
+  PlanStatus status = PlanStatus::kTimeLimit;
+  std::vector<Pose> path;  // planning convention; empty unless solved
+  PlanStats stats;
+  bool solved() const { return status == PlanStatus::kSolved; }
+};
+
+// Plans from problem.start to problem.goal (or into the disassembly region)
+// with the validity check given. Deterministic for a given seed as long as
+// it does not run into the time limit.
+PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options);
+
+// A goal pose (or the start) that is invalid makes the problem unsolvable;
+// these throw InputError with the reason.
+void CheckEndpoints(const PlanningProblem& problem, const PoseValidity& validity, const std::string& where);
+
+}  // namespace ausbau

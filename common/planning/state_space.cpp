@@ -1,0 +1,146 @@
+#include "planning/state_space.h"
+
+#include <cmath>
+#include <queue>
+#include <sstream>
+
+#include "core/error.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+std::string Format(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return out.str();
+}
+
+}  // namespace
+
+Pose PlanningProblem::SceneToPlanning(const Pose& scene_pose) const {
+  // R (x - o) + t = R (x - r) + R (r - o) + t
+  Pose out = scene_pose;
+  out.t = scene_pose.t + scene_pose.q * (reference_point - dynamic_origin);
+  return out;
+}
+
+Pose PlanningProblem::PlanningToScene(const Pose& planning_pose) const {
+  Pose out = planning_pose;
+  out.t = planning_pose.t - planning_pose.q * (reference_point - dynamic_origin);
+  return out;
+}
+
+bool PlanningProblem::InBounds(const Pose& pose) const { return bounds.Contains(pose.Apply(bounded_point)); }
+
+Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const {
+  // Transformed box: centre moves, half-extents through |R|.
+  const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
+  const Eigen::Vector3d center = rotation * robot_local_box.Center() + pose.t;
+  const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * robot_local_box.Size());
+  Aabb box;
+  box.min = center - half;
+  box.max = center + half;
+  return box;
+}
+
+Pose PlanningProblem::SampleUniform(Random& random) const {
+  Pose pose;
+  pose.q = random.UniformQuaternion();
+  Eigen::Vector3d bounded;
+  for (int i = 0; i < 3; ++i) bounded[i] = random.Uniform(bounds.min[i], bounds.max[i]);
+  pose.t = bounded - pose.q * bounded_point;  // places bounded_point at `bounded`
+  return pose;
+}
+
+PlanningProblem MakePlanningProblem(const Scene& scene) {
+  PlanningProblem problem;
+  const Aabb mesh_box = scene.dynamic_mesh.Bounds();
+  problem.dynamic_origin = scene.dynamic_origin;
+  problem.reference_point = scene.dynamic_origin_given ? scene.dynamic_origin : mesh_box.Center();
+
+  problem.robot = scene.dynamic_mesh;
+  for (auto& v : problem.robot.vertices) v -= problem.reference_point;
+  problem.environment = scene.static_mesh;
+  problem.robot_local_box = problem.robot.Bounds();
+  problem.robot_diagonal = mesh_box.Diagonal();
+  for (const auto& v : problem.robot.vertices) problem.robot_radius = std::max(problem.robot_radius, v.norm());
+  problem.environment_box = problem.environment.Bounds();
+
+  problem.start = problem.SceneToPlanning(scene.start);
+  if (scene.goal) problem.goal = problem.SceneToPlanning(*scene.goal);
+
+  const std::string where = scene.file.string();
+  if (scene.bounds) {
+    problem.bounds = *scene.bounds;
+    problem.bounds_given = true;
+    problem.bounded_point = problem.dynamic_origin - problem.reference_point;
+    if (!problem.bounds.Contains(scene.start.t)) {
+      throw InputErrorAt(where, "start position " + Format(scene.start.t) + " lies outside bounds " +
+                                    Format(problem.bounds.min) + " .. " + Format(problem.bounds.max));
+    }
+    if (scene.goal && !problem.bounds.Contains(scene.goal->t)) {
+      throw InputErrorAt(where, "goal position " + Format(scene.goal->t) + " lies outside bounds " +
+                                    Format(problem.bounds.min) + " .. " + Format(problem.bounds.max));
+    }
+  } else {
+    Aabb box = problem.environment_box;
+    box.Extend(problem.start.t);
+    if (problem.goal) box.Extend(problem.goal->t);
+    const double margin = 1.5 * problem.robot_diagonal;
+    box.min.array() -= margin;
+    box.max.array() += margin;
+    problem.bounds = box;
+    problem.bounded_point.setZero();
+  }
+  problem.metric.nu = problem.bounds.Diagonal();
+  if (!(problem.metric.nu > 0) || !std::isfinite(problem.metric.nu)) {
+    throw InputErrorAt(where, "translation bounds are degenerate (zero or infinite extent)");
+  }
+  if (!(problem.robot_diagonal > 0)) throw InputErrorAt(where, "the dynamic part D has zero extent");
+  return problem;
+}
+
+MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step)
+    : problem_(&problem), validity_(&validity), step_(step) {}
+
+int MotionChecker::Steps(const Pose& a, const Pose& b) const {
+  const double displacement = MaxDisplacement(a, b, problem_->robot_radius);
+  return std::max(1, static_cast<int>(std::ceil(displacement / step_)));
+}
+
+bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
+  const int steps = Steps(a, b);
+  if (!IsValid(b)) return false;
+  // Bisection order (as OMPL's discrete motion validator): a collision in
+  // the middle of an edge is found after few checks.
+  std::queue<std::pair<int, int>> intervals;
+  intervals.emplace(0, steps);
+  while (!intervals.empty()) {
+    const auto [lo, hi] = intervals.front();
+    intervals.pop();
+    if (hi - lo < 2) continue;
+    const int mid = (lo + hi) / 2;
+    if (!IsValid(Interpolate(a, b, static_cast<double>(mid) / steps))) return false;
+    intervals.emplace(lo, mid);
+    intervals.emplace(mid, hi);
+  }
+  return true;
+}
+
+double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const {
+  const int steps = Steps(a, b);
+  int valid = 0;
+  Pose last = a;
+  for (int i = 1; i <= steps; ++i) {
+    const Pose pose = i == steps ? b : Interpolate(a, b, static_cast<double>(i) / steps);
+    if (!IsValid(pose)) break;
+    valid = i;
+    last = pose;
+  }
+  if (last_valid) *last_valid = last;
+  return static_cast<double>(valid) / steps;
+}
+
+}  // namespace ausbau

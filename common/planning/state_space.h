@@ -1,0 +1,109 @@
+// The rigid-body planning problem in the planning convention, the
+// normalized SE(3) metric of the thesis and the motion (edge) check.
+//
+// Scene convention:    x_world = R(q) (x_mesh - dynamic_origin) + t_scene
+// Planning convention: x_world = R(q) (x_mesh - reference_point) + t
+// The reference point lies inside D (see MakePlanningProblem), so rotations in
+// the planner turn D about itself even when a CAD export puts D metres away
+// from its mesh origin. Conversions happen only at the boundary.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "collision/validity.h"
+#include "geometry/mesh.h"
+#include "geometry/pose.h"
+#include "planning/random.h"
+
+namespace ausbau {
+
+struct Scene;
+
+// Thesis eq. 2 and 3. nu is the extent (diagonal) of the translation bounds.
+struct Metric {
+  double nu = 1.0;
+
+  // d'_t in [0, 1] within the bounds.
+  double Translation(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const { return (a - b).norm() / nu; }
+  // d'_q = min(acos(q1.q2), acos(q1.(-q2))) / pi, in [0, 1/2].
+  static double Rotation(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+    const double dot = std::min(1.0, std::abs(a.coeffs().dot(b.coeffs())));
+    return std::acos(dot) / M_PI;
+  }
+  // d'_c(c1, c2, u) = u d'_t + (1 - u) d'_q, eq. 2.
+  double Distance(const Pose& a, const Pose& b, double u) const {
+    return u * Translation(a.t, b.t) + (1.0 - u) * Rotation(a.q, b.q);
+  }
+  // range(c1, c2) = max(d'_t, d'_q), eq. 3.
+  double Range(const Pose& a, const Pose& b) const {
+    return std::max(Translation(a.t, b.t), Rotation(a.q, b.q));
+  }
+};
+
+struct PlanningProblem {
+  TriangleMesh robot;        // D relative to reference_point (its mesh frame, shifted)
+  TriangleMesh environment;  // S in world coordinates
+  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();  // in D's mesh coordinates
+  Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();   // in D's mesh coordinates
+  // Translation bounds apply to the world position of the point
+  // `bounded_point` (relative to the reference point, in D's frame): the
+  // scene's dynamic_origin when the scene gives bounds, else the reference
+  // point itself (derived bounds).
+  Aabb bounds;
+  Eigen::Vector3d bounded_point = Eigen::Vector3d::Zero();
+  bool bounds_given = false;
+  Pose start;                // planning convention
+  std::optional<Pose> goal;  // planning convention; none = disassembly region
+  Aabb robot_local_box;      // AABB of `robot`
+  double robot_radius = 0;   // max distance of a vertex of D from the reference point
+  double robot_diagonal = 0; // diagonal of D's AABB
+  Aabb environment_box;      // AABB of S
+  Metric metric;
+
+  Pose SceneToPlanning(const Pose& scene_pose) const;
+  Pose PlanningToScene(const Pose& planning_pose) const;
+
+  bool InBounds(const Pose& pose) const;
+  // World AABB of D at `pose`, conservative: the box around the 8 transformed
+  // corners of D's local AABB.
+  Aabb RobotBoxAt(const Pose& pose) const;
+  // Disassembly goal: D's AABB (conservative) separated from S's.
+  bool InGoalRegion(const Pose& pose) const { return RobotBoxAt(pose).SeparatedFrom(environment_box); }
+
+  Pose SampleUniform(Random& random) const;
+};
+
+// Builds the planning problem: the reference point is the scene's
+// dynamic_origin when given (the OMPL.app scenes give D's centroid), else the
+// centre of D's AABB. Derived bounds: S's AABB together with the start (and
+// goal) positions, grown by 1.5x D's AABB diagonal on every side, which leaves
+// room for D to leave S's AABB in any direction. Throws InputError when
+// start or goal lie outside the bounds.
+PlanningProblem MakePlanningProblem(const Scene& scene);
+
+// Checks straight motions (linear t, slerp q about the reference point)
+// between poses at a step size bound: between two checked poses no vertex of
+// D moves more than `step` (world units).
+class MotionChecker {
+ public:
+  MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step);
+
+  bool IsValid(const Pose& pose) const { return problem_->InBounds(pose) && validity_->IsValid(pose); }
+  // Number of equal sub-steps needed between a and b.
+  int Steps(const Pose& a, const Pose& b) const;
+  // Whole motion valid (a is assumed valid and not re-checked; b is checked).
+  bool MotionValid(const Pose& a, const Pose& b) const;
+  // Walks from a towards b and returns the fraction in [0, 1] of the last
+  // valid checked pose (0 = no progress), and that pose in *last_valid.
+  double ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const;
+  double step() const { return step_; }
+  const PoseValidity& validity() const { return *validity_; }
+
+ private:
+  const PlanningProblem* problem_;
+  const PoseValidity* validity_;
+  double step_;
+};
+
+}  // namespace ausbau

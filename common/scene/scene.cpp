@@ -1,0 +1,351 @@
+// scene.yaml reading and writing (format ausbau-scene/1, see schemas/scene.md).
+#include "scene/scene.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <system_error>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "scene/mesh_io.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kFormat = "ausbau-scene/1";
+constexpr double kUnitTolerance = 1e-3;
+
+// ---------------------------------------------------------------- reading
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void Fail(const std::string& what) const { throw InputErrorAt(file_, what); }
+
+  static int Line(const YAML::Node& node) { return node.Mark().line + 1; }
+
+  // A compact one-line rendering of a node for error messages.
+  static std::string Show(const YAML::Node& node) {
+    if (!node.IsDefined() || node.IsNull()) return "nothing";
+    YAML::Emitter out;
+    out.SetSeqFormat(YAML::Flow);
+    out.SetMapFormat(YAML::Flow);
+    out << node;
+    std::string s = out.c_str();
+    for (char& c : s) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+    if (s.size() > 60) s = s.substr(0, 57) + "...";
+    return s;
+  }
+
+  // Rejects keys of a mapping outside `allowed` and duplicate keys.
+  void CheckKeys(const YAML::Node& map, const std::set<std::string>& allowed,
+                 const std::string& prefix) const {
+    std::set<std::string> seen;
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      const YAML::Node key = it->first;  // a copy: the iterator yields temporaries
+      const std::string k = key.IsScalar() ? key.Scalar() : Show(key);
+      if (!key.IsScalar() || allowed.count(k) == 0) {
+        Fail("unknown key '" + prefix + k + "' (line " + std::to_string(Line(key)) + ")");
+      }
+      if (!seen.insert(k).second) {
+        Fail("duplicate key '" + prefix + k + "' (line " + std::to_string(Line(key)) + ")");
+      }
+    }
+  }
+
+  static bool ToNumber(const YAML::Node& node, double& value) {
+    if (!node.IsScalar() || node.Tag() == "!") return false;  // quoted strings are not numbers
+    return YAML::convert<double>::decode(node, value) && std::isfinite(value);
+  }
+
+  // A sequence of exactly n finite numbers.
+  std::vector<double> Numbers(const YAML::Node& node, size_t n, const std::string& what) const {
+    std::vector<double> out;
+    bool ok = node.IsSequence() && node.size() == n;
+    for (size_t i = 0; ok && i < n; ++i) {
+      double v = 0;
+      ok = ToNumber(node[i], v);
+      out.push_back(v);
+    }
+    if (!ok) {
+      Fail(what + " must be a list of " + std::to_string(n) + " finite numbers (got " +
+           Show(node) + ", line " + std::to_string(Line(node)) + ")");
+    }
+    return out;
+  }
+
+  Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& what) const {
+    const auto v = Numbers(node, 3, what);
+    return {v[0], v[1], v[2]};
+  }
+
+  Eigen::Quaterniond Quaternion(const YAML::Node& node, const std::string& what) const {
+    const auto v = Numbers(node, 4, what);
+    Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);  // qw, qx, qy, qz
+    const double norm = q.norm();
+    if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
+      char buf[64];
+      std::snprintf(buf, sizeof(buf), "%.6g", norm);
+      Fail(what + " is not a unit quaternion (norm " + buf + ", line " +
+           std::to_string(Line(node)) + ")");
+    }
+    q.normalize();
+    return q;
+  }
+
+  std::string String(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsScalar() || node.Scalar().empty()) {
+      Fail(what + " must be a non-empty string (got " + Show(node) + ", line " +
+           std::to_string(Line(node)) + ")");
+    }
+    return node.Scalar();
+  }
+
+  Pose ReadPose(const YAML::Node& node, const std::string& what) const {
+    if (!node.IsMap()) {
+      Fail(what + " must be a mapping {t: [x, y, z], q: [qw, qx, qy, qz]} (got " + Show(node) +
+           ", line " + std::to_string(Line(node)) + ")");
+    }
+    CheckKeys(node, {"t", "q"}, what + ".");
+    Pose pose;
+    if (node["t"]) pose.t = Vector3(node["t"], what + ".t");
+    if (node["q"]) pose.q = Quaternion(node["q"], what + ".q");
+    return pose;
+  }
+
+  Aabb ReadBounds(const YAML::Node& node) const {
+    if (!node.IsMap()) {
+      Fail("bounds must be a mapping {min: [x, y, z], max: [x, y, z]} (got " + Show(node) +
+           ", line " + std::to_string(Line(node)) + ")");
+    }
+    CheckKeys(node, {"min", "max"}, "bounds.");
+    if (!node["min"]) Fail("missing required key 'bounds.min'");
+    if (!node["max"]) Fail("missing required key 'bounds.max'");
+    Aabb box;
+    box.min = Vector3(node["min"], "bounds.min");
+    box.max = Vector3(node["max"], "bounds.max");
+    static const char* kAxis = "xyz";
+    for (int a = 0; a < 3; ++a) {
+      if (box.min[a] > box.max[a]) {
+        char buf[160];
+        std::snprintf(buf, sizeof(buf), "bounds.min > bounds.max on axis %c (%.17g > %.17g)",
+                      kAxis[a], box.min[a], box.max[a]);
+        Fail(buf);
+      }
+    }
+    return box;
+  }
+
+ private:
+  std::string file_;
+};
+
+fs::path Resolve(const fs::path& dir, const std::string& p) {
+  const fs::path path(p);
+  return path.is_absolute() ? path : dir / path;
+}
+
+// ---------------------------------------------------------------- writing
+
+std::string Num(double v, const std::string& what, const fs::path& file) {
+  if (!std::isfinite(v)) {
+    throw std::runtime_error(file.string() + ": cannot write non-finite " + what);
+  }
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof(buf), v);  // shortest round-trip form
+  return std::string(buf, res.ptr);
+}
+
+std::string Vec(const double* v, int n, const std::string& what, const fs::path& file) {
+  std::string s = "[";
+  for (int i = 0; i < n; ++i) {
+    if (i > 0) s += ", ";
+    s += Num(v[i], what, file);
+  }
+  return s + "]";
+}
+
+std::string Vec3(const Eigen::Vector3d& v, const std::string& what, const fs::path& file) {
+  return Vec(v.data(), 3, what, file);
+}
+
+// A YAML double-quoted string.
+std::string Quote(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (c < 0x20 || c == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof(buf), "\\x%02x", c);
+      out += buf;
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+std::string RelativePath(const fs::path& target, const fs::path& dir) {
+  const fs::path abs_target = fs::absolute(target).lexically_normal();
+  const fs::path abs_dir = fs::absolute(dir.empty() ? fs::path(".") : dir).lexically_normal();
+  const fs::path rel = abs_target.lexically_relative(abs_dir);
+  return (rel.empty() ? abs_target : rel).generic_string();
+}
+
+std::string PoseYaml(const Pose& pose, const std::string& what, const fs::path& file) {
+  const double q[4] = {pose.q.w(), pose.q.x(), pose.q.y(), pose.q.z()};
+  return "{t: " + Vec3(pose.t, what + ".t", file) + ", q: " + Vec(q, 4, what + ".q", file) + "}";
+}
+
+}  // namespace
+
+Scene LoadScene(const fs::path& path) {
+  const std::string name = path.string();
+  Reader r(name);
+  std::error_code ec;
+  if (!fs::exists(path, ec)) r.Fail("file not found");
+  if (fs::is_directory(path, ec)) r.Fail("cannot read (is a directory)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) r.Fail("cannot read file");
+  std::stringstream text;
+  text << in.rdbuf();
+
+  YAML::Node loaded;
+  try {
+    loaded = YAML::Load(text.str());
+  } catch (const YAML::Exception& e) {
+    r.Fail("YAML syntax error at line " + std::to_string(e.mark.line + 1) + ", column " +
+           std::to_string(e.mark.column + 1) + ": " + e.msg);
+  }
+  const YAML::Node root = loaded;  // const: lookups never insert keys
+  if (!root.IsMap()) r.Fail("expected a mapping of scene keys at the top level");
+
+  Scene scene;
+  try {
+    r.CheckKeys(root,
+                {"format", "name", "units", "static", "dynamic", "dynamic_origin", "start", "goal",
+                 "bounds"},
+                "");
+    if (!root["format"]) r.Fail(std::string("missing required key 'format' (expected ") + kFormat + ")");
+    const YAML::Node format = root["format"];
+    if (!format.IsScalar() || format.Scalar() != kFormat) {
+      r.Fail("unsupported format '" + (format.IsScalar() ? format.Scalar() : Reader::Show(format)) +
+             "' (expected " + kFormat + ")");
+    }
+
+    scene.file = path;
+    scene.name = root["name"] ? r.String(root["name"], "name") : path.stem().string();
+    if (root["units"]) scene.units = r.String(root["units"], "units");
+
+    const fs::path dir = path.parent_path();
+    if (!root["static"]) r.Fail("missing required key 'static'");
+    const YAML::Node stat = root["static"];
+    if (stat.IsSequence()) {
+      if (stat.size() == 0) {
+        r.Fail("static must be a file name or a non-empty list of file names (got [], line " +
+               std::to_string(Reader::Line(stat)) + ")");
+      }
+      for (size_t i = 0; i < stat.size(); ++i) {
+        scene.static_files.push_back(
+            Resolve(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
+      }
+    } else {
+      scene.static_files.push_back(Resolve(dir, r.String(stat, "static")));
+    }
+    if (!root["dynamic"]) r.Fail("missing required key 'dynamic'");
+    scene.dynamic_file = Resolve(dir, r.String(root["dynamic"], "dynamic"));
+
+    if (root["dynamic_origin"]) {
+      scene.dynamic_origin = r.Vector3(root["dynamic_origin"], "dynamic_origin");
+      scene.dynamic_origin_given = true;
+    }
+    if (root["start"]) scene.start = r.ReadPose(root["start"], "start");
+    if (root["goal"]) scene.goal = r.ReadPose(root["goal"], "goal");
+    if (root["bounds"]) scene.bounds = r.ReadBounds(root["bounds"]);
+  } catch (const YAML::Exception& e) {
+    // Should not happen after the checks above; keep the one-line contract anyway.
+    r.Fail("invalid scene at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+  }
+
+  // Meshes: errors name the scene file, the key and the mesh file.
+  for (size_t i = 0; i < scene.static_files.size(); ++i) {
+    try {
+      scene.static_mesh.Append(LoadMesh(scene.static_files[i]));
+    } catch (const InputError& e) {
+      r.Fail("static: " + std::string(e.what()));
+    }
+  }
+  try {
+    scene.dynamic_mesh = LoadMesh(scene.dynamic_file);
+  } catch (const InputError& e) {
+    r.Fail("dynamic: " + std::string(e.what()));
+  }
+  return scene;
+}
+
+void SaveSceneYaml(const Scene& scene, const fs::path& path) {
+  const fs::path dir = path.parent_path();
+  std::string y;
+  y += "# ausbau scene (schemas/scene.md). A pose maps D's mesh coordinates to the world:\n";
+  y += "# x_world = R(q) (x - dynamic_origin) + t, q = [qw, qx, qy, qz].\n";
+  y += std::string("format: ") + kFormat + "\n";
+  const std::string name = scene.name.empty() ? path.stem().string() : scene.name;
+  y += "name: " + Quote(name) + "\n";
+  if (!scene.units.empty()) y += "units: " + Quote(scene.units) + "\n";
+  if (scene.static_files.empty()) {
+    throw std::runtime_error(path.string() + ": cannot write a scene without static files");
+  }
+  y += "static: [";
+  for (size_t i = 0; i < scene.static_files.size(); ++i) {
+    if (i > 0) y += ", ";
+    y += Quote(RelativePath(scene.static_files[i], dir));
+  }
+  y += "]\n";
+  if (scene.dynamic_file.empty()) {
+    throw std::runtime_error(path.string() + ": cannot write a scene without a dynamic file");
+  }
+  y += "dynamic: " + Quote(RelativePath(scene.dynamic_file, dir)) + "\n";
+  if (scene.dynamic_origin_given) {
+    y += "dynamic_origin: " + Vec3(scene.dynamic_origin, "dynamic_origin", path) + "\n";
+  }
+  y += "start: " + PoseYaml(scene.start, "start", path) + "\n";
+  if (scene.goal) y += "goal: " + PoseYaml(*scene.goal, "goal", path) + "\n";
+  if (scene.bounds) {
+    y += "bounds: {min: " + Vec3(scene.bounds->min, "bounds.min", path) +
+         ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
+  }
+
+  const std::string tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << y;
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw std::runtime_error(path.string() + ": cannot write");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path.string() + ": cannot write (" + ec.message() + ")");
+  }
+}
+
+}  // namespace ausbau

@@ -1,0 +1,40 @@
+# The rigid planning pipeline for one scene: plan -> smooth.
+#   make -f pipelines/plan.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [PLANNER=cr-rrtc]
+# Each stage's executable is a variable, so a stage can be swapped:
+#   make -f pipelines/plan.mk ... PLAN=/path/to/my-planner
+# The stages themselves skip work whose output is up to date by provenance
+# (inputs' content + options), so make always calls them.
+
+BIN ?= build/bin
+PLAN ?= $(BIN)/ausbau-plan
+SMOOTH ?= $(BIN)/ausbau-smooth
+SCENE_GEN ?= $(BIN)/ausbau-scene-gen
+SEED ?= 1
+PLANNER ?= cr-rrtc
+TIME_LIMIT ?= 60
+PLAN_FLAGS ?=
+SMOOTH_FLAGS ?=
+
+ifndef SCENE
+$(error SCENE=path/to/scene.yaml is required)
+endif
+ifndef OUT
+$(error OUT=output/folder is required)
+endif
+
+.PHONY: all plan smooth generate-demo-scene
+.DELETE_ON_ERROR:
+
+all: smooth
+
+plan:
+	@mkdir -p $(OUT)
+	$(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
+	  -o $(OUT)/path.h5 --csv $(OUT)/path.csv $(PLAN_FLAGS)
+
+smooth: plan
+	$(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) \
+	  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+
+generate-demo-scene:
+	@$(SCENE_GEN) --family rod-in-cage --seed $(SEED) -o $(dir $(SCENE)) > /dev/null

@@ -1,0 +1,128 @@
+// ausbau-plan: rigid-body planning for one scene, from the start pose to the
+// goal pose or, without a goal, out of S (disassembly). See README.md.
+#include <filesystem>
+
+#include "cli/stage_main.h"
+#include "collision/fcl_checker.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "planning/dense_check.h"
+#include "planning/path_io.h"
+#include "planning/planner.h"
+#include "planning/smoother.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+struct PlanStageOptions {
+  std::string scene;
+  std::string output = "path.h5";
+  std::string csv;
+  bool verify = true;
+  bool force = false;
+  PlannerOptions planner;
+};
+
+Provenance MakeProvenance(const Scene& scene, const std::string& parameters) {
+  Provenance provenance{"ausbau-plan", AUSBAU_VERSION, parameters, {}};
+  provenance.inputs.emplace_back("scene", HashFile(scene.file));
+  for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
+  provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+  return provenance;
+}
+
+int Run(const PlanStageOptions& options, const std::string& parameters) {
+  options.planner.Check();
+  const Scene scene = LoadScene(options.scene);
+  const Provenance provenance = MakeProvenance(scene, parameters);
+
+  // Cache: an existing output with the same provenance is the same answer.
+  if (!options.force && ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {
+    const PathArtifact cached = ReadPathArtifact(options.output);
+    LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
+    if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
+    return cached.success ? kExitOk : kExitNoPath;
+  }
+
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  LogInfo("scene %s: S %zu triangles, D %zu triangles, planner %s, seed %llu, time limit %.1f s",
+          scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
+          options.planner.planner.c_str(), static_cast<unsigned long long>(options.planner.seed),
+          options.planner.time_limit_s);
+  const FclCollisionChecker checker(problem.robot, problem.environment);
+  CheckEndpoints(problem, checker, scene.file.string());
+
+  const PlanResult result = Plan(problem, checker, options.planner);
+  PathArtifact artifact;
+  artifact.reference_point = problem.reference_point;
+  artifact.dynamic_origin = problem.dynamic_origin;
+  artifact.planner = options.planner.planner;
+  artifact.scene = scene.name;
+  artifact.success = result.solved();
+  artifact.stats = result.stats;
+  for (const Pose& pose : result.path) artifact.waypoints.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&artifact.waypoints);
+  const PathLength length = MeasurePath(problem, result.path);
+  artifact.length_normalized = length.normalized;
+  artifact.length_translation = length.translation;
+  artifact.length_rotation = length.rotation;
+
+  LogInfo("%s after %.3f s: %lld iterations, %lld nodes, %lld collision checks",
+          result.solved() ? "solved" : "no path", result.stats.time_s,
+          static_cast<long long>(result.stats.iterations), static_cast<long long>(result.stats.nodes),
+          static_cast<long long>(result.stats.collision_checks));
+  if (result.solved() && options.verify) {
+    const DenseCheckReport report = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
+    if (!report.valid) {
+      throw std::runtime_error("planned path fails the dense re-check: segment " +
+                               std::to_string(report.first_bad_segment) + " " + report.reason);
+    }
+    LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)",
+            static_cast<long long>(report.poses_checked));
+  }
+  WritePathArtifact(options.output, artifact, provenance);
+  if (result.solved() && !options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
+  if (!result.solved()) {
+    LogError("no path within the budget (%s)",
+             result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+    return kExitNoPath;
+  }
+  LogInfo("path: %zu waypoints, length %.4f (normalized), written to %s%s%s", artifact.waypoints.size(),
+          length.normalized, options.output.c_str(), options.csv.empty() ? "" : " and ", options.csv.c_str());
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace ausbau
+
+int main(int argc, char** argv) {
+  using namespace ausbau;
+  PlanStageOptions options;
+  CLI::App* app_ptr = nullptr;
+  return RunStage(
+      {"ausbau-plan", "Plans a collision-free motion of the part D out of (or through) its surroundings S."}, argc,
+      argv,
+      [&](CLI::App& app) {
+        app_ptr = &app;
+        app.add_option("--scene", options.scene, "scene.yaml")->required();
+        app.add_option("--planner", options.planner.planner, "rrtc | cr-rrtc")->capture_default_str();
+        app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str();
+        app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str();
+        app.add_option("--max-iterations", options.planner.max_iterations, "0 = unlimited")->capture_default_str();
+        app.add_option("--u", options.planner.u, "rrtc: metric weight of translation, (0, 1)")
+            ->capture_default_str();
+        app.add_option("--range-max", options.planner.range_max, "rrtc: maximal edge range, (0, 1]")
+            ->capture_default_str();
+        app.add_option("--resolution", options.planner.resolution,
+                       "edge check step as a fraction of D's AABB diagonal")
+            ->capture_default_str();
+        app.add_option("-o,--output", options.output, "path artifact (HDF5)")->capture_default_str();
+        app.add_option("--csv", options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
+        app.add_flag("!--no-verify", options.verify, "skip the dense re-check of the result");
+        app.add_flag("--force", options.force, "plan even when the output is up to date");
+      },
+      [&] {
+        return Run(options, OptionsYaml(*app_ptr, {"output", "csv", "force", "no-verify"}));
+      });
+}

@@ -1,0 +1,40 @@
+#include "test_scenes.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdlib>
+
+#include "scene/generators.h"
+
+namespace ausbau::testing {
+
+std::filesystem::path MakeTempDir(const std::string& prefix) {
+  static std::atomic<int> counter{0};
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("ausbau-test-" + prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_t seed) {
+  return GenerateScene(family, seed, MakeTempDir(family));
+}
+
+std::filesystem::path SourceDir() {
+  const char* dir = std::getenv("AUSBAU_SOURCE_DIR");
+  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
+}
+
+std::filesystem::path BinDir() {
+  const char* dir = std::getenv("AUSBAU_BIN_DIR");
+  return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
+}
+
+std::filesystem::path OmplScene(const std::string& name) {
+  const auto path = SourceDir() / ".." / "shared" / "benchmarks" / "ompl" / (name + ".yaml");
+  return std::filesystem::exists(path) ? path : std::filesystem::path();
+}
+
+}  // namespace ausbau::testing

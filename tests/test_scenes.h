@@ -1,0 +1,23 @@
+// Helpers for tests: fresh temporary folders and generated scenes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace ausbau::testing {
+
+// A new empty folder under the system's temporary directory, unique per call.
+std::filesystem::path MakeTempDir(const std::string& prefix);
+
+// Generates `family` (see scene/generators.h) into a fresh folder and
+// returns the scene.yaml path.
+std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_t seed = 1);
+
+// The repository root (AUSBAU_SOURCE_DIR, set by CTest) and the stage
+// executables' folder (AUSBAU_BIN_DIR).
+std::filesystem::path SourceDir();
+std::filesystem::path BinDir();
+// ../shared/benchmarks/ompl/<name>.yaml next to the repository, or empty.
+std::filesystem::path OmplScene(const std::string& name);
+
+}  // namespace ausbau::testing
