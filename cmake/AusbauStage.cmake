@@ -14,5 +14,5 @@ function(ausbau_add_test name)
   target_link_libraries(${name} PRIVATE ausbau_common GTest::gtest GTest::gtest_main)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS "${ARG_LABELS}"
-                       ENVIRONMENT "AUSBAU_BIN_DIR=${CMAKE_BINARY_DIR}/bin;AUSBAU_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
+                       ENVIRONMENT "AUSBAU_BIN_DIR=${CMAKE_BINARY_DIR}/bin" ENVIRONMENT "AUSBAU_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
 endfunction()

@@ -1,1 +1,165 @@
+// Poses, the thesis metric (eq. 2) and range (eq. 3), interpolation, bounds
+// and the disassembly goal region, on hand-computed cases.
 #include <gtest/gtest.h>
+
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
+#include "planning/random.h"
+#include "planning/state_space.h"
+
+namespace ausbau {
+namespace {
+
+Pose MakePose(double x, double y, double z, double angle = 0, Eigen::Vector3d axis = Eigen::Vector3d::UnitZ()) {
+  Pose p;
+  p.t = {x, y, z};
+  p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+  return p;
+}
+
+TEST(Metric, TranslationIsScaledByTheBoundsExtent) {
+  Metric metric{10.0};
+  EXPECT_DOUBLE_EQ(metric.Translation({0, 0, 0}, {3, 4, 0}), 0.5);
+  EXPECT_DOUBLE_EQ(metric.Translation({1, 1, 1}, {1, 1, 1}), 0.0);
+}
+
+TEST(Metric, RotationIsHalfAngleOverPi) {
+  // A rotation by angle a about any axis: q1.q2 = cos(a/2), d'_q = (a/2)/pi.
+  EXPECT_NEAR(Metric::Rotation(MakePose(0, 0, 0).q, MakePose(0, 0, 0, M_PI / 2).q), 0.25, 1e-12);
+  EXPECT_NEAR(Metric::Rotation(MakePose(0, 0, 0).q, MakePose(0, 0, 0, M_PI).q), 0.5, 1e-12);
+  // q and -q are the same rotation: distance 0.
+  Eigen::Quaterniond q = MakePose(0, 0, 0, 1.0, {1, 2, 3}).q;
+  Eigen::Quaterniond minus_q(-q.w(), -q.x(), -q.y(), -q.z());
+  EXPECT_NEAR(Metric::Rotation(q, minus_q), 0.0, 1e-7);
+}
+
+TEST(Metric, ConvexCombinationOfTranslationAndRotation) {
+  Metric metric{10.0};
+  const Pose a = MakePose(0, 0, 0), b = MakePose(3, 4, 0, M_PI / 2);
+  // d'_t = 0.5, d'_q = 0.25
+  EXPECT_NEAR(metric.Distance(a, b, 0.5), 0.375, 1e-12);
+  EXPECT_NEAR(metric.Distance(a, b, 0.2), 0.2 * 0.5 + 0.8 * 0.25, 1e-12);
+  EXPECT_NEAR(metric.Distance(a, b, 0.583), 0.583 * 0.5 + 0.417 * 0.25, 1e-12);
+  EXPECT_NEAR(metric.Distance(b, a, 0.3), metric.Distance(a, b, 0.3), 1e-15);
+}
+
+TEST(Metric, RangeIsTheLargerOfTranslationAndRotation) {
+  Metric metric{10.0};
+  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(3, 4, 0, M_PI / 2)), 0.5, 1e-12);
+  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(1, 0, 0, M_PI)), 0.5, 1e-12);
+  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(1, 0, 0, M_PI / 2)), 0.25, 1e-12);
+}
+
+TEST(Interpolation, LinearInTranslationAndSlerpInRotation) {
+  const Pose a = MakePose(0, 0, 0), b = MakePose(2, 4, 6, M_PI / 2, {1, 0, 0});
+  const Pose mid = Interpolate(a, b, 0.5);
+  EXPECT_TRUE(mid.t.isApprox(Eigen::Vector3d(1, 2, 3)));
+  EXPECT_NEAR(RotationAngle(a.q, mid.q), M_PI / 4, 1e-12);
+  EXPECT_NEAR(RotationAngle(mid.q, b.q), M_PI / 4, 1e-12);
+  EXPECT_TRUE(Interpolate(a, b, 0.0).q.isApprox(a.q));
+  EXPECT_TRUE(Interpolate(a, b, 1.0).q.isApprox(b.q));
+}
+
+TEST(Interpolation, TakesTheShorterArcWhateverTheSign) {
+  const Pose a = MakePose(0, 0, 0, 0.2);
+  Pose b = MakePose(0, 0, 0, 0.6);
+  b.q.coeffs() = -b.q.coeffs();  // same rotation, other hemisphere
+  EXPECT_NEAR(RotationAngle(a.q, Interpolate(a, b, 0.5).q), 0.2, 1e-12);
+}
+
+TEST(Interpolation, MaxDisplacementBoundsEveryVertexMotion) {
+  // A unit-radius point turned by 90 degrees moves sqrt(2) (chord) <= pi/2 (arc).
+  const Pose a = MakePose(0, 0, 0), b = MakePose(1, 0, 0, M_PI / 2);
+  EXPECT_NEAR(MaxDisplacement(a, b, 1.0), 1.0 + M_PI / 2, 1e-12);
+  Random random(3);
+  for (int i = 0; i < 100; ++i) {
+    Eigen::Vector3d p(random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(-1, 1));
+    p = p.normalized() * random.Uniform01();
+    const double s0 = random.Uniform01(), s1 = random.Uniform01();
+    const double moved = (Interpolate(a, b, s1).Apply(p) - Interpolate(a, b, s0).Apply(p)).norm();
+    EXPECT_LE(moved, std::abs(s1 - s0) * MaxDisplacement(a, b, 1.0) + 1e-12);
+  }
+}
+
+TEST(Aabb, SeparationIsStrict) {
+  Aabb a, b;
+  a.Extend(Eigen::Vector3d(0, 0, 0));
+  a.Extend(Eigen::Vector3d(1, 1, 1));
+  b.Extend(Eigen::Vector3d(1, 0, 0));
+  b.Extend(Eigen::Vector3d(2, 1, 1));
+  EXPECT_FALSE(a.SeparatedFrom(b));  // touching faces
+  b.min.x() = 1.001;
+  EXPECT_TRUE(a.SeparatedFrom(b));
+  EXPECT_TRUE(b.SeparatedFrom(a));
+}
+
+PlanningProblem BoxProblem() {
+  PlanningProblem problem;
+  problem.robot = MakeBox({-1, -0.5, -0.5}, {1, 0.5, 0.5});
+  problem.environment = MakeBox({-2, -2, -2}, {2, 2, 2});
+  problem.robot_local_box = problem.robot.Bounds();
+  problem.environment_box = problem.environment.Bounds();
+  problem.bounds.min = {-10, -10, -10};
+  problem.bounds.max = {10, 10, 10};
+  problem.metric.nu = problem.bounds.Diagonal();
+  return problem;
+}
+
+TEST(GoalRegion, SeparatedBoundingBoxes) {
+  const PlanningProblem problem = BoxProblem();
+  EXPECT_FALSE(problem.InGoalRegion(MakePose(0, 0, 0)));
+  EXPECT_FALSE(problem.InGoalRegion(MakePose(3.0, 0, 0)));  // robot spans x in [2, 4]: touches
+  EXPECT_TRUE(problem.InGoalRegion(MakePose(3.01, 0, 0)));
+  // Turned by 90 degrees about z the robot is 1 wide in x: x in [2.01, 3.01].
+  EXPECT_TRUE(problem.InGoalRegion(MakePose(2.51, 0, 0, M_PI / 2)));
+  EXPECT_FALSE(problem.InGoalRegion(MakePose(2.49, 0, 0, M_PI / 2)));
+}
+
+TEST(GoalRegion, RobotBoxIsConservative) {
+  const PlanningProblem problem = BoxProblem();
+  Random random(7);
+  for (int i = 0; i < 200; ++i) {
+    const Pose pose = problem.SampleUniform(random);
+    const Aabb box = problem.RobotBoxAt(pose);
+    for (const auto& v : problem.robot.vertices) {
+      EXPECT_TRUE((pose.Apply(v).array() >= box.min.array() - 1e-9).all());
+      EXPECT_TRUE((pose.Apply(v).array() <= box.max.array() + 1e-9).all());
+    }
+  }
+}
+
+TEST(StateSpace, SceneAndPlanningConventionsRoundTrip) {
+  PlanningProblem problem = BoxProblem();
+  problem.reference_point = {5, 6, 7};
+  problem.dynamic_origin = {0, 0, 0};
+  const Pose scene_pose = MakePose(1, 2, 3, 0.7, {1, 1, 0});
+  const Pose planning = problem.SceneToPlanning(scene_pose);
+  // The same mesh point lands in the same place in both conventions.
+  const Eigen::Vector3d x(1.5, -2, 0.25);
+  EXPECT_TRUE((scene_pose.q * (x - problem.dynamic_origin) + scene_pose.t)
+                  .isApprox(planning.q * (x - problem.reference_point) + planning.t));
+  const Pose back = problem.PlanningToScene(planning);
+  EXPECT_TRUE(back.t.isApprox(scene_pose.t));
+}
+
+TEST(StateSpace, UniformSamplesStayInBounds) {
+  PlanningProblem problem = BoxProblem();
+  problem.bounded_point = {1, 0, 0};
+  Random random(11);
+  for (int i = 0; i < 1000; ++i) EXPECT_TRUE(problem.InBounds(problem.SampleUniform(random)));
+}
+
+TEST(Random, SameSeedSameStream) {
+  Random a(42), b(42), c(43);
+  for (int i = 0; i < 10; ++i) {
+    const double x = a.Uniform01();
+    EXPECT_EQ(x, b.Uniform01());
+    EXPECT_GE(x, 0.0);
+    EXPECT_LT(x, 1.0);
+  }
+  EXPECT_NE(Random(42).Uniform01(), c.Uniform01());
+  EXPECT_NEAR(a.UniformQuaternion().norm(), 1.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ausbau

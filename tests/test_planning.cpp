@@ -1,1 +1,194 @@
+// Planners on small generated scenes, each path re-checked densely with the
+// independent checker; nearest neighbours against brute force; smoothing.
 #include <gtest/gtest.h>
+
+#include "collision/fcl_checker.h"
+#include "core/error.h"
+#include "planning/dense_check.h"
+#include "planning/nearest_neighbors.h"
+#include "planning/planner.h"
+#include "planning/smoother.h"
+#include "scene/scene.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+struct Fixture {
+  explicit Fixture(const std::string& family, std::uint64_t seed = 1)
+      : scene(LoadScene(testing::MakeGeneratedScene(family, seed))),
+        problem(MakePlanningProblem(scene)),
+        checker(problem.robot, problem.environment) {}
+  std::vector<Pose> ToScene(const std::vector<Pose>& path) const {
+    std::vector<Pose> out;
+    for (const Pose& p : path) out.push_back(problem.PlanningToScene(p));
+    return out;
+  }
+  Scene scene;
+  PlanningProblem problem;
+  FclCollisionChecker checker;
+};
+
+// Four times finer than the acceptance criterion (1% of D's diagonal).
+constexpr double kDenseStep = 0.0025;
+
+void ExpectValidPath(const Fixture& f, const std::vector<Pose>& path) {
+  ASSERT_FALSE(path.empty());
+  EXPECT_TRUE(path.front().t.isApprox(f.problem.start.t));
+  if (f.problem.goal) {
+    EXPECT_TRUE(path.back().t.isApprox(f.problem.goal->t, 1e-9));
+    EXPECT_LT(RotationAngle(path.back().q, f.problem.goal->q), 1e-9);
+  } else {
+    EXPECT_TRUE(f.problem.InGoalRegion(path.back()));
+  }
+  const DenseCheckReport report = DenseCheckPath(f.scene, f.problem.reference_point, f.ToScene(path), kDenseStep);
+  EXPECT_TRUE(report.valid) << "segment " << report.first_bad_segment << " at " << report.first_bad_fraction
+                            << ": " << report.reason;
+}
+
+class PlannerOnScene : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
+
+TEST_P(PlannerOnScene, SolvesAndThePathIsValid) {
+  const auto& [planner, family] = GetParam();
+  Fixture f(family);
+  PlannerOptions options;
+  options.planner = planner;
+  options.seed = 5;
+  options.time_limit_s = 120;  // generous: the result must not depend on timing
+  const PlanResult result = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(result.solved());
+  EXPECT_GT(result.stats.iterations, 0);
+  EXPECT_GE(result.stats.nodes, 2);
+  EXPECT_GT(result.stats.collision_checks, 0);
+  ExpectValidPath(f, result.path);
+}
+
+// Def-RRTC (fixed u, range_max) is left out of peg-in-plate on purpose: its
+// goal tree, rooted in the wide-open disassembly region, takes half of the
+// iterations while the start tree is trapped in the 0.1-wide hole; it does
+// not solve it within minutes. That is the weakness CR-RRTC addresses.
+INSTANTIATE_TEST_SUITE_P(Scenes, PlannerOnScene,
+                         ::testing::Values(std::make_tuple("rrtc", "two-boxes"), std::make_tuple("rrtc", "rod-in-cage"),
+                                           std::make_tuple("cr-rrtc", "two-boxes"),
+                                           std::make_tuple("cr-rrtc", "peg-in-plate"),
+                                           std::make_tuple("cr-rrtc", "rod-in-cage")),
+                         [](const auto& info) {
+                           std::string name = std::get<0>(info.param) + "_" + std::get<1>(info.param);
+                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return name;
+                         });
+
+TEST(Planner, SameSeedSamePath) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 9;
+  const PlanResult a = Plan(f.problem, f.checker, options);
+  const PlanResult b = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(a.solved());
+  ASSERT_EQ(a.path.size(), b.path.size());
+  for (std::size_t i = 0; i < a.path.size(); ++i) {
+    EXPECT_EQ(a.path[i].t, b.path[i].t);
+    EXPECT_EQ(a.path[i].q.coeffs(), b.path[i].q.coeffs());
+  }
+  EXPECT_EQ(a.stats.iterations, b.stats.iterations);
+  options.seed = 10;
+  const PlanResult c = Plan(f.problem, f.checker, options);
+  EXPECT_NE(a.stats.iterations, c.stats.iterations);
+}
+
+TEST(Planner, IterationLimitIsAnOutcomeNotAnError) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.max_iterations = 3;
+  const PlanResult result = Plan(f.problem, f.checker, options);
+  EXPECT_EQ(result.status, PlanStatus::kIterationLimit);
+  EXPECT_TRUE(result.path.empty());
+  EXPECT_EQ(result.stats.iterations, 3);
+}
+
+TEST(Planner, RejectsBadOptions) {
+  PlannerOptions options;
+  options.planner = "nope";
+  EXPECT_THROW(options.Check(), InputError);
+  options = PlannerOptions();
+  options.u = 1.5;
+  EXPECT_THROW(options.Check(), InputError);
+  options = PlannerOptions();
+  options.time_limit_s = -1;
+  EXPECT_THROW(options.Check(), InputError);
+}
+
+TEST(Planner, CollidingEndpointsAreInputErrors) {
+  Fixture f("two-boxes");
+  PlanningProblem problem = f.problem;
+  problem.goal->t = {1.0, 0, 0};
+  EXPECT_THROW(CheckEndpoints(problem, f.checker, "scene.yaml"), InputError);
+  problem = f.problem;
+  problem.start.t = {1.0, 0, 0};
+  EXPECT_THROW(CheckEndpoints(problem, f.checker, "scene.yaml"), InputError);
+  EXPECT_NO_THROW(CheckEndpoints(f.problem, f.checker, "scene.yaml"));
+}
+
+TEST(NearestNeighbors, EqualsBruteForceUnderRandomWeights) {
+  Metric metric{25.0};
+  NearestNeighbors index(metric);
+  Random random(1);
+  std::vector<Pose> poses;
+  for (int i = 0; i < 2000; ++i) {
+    Pose p;
+    p.t = {random.Uniform(-10, 10), random.Uniform(-10, 10), random.Uniform(-10, 10)};
+    p.q = random.UniformQuaternion();
+    poses.push_back(p);
+    index.Add(p);
+  }
+  for (int query = 0; query < 300; ++query) {
+    Pose q;
+    q.t = {random.Uniform(-12, 12), random.Uniform(-12, 12), random.Uniform(-12, 12)};
+    q.q = random.UniformQuaternion();
+    const double u = random.UniformOpen01();
+    int best = -1;
+    double best_distance = 1e300;
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+      const double d = metric.Distance(poses[i], q, u);
+      if (d < best_distance) best_distance = d, best = static_cast<int>(i);
+    }
+    const int found = index.Nearest(q, u);
+    EXPECT_NEAR(metric.Distance(poses[found], q, u), best_distance, 1e-12) << "query " << query;
+    EXPECT_EQ(found, best);
+  }
+}
+
+TEST(Smoother, ShortensAndStaysValid) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 3;
+  const PlanResult plan = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(plan.solved());
+  SmoothOptions smooth;
+  smooth.seed = 3;
+  const SmoothResult result = SmoothPath(f.problem, f.checker, plan.path, smooth);
+  EXPECT_LE(result.after.normalized, result.before.normalized + 1e-12);
+  EXPECT_LE(result.path.size(), plan.path.size() + result.shortcuts);
+  EXPECT_TRUE(result.path.front().t.isApprox(plan.path.front().t));
+  EXPECT_TRUE(result.path.back().t.isApprox(plan.path.back().t));
+  ExpectValidPath(f, result.path);
+  // Deterministic.
+  const SmoothResult again = SmoothPath(f.problem, f.checker, plan.path, smooth);
+  ASSERT_EQ(again.path.size(), result.path.size());
+  for (std::size_t i = 0; i < result.path.size(); ++i) EXPECT_EQ(again.path[i].t, result.path[i].t);
+}
+
+TEST(DenseCheck, FindsACollisionBetweenValidWaypoints) {
+  // Two collision-free poses on either side of the static box: the straight
+  // motion between them passes through it.
+  Fixture f("two-boxes");
+  Pose a = f.scene.start, b = f.scene.start;
+  b.t.x() = 3.0;
+  const DenseCheckReport report = DenseCheckPath(f.scene, f.problem.reference_point, {a, b}, 0.01);
+  EXPECT_FALSE(report.valid);
+  EXPECT_EQ(report.first_bad_segment, 0);
+  EXPECT_EQ(report.reason, "in collision");
+}
+
+}  // namespace
+}  // namespace ausbau

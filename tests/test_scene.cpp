@@ -21,9 +21,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The repository root: $AUSBAU_SOURCE_DIR (set by ctest), else the folder
+// above this source file (CMake compiles it by absolute path), else the
+// working directory.
 fs::path SourceDir() {
   const char* env = std::getenv("AUSBAU_SOURCE_DIR");
-  return (env != nullptr && *env != '\0') ? fs::path(env) : fs::current_path();
+  if (env != nullptr && *env != '\0') return fs::path(env);
+  const fs::path here = fs::path(__FILE__).parent_path().parent_path();
+  std::error_code ec;
+  if (here.is_absolute() && fs::exists(here / "CMakeLists.txt", ec)) return here;
+  return fs::current_path();
 }
 
 fs::path BenchmarkDir() { return SourceDir() / ".." / "shared" / "benchmarks" / "ompl"; }

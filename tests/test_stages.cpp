@@ -1,1 +1,248 @@
+// End-to-end: the real executables on generated scenes. Exit codes, one-line
+// messages, outputs, caching and determinism.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "geometry/primitives.h"
+#include "planning/dense_check.h"
+#include "scene/mesh_io.h"
+#include "planning/path_io.h"
+#include "scene/scene.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Outcome RunStage(const std::string& stage, const std::string& arguments) {
+  const std::string command = (testing::BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
+  Outcome outcome;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void WriteFile(const std::filesystem::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+// The error line: "ausbau-<stage>: error: ..." and nothing after it.
+void ExpectOneLineError(const Outcome& outcome, const std::string& stage, const std::string& fragment) {
+  const std::string prefix = "ausbau-" + stage + ": error: ";
+  const auto at = outcome.output.find(prefix);
+  ASSERT_NE(at, std::string::npos) << outcome.output;
+  const std::string line = outcome.output.substr(at);
+  EXPECT_EQ(line.find('\n'), line.size() - 1) << "more than one line: " << line;
+  EXPECT_NE(line.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << line;
+}
+
+TEST(PlanStage, PlansSmoothsAndTheResultIsValid) {
+  const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 2);
+  const auto dir = yaml.parent_path();
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 4 -o " + (dir / "path.h5").string() +
+                                       " --csv " + (dir / "path.csv").string());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  const Outcome smooth = RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
+                                           (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
+  ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+  EXPECT_NE(smooth.output.find("length"), std::string::npos);
+
+  const Scene scene = LoadScene(yaml);
+  for (const char* name : {"path.h5", "smooth.h5"}) {
+    const PathArtifact path = ReadPathArtifact(dir / name);
+    EXPECT_TRUE(path.success);
+    ASSERT_GE(path.waypoints.size(), 2u);
+    EXPECT_TRUE(path.waypoints.front().t.isApprox(scene.start.t));
+    const DenseCheckReport report = DenseCheckPath(scene, path.reference_point, path.waypoints, 0.0025);
+    EXPECT_TRUE(report.valid) << name << ": segment " << report.first_bad_segment << " " << report.reason;
+  }
+  EXPECT_LE(ReadPathArtifact(dir / "smooth.h5").length_normalized, ReadPathArtifact(dir / "path.h5").length_normalized);
+  const std::string csv = ReadFile(dir / "path.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "x,y,z,qw,qx,qy,qz");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), ReadPathArtifact(dir / "path.h5").waypoints.size() + 1);
+}
+
+TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {
+  const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 3);
+  const auto dir = yaml.parent_path();
+  for (const char* name : {"a", "b"}) {
+    const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 7 -o " + (dir / (std::string(name) + ".h5")).string() +
+                                         " --csv " + (dir / (std::string(name) + ".csv")).string());
+    ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  }
+  EXPECT_EQ(ReadFile(dir / "a.csv"), ReadFile(dir / "b.csv"));
+  EXPECT_EQ(ReadFile(dir / "a.h5").size(), ReadFile(dir / "b.h5").size());
+}
+
+TEST(PlanStage, ReusesAnUpToDateOutputAndReplansOnChange) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  const auto out = (yaml.parent_path() / "path.h5").string();
+  const std::string base = "--scene " + yaml.string() + " -o " + out;
+  ASSERT_EQ(RunStage("plan", base).exit_code, 0);
+  const Outcome again = RunStage("plan", base);
+  EXPECT_EQ(again.exit_code, 0);
+  EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
+  const Outcome other_seed = RunStage("plan", base + " --seed 2");
+  EXPECT_EQ(other_seed.output.find("up to date"), std::string::npos) << other_seed.output;
+  const Outcome forced = RunStage("plan", base + " --seed 2 --force");
+  EXPECT_EQ(forced.output.find("up to date"), std::string::npos) << forced.output;
+}
+
+TEST(PlanStage, NoPathWithinTheBudgetHasItsOwnExitCode) {
+  // The rod in a cage whose lid has no slot: no way out.
+  const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 1);
+  const auto dir = yaml.parent_path();
+  std::string text = ReadFile(yaml);
+  const Scene scene = LoadScene(yaml);
+  TriangleMesh closed = scene.static_mesh;
+  const Aabb box = closed.Bounds();
+  closed.Append(MakeBox({box.min.x(), box.min.y(), box.max.z() - 1.0}, box.max));  // a solid lid
+  SaveObj(closed, dir / "environment.obj");
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --time-limit 1 -o " + (dir / "p.h5").string() +
+                                       " --csv " + (dir / "p.csv").string());
+  EXPECT_EQ(plan.exit_code, 3) << plan.output;
+  ExpectOneLineError(plan, "plan", "no path within the budget");
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.csv"));
+  EXPECT_FALSE(ReadPathArtifact(dir / "p.h5").success);
+}
+
+class BadSceneTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    yaml_ = testing::MakeGeneratedScene("two-boxes", 1);
+    text_ = ReadFile(yaml_);
+  }
+  // Replaces the first line starting with `key` by `line`.
+  void ReplaceLine(const std::string& key, const std::string& line) {
+    std::istringstream in(text_);
+    std::string result, current;
+    bool replaced = false;
+    while (std::getline(in, current)) {
+      if (!replaced && current.rfind(key, 0) == 0) {
+        current = line;
+        replaced = true;
+      }
+      result += current + "\n";
+    }
+    ASSERT_TRUE(replaced) << key;
+    WriteFile(yaml_, result);
+  }
+  Outcome Plan() { return RunStage("plan", "--scene " + yaml_.string() + " -o " + (yaml_.parent_path() / "p.h5").string()); }
+
+  std::filesystem::path yaml_;
+  std::string text_;
+};
+
+TEST_F(BadSceneTest, MissingSceneFile) {
+  const Outcome o = RunStage("plan", "--scene /nonexistent/scene.yaml");
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "/nonexistent/scene.yaml: file not found");
+}
+
+TEST_F(BadSceneTest, UnknownKey) {
+  WriteFile(yaml_, text_ + "colour: red\n");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "unknown key 'colour'");
+}
+
+TEST_F(BadSceneTest, NonUnitQuaternion) {
+  ReplaceLine("start:", "start: {t: [-3, 0, 0], q: [1, 1, 0, 0]}");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "not a unit quaternion");
+}
+
+TEST_F(BadSceneTest, MalformedQuaternion) {
+  ReplaceLine("start:", "start: {t: [-3, 0, 0], q: [1, 0, 0]}");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "start.q");
+}
+
+TEST_F(BadSceneTest, StartOutsideBounds) {
+  ReplaceLine("start:", "start: {t: [-30, 0, 0], q: [1, 0, 0, 0]}");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "outside bounds");
+}
+
+TEST_F(BadSceneTest, GoalInCollision) {
+  ReplaceLine("goal:", "goal: {t: [1.2, 0, 0], q: [1, 0, 0, 0]}");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "goal pose is in collision");
+}
+
+TEST_F(BadSceneTest, MissingMesh) {
+  std::filesystem::remove(yaml_.parent_path() / "part.obj");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "part.obj: file not found");
+}
+
+TEST_F(BadSceneTest, EmptyMesh) {
+  WriteFile(yaml_.parent_path() / "part.obj", "v 0 0 0\nv 1 0 0\n");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "no triangles");
+}
+
+TEST_F(BadSceneTest, NanVertex) {
+  WriteFile(yaml_.parent_path() / "part.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+  const Outcome o = Plan();
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "not finite");
+}
+
+TEST(PlanStage, BadOptionsAreUsageErrors) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  Outcome o = RunStage("plan", "--scene " + yaml.string() + " --planner nope");
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "plan", "unknown planner 'nope'");
+  o = RunStage("plan", "--scene " + yaml.string() + " --time-limit -5");
+  EXPECT_EQ(o.exit_code, 2);
+  o = RunStage("plan", "--bogus");
+  EXPECT_EQ(o.exit_code, 2);
+  o = RunStage("plan", "--help");
+  EXPECT_EQ(o.exit_code, 0);
+  EXPECT_NE(o.output.find("--scene"), std::string::npos);
+}
+
+TEST(SmoothStage, RejectsAFileThatIsNotAPathArtifact) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  Outcome o = RunStage("smooth", "--scene " + yaml.string() + " --path " + yaml.string());
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "smooth", "not a readable HDF5 file");
+  o = RunStage("smooth", "--scene " + yaml.string() + " --path /nonexistent.h5");
+  EXPECT_EQ(o.exit_code, 2);
+  ExpectOneLineError(o, "smooth", "file not found");
+}
+
+TEST(SceneGenStage, WritesALoadableScene) {
+  const auto dir = testing::MakeTempDir("scene-gen");
+  const Outcome o = RunStage("scene-gen", "--family peg-in-plate -o " + dir.string());
+  ASSERT_EQ(o.exit_code, 0) << o.output;
+  EXPECT_NO_THROW(LoadScene(dir / "scene.yaml"));
+  EXPECT_EQ(RunStage("scene-gen", "--family nope -o " + dir.string()).exit_code, 2);
+}
+
+}  // namespace
+}  // namespace ausbau

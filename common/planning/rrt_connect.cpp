@@ -105,6 +105,8 @@ class RrtConnect {
       result.path.insert(result.path.end(), tail.begin() + 1, tail.end());
       result.status = PlanStatus::kSolved;
     }
+    LogDebug("start tree %zu nodes, goal tree %zu nodes (%lld goal roots)", start_tree_.size(), goal_tree_.size(),
+             static_cast<long long>(goal_roots_));
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
     result.stats.collision_checks = motion_.validity().checks() - checks_before;
