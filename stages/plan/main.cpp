@@ -123,6 +123,6 @@ int main(int argc, char** argv) {
         app.add_flag("--force", options.force, "plan even when the output is up to date");
       },
       [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"output", "csv", "force", "no-verify"}));
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "force", "no-verify"}));
       });
 }

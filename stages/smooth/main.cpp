@@ -105,5 +105,5 @@ int main(int argc, char** argv) {
         app.add_option("--csv", options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
         app.add_flag("--force", options.force, "smooth even when the output is up to date");
       },
-      [&] { return Run(options, OptionsYaml(*app_ptr, {"output", "csv", "force"})); });
+      [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "path", "output", "csv", "force"})); });
 }
