@@ -23,8 +23,11 @@ TEST(FclCollision, TwoBoxes) {
   // until x < 1 + 0.7071.
   EXPECT_TRUE(checker.InCollision(At(1.65, 0, 0, M_PI / 4)));
   EXPECT_FALSE(checker.InCollision(At(1.75, 0, 0, M_PI / 4)));
-  EXPECT_EQ(checker.checks(), 4);
+  EXPECT_EQ(checker.checks(), 0);  // InCollision is the raw query; IsValid counts
   EXPECT_TRUE(checker.IsValid(At(5, 5, 5)));
+  EXPECT_FALSE(checker.IsValid(At(1.4, 0, 0)));
+  EXPECT_EQ(checker.checks(), 2);
+  EXPECT_EQ(checker.invalid_checks(), 1);
 }
 
 TEST(FclCollision, ContainmentIsNotACollisionForFcl) {

@@ -45,7 +45,6 @@ FclCollisionChecker::FclCollisionChecker(const TriangleMesh& robot, const Triang
 FclCollisionChecker::~FclCollisionChecker() = default;
 
 bool FclCollisionChecker::InCollision(const Pose& pose) const {
-  CountCheck();
   // The geometry-level overload keeps no state in shared objects, so
   // concurrent queries are safe.
   fcl::CollisionRequestd request;  // one contact is enough: an early out

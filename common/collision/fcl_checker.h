@@ -19,10 +19,12 @@ class FclCollisionChecker : public PoseValidity {
   // like OMPL.app), a part entirely inside a closed part of S is not
   // detected: only surfaces are intersected.
   bool InCollision(const Pose& pose) const;
-  bool IsValid(const Pose& pose) const override { return !InCollision(pose); }
 
   // Minimum distance between D at `pose` and S (0 when in collision).
   double Distance(const Pose& pose) const;
+
+ protected:
+  bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }
 
  private:
   struct Models;

@@ -13,16 +13,24 @@ namespace ausbau {
 class PoseValidity {
  public:
   virtual ~PoseValidity() = default;
-  // Pose in the planning convention (about D's reference point). Must be
-  // safe to call from several threads at once.
-  virtual bool IsValid(const Pose& pose) const = 0;
+  // Pose in the planning convention (about D's reference point). Safe to
+  // call from several threads at once. Counts checks and invalid answers.
+  bool IsValid(const Pose& pose) const {
+    const bool valid = CheckValid(pose);
+    checks_.fetch_add(1, std::memory_order_relaxed);
+    if (!valid) invalid_.fetch_add(1, std::memory_order_relaxed);
+    return valid;
+  }
   std::int64_t checks() const { return checks_.load(std::memory_order_relaxed); }
+  std::int64_t invalid_checks() const { return invalid_.load(std::memory_order_relaxed); }
 
  protected:
-  void CountCheck() const { checks_.fetch_add(1, std::memory_order_relaxed); }
+  // The check itself; must be thread-safe.
+  virtual bool CheckValid(const Pose& pose) const = 0;
 
  private:
   mutable std::atomic<std::int64_t> checks_{0};
+  mutable std::atomic<std::int64_t> invalid_{0};
 };
 
 }  // namespace ausbau

@@ -11,7 +11,12 @@
 namespace ausbau {
 
 struct PlannerOptions {
-  std::string planner = "cr-rrtc";  // rrtc | cr-rrtc
+  std::string planner = "cr-rrtc";  // rrt | rrtc | cr-rrtc | est | prm
+  std::string sampler = "uniform";  // uniform | gaussian | bridge | mixed (thesis 2.2.5)
+  // Gaussian / bridge-test standard deviation as a fraction of the metric's
+  // unit (nu for translation, pi for rotation); 0 = automatic.
+  double sampler_sigma = 0.0;
+  int threads = 0;                  // prm edge verification; 0 = all cores
   std::uint64_t seed = 1;
   double time_limit_s = 60.0;       // wall-clock budget
   std::int64_t max_iterations = 0;  // 0 = unlimited (tests use it for exact budgets)
@@ -32,6 +37,7 @@ struct PlanStats {
   std::int64_t iterations = 0;
   std::int64_t nodes = 0;
   std::int64_t collision_checks = 0;
+  std::int64_t invalid_checks = 0;   // collision checks that found D invalid
 };
 
 struct PlanResult {

@@ -47,6 +47,7 @@ class RrtConnect {
   PlanResult Run() {
     const auto begin = std::chrono::steady_clock::now();
     const std::int64_t checks_before = motion_.validity().checks();
+    const std::int64_t invalid_before = motion_.validity().invalid_checks();
     PlanResult result;
     start_tree_.Add(problem_.start, -1);
     if (problem_.goal) {
@@ -110,6 +111,7 @@ class RrtConnect {
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
     result.stats.collision_checks = motion_.validity().checks() - checks_before;
+    result.stats.invalid_checks = motion_.validity().invalid_checks() - invalid_before;
     result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     return result;
   }
