@@ -9,7 +9,24 @@ JOBS ?= $(shell nproc)
 DEMO_OUT ?= out/demo
 SEED ?= 1
 
-.PHONY: all deps configure build demo test clean
+# Benchmarks (need OMPL: `scripts/install-deps.sh bench` adds libompl-dev).
+#   make bench   Ausbau's planners side by side with OMPL's RRT-Connect on the
+#                OMPL.app scenes; with the defaults this takes hours (at most
+#                scenes x configurations x runs x time limit, about 7 h)
+#   make study   the RRTC parameter study (thesis 3.3.1): 90 cells x runs, each
+#                run at most STUDY_TIME_LIMIT s, so up to 75 min per scene
+BENCH_RUNS ?= 10
+BENCH_TIME_LIMIT ?= 60
+BENCH_SCENES ?=
+BENCH_OUT ?= out/bench
+BENCH_ARGS ?=
+STUDY_RUNS ?= 5
+STUDY_TIME_LIMIT ?= 10
+STUDY_SCENES ?= alpha-1.5,Easy
+STUDY_OUT ?= out/study
+STUDY_ARGS ?=
+
+.PHONY: all deps configure build demo test clean bench-deps bench-build bench study
 .DELETE_ON_ERROR:
 
 all: build
@@ -30,6 +47,25 @@ demo: build
 
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench-deps:
+	@scripts/install-deps.sh bench
+
+bench-build: bench-deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-bench || \
+	  { echo "bench: ausbau-bench did not build (is OMPL installed? scripts/install-deps.sh bench)" >&2; exit 1; }
+
+bench: bench-build
+	@$(BUILD)/bin/ausbau-bench --runs $(BENCH_RUNS) --time-limit $(BENCH_TIME_LIMIT) \
+	  $(if $(BENCH_SCENES),--scenes $(BENCH_SCENES)) --output-dir $(BENCH_OUT) $(BENCH_ARGS)
+	@echo "bench: $(BENCH_OUT)/summary.md (printed above), $(BENCH_OUT)/results.csv (one row per run),"
+	@echo "       $(BENCH_OUT)/ompl-benchmark.log and ompl-benchmark-<scene>.log (for ompl_benchmark_statistics.py)"
+
+study: bench-build
+	@$(BUILD)/bin/ausbau-bench --study --runs $(STUDY_RUNS) --time-limit $(STUDY_TIME_LIMIT) \
+	  --scenes $(STUDY_SCENES) --output-dir $(STUDY_OUT) $(STUDY_ARGS)
+	@echo "study: $(STUDY_OUT)/study-summary.md (printed above), study-<scene>.csv and heat maps study-<scene>.svg"
 
 clean:
 	rm -rf $(BUILD) out

@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages Ausbau needs, only those that are missing.
 # Called by `make demo` and `make test`; safe to run again.
+#   scripts/install-deps.sh         the packages every build needs
+#   scripts/install-deps.sh bench   those plus libompl-dev (OMPL 1.5, for
+#                                   ausbau-bench: `make bench`, `make study`)
 set -euo pipefail
 
 packages=(
@@ -8,6 +11,11 @@ packages=(
   libeigen3-dev libfcl-dev libassimp-dev libhdf5-dev hdf5-tools
   libyaml-cpp-dev libcli11-dev libgtest-dev libxxhash-dev
 )
+case "${1:-}" in
+  "") ;;
+  bench) packages+=(libompl-dev) ;;
+  *) echo "install-deps: error: unknown argument '$1' (expected nothing or 'bench')" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do

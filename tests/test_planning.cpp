@@ -7,6 +7,8 @@
 #include "planning/dense_check.h"
 #include "planning/nearest_neighbors.h"
 #include "planning/planner.h"
+#include "planning/prm.h"
+#include "planning/sampler.h"
 #include "planning/smoother.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
@@ -63,15 +65,21 @@ TEST_P(PlannerOnScene, SolvesAndThePathIsValid) {
   ExpectValidPath(f, result.path);
 }
 
-// Def-RRTC (fixed u, range_max) is left out of peg-in-plate on purpose: its
-// goal tree, rooted in the wide-open disassembly region, takes half of the
-// iterations while the start tree is trapped in the 0.1-wide hole; it does
-// not solve it within minutes. That is the weakness CR-RRTC addresses.
+// Each planner on the scenes it is meant for. Left out on purpose (they do
+// not solve them within minutes, which is what the thesis reports of fixed
+// parameters and uniform sampling): Def-RRTC on peg-in-plate (its goal tree,
+// rooted in the wide-open disassembly region, takes half of the iterations
+// while the start tree is trapped in the 0.1-wide hole), RRT on peg-in-plate
+// (about 40 s), EST on rod-in-cage (local expansion fills the cage before it
+// finds the slot), PRM on peg-in-plate (uniform samples almost never fall
+// into the hole).
 INSTANTIATE_TEST_SUITE_P(Scenes, PlannerOnScene,
                          ::testing::Values(std::make_tuple("rrtc", "two-boxes"), std::make_tuple("rrtc", "rod-in-cage"),
                                            std::make_tuple("cr-rrtc", "two-boxes"),
                                            std::make_tuple("cr-rrtc", "peg-in-plate"),
-                                           std::make_tuple("cr-rrtc", "rod-in-cage")),
+                                           std::make_tuple("cr-rrtc", "rod-in-cage"),
+                                           std::make_tuple("rrt", "two-boxes"), std::make_tuple("est", "peg-in-plate"),
+                                           std::make_tuple("prm", "two-boxes")),
                          [](const auto& info) {
                            std::string name = std::get<0>(info.param) + "_" + std::get<1>(info.param);
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
@@ -176,6 +184,91 @@ TEST(Smoother, ShortensAndStaysValid) {
   const SmoothResult again = SmoothPath(f.problem, f.checker, plan.path, smooth);
   ASSERT_EQ(again.path.size(), result.path.size());
   for (std::size_t i = 0; i < result.path.size(); ++i) EXPECT_EQ(again.path[i].t, result.path[i].t);
+}
+
+TEST(Planner, SamplersWorkInsideTheTreePlanners) {
+  Fixture f("peg-in-plate");
+  for (const char* sampler : {"gaussian", "bridge", "mixed"}) {
+    PlannerOptions options;
+    options.sampler = sampler;
+    options.seed = 2;
+    options.time_limit_s = 120;
+    const PlanResult result = Plan(f.problem, f.checker, options);
+    ASSERT_TRUE(result.solved()) << sampler;
+    EXPECT_GT(result.stats.invalid_checks, 0);
+    EXPECT_LT(result.stats.invalid_checks, result.stats.collision_checks);
+    ExpectValidPath(f, result.path);
+  }
+}
+
+TEST(Prm, AnswersSeveralQueriesFromOneRoadmap) {
+  Fixture f("two-boxes");
+  const MotionChecker motion(f.problem, f.checker, 0.005 * f.problem.robot_diagonal);
+  auto at = [](double x, double y, double z, double angle) {
+    Pose p;
+    p.t = {x, y, z};
+    p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()));
+    return p;
+  };
+  const std::vector<PrmQuery> queries = {
+      {f.problem.start, f.problem.goal},
+      {at(0, 3, 0, 0.3), at(0, -3, 0, 1.0)},
+      {at(0, 0, 3, 0.0), at(0, 0, -3, 2.0)},
+      {at(3, 3, 3, 0.0), std::nullopt},  // disassembly: already out, or nearby
+  };
+  PlannerOptions options;
+  options.seed = 4;
+  options.time_limit_s = 120;
+  for (int threads : {1, 2}) {
+    PrmSettings settings;
+    settings.threads = threads;
+    const PrmResult result = RunPrm(f.problem, motion, queries, settings, options);
+    ASSERT_EQ(result.queries.size(), queries.size());
+    EXPECT_GT(result.edges, 0);
+    for (std::size_t q = 0; q < queries.size(); ++q) {
+      const PlanResult& answer = result.queries[q];
+      ASSERT_TRUE(answer.solved()) << "query " << q << " threads " << threads;
+      EXPECT_TRUE(answer.path.front().t.isApprox(queries[q].start.t));
+      if (queries[q].goal) {
+        EXPECT_TRUE(answer.path.back().t.isApprox(queries[q].goal->t));
+      } else {
+        EXPECT_TRUE(f.problem.InGoalRegion(answer.path.back()));
+      }
+      const DenseCheckReport report =
+          DenseCheckPath(f.scene, f.problem.reference_point, f.ToScene(answer.path), kDenseStep);
+      EXPECT_TRUE(report.valid) << "query " << q << ": " << report.reason;
+    }
+  }
+}
+
+TEST(Sampler, GaussianSamplesLieNearerToObstaclesThanUniformOnes) {
+  Fixture f("peg-in-plate");
+  const MotionChecker motion(f.problem, f.checker, 0.005 * f.problem.robot_diagonal);
+  Random random(8);
+  // Mean clearance of valid samples; fallbacks (a bridge or Gaussian
+  // sampler that found nothing within its tries returns a uniform pose) are
+  // left out, so that the statistic is about the strategy itself.
+  auto mean_distance = [&](SamplerKind kind, int min_count) {
+    Sampler sampler(f.problem, motion, kind, 0.0);
+    double sum = 0;
+    int count = 0;
+    for (int i = 0; i < 400; ++i) {
+      Pose pose;
+      const std::int64_t fallbacks = sampler.fallbacks();
+      if (!sampler.SampleValid(random, &pose, 100) || sampler.fallbacks() != fallbacks) continue;
+      EXPECT_TRUE(motion.IsValid(pose));
+      sum += f.checker.Distance(pose);
+      ++count;
+    }
+    EXPECT_GE(count, min_count);
+    return sum / count;
+  };
+  const double uniform = mean_distance(SamplerKind::kUniform, 300);
+  const double gaussian = mean_distance(SamplerKind::kGaussian, 300);
+  const double bridge = mean_distance(SamplerKind::kBridge, 10);
+  EXPECT_LT(gaussian, 0.5 * uniform);
+  EXPECT_LT(bridge, 0.5 * uniform);
+  EXPECT_THROW(ParseSamplerKind("nope"), InputError);
 }
 
 TEST(DenseCheck, FindsACollisionBetweenValidWaypoints) {

@@ -32,6 +32,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.WriteInts("stats/iterations", {path.stats.iterations}, {});
   writer.WriteInts("stats/nodes", {path.stats.nodes}, {});
   writer.WriteInts("stats/collision_checks", {path.stats.collision_checks}, {});
+  writer.WriteInts("stats/invalid_checks", {path.stats.invalid_checks}, {});
   writer.WriteDoubles("stats/length", {path.length_normalized}, {});
   writer.WriteDoubles("stats/length_translation", {path.length_translation}, {});
   writer.WriteDoubles("stats/length_rotation", {path.length_rotation}, {});
@@ -89,6 +90,7 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.stats.iterations = ReadIntScalar(reader, "stats/iterations");
   path.stats.nodes = ReadIntScalar(reader, "stats/nodes");
   path.stats.collision_checks = ReadIntScalar(reader, "stats/collision_checks");
+  path.stats.invalid_checks = ReadIntScalar(reader, "stats/invalid_checks");
   path.length_normalized = ReadScalar(reader, "stats/length");
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
@@ -117,6 +119,21 @@ void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& wa
   for (const Pose& p : waypoints) {
     std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", p.t.x(), p.t.y(), p.t.z(),
                   p.q.w(), p.q.x(), p.q.y(), p.q.z());
+    text += line;
+  }
+  WriteTextFileAtomically(file, text);
+}
+
+}  // namespace ausbau
+
+namespace ausbau {
+
+void WriteOmplPath(const std::filesystem::path& file, const std::vector<Pose>& waypoints) {
+  std::string text;
+  char line[512];
+  for (const Pose& p : waypoints) {
+    std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", p.t.x(), p.t.y(), p.t.z(), p.q.x(),
+                  p.q.y(), p.q.z(), p.q.w());
     text += line;
   }
   WriteTextFileAtomically(file, text);

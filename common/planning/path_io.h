@@ -37,6 +37,11 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file);
 // digits; written atomically.
 void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
 
+// OMPL's path text format: one state per line, "x y z qx qy qz qw" (the
+// pose of the reference point OMPL.app uses, i.e. the scene convention when
+// dynamic_origin is D's centroid as in the OMPL.app scenes).
+void WriteOmplPath(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
+
 // Writes a text file atomically (temporary file, then rename).
 void WriteTextFileAtomically(const std::filesystem::path& file, const std::string& text);
 

@@ -1,16 +1,31 @@
 #include "planning/planner.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/error.h"
+#include "planning/certify.h"
+#include "planning/prm.h"
 #include "planning/rrt_connect.h"
+#include "planning/sampler.h"
+#include "planning/single_tree_planners.h"
 
 namespace ausbau {
 
+const std::vector<std::string>& PlannerNames() {
+  static const std::vector<std::string> names = {"rrt", "rrtc", "cr-rrtc", "est", "prm"};
+  return names;
+}
+
 void PlannerOptions::Check() const {
-  if (planner != "rrtc" && planner != "cr-rrtc") {
-    throw InputError("--planner: unknown planner '" + planner + "' (expected rrtc or cr-rrtc)");
+  const auto& names = PlannerNames();
+  if (std::find(names.begin(), names.end(), planner) == names.end()) {
+    throw InputError("--planner: unknown planner '" + planner + "' (expected rrt, rrtc, cr-rrtc, est or prm)");
   }
+  ParseSamplerKind(sampler);
+  if (!(sampler_sigma >= 0) || !std::isfinite(sampler_sigma)) throw InputError("--sigma: must be >= 0");
+  if (threads < 0) throw InputError("--threads: must be >= 0");
   if (!(time_limit_s > 0) || !std::isfinite(time_limit_s)) {
     throw InputError("--time-limit: must be a positive number of seconds");
   }
@@ -29,14 +44,47 @@ void CheckEndpoints(const PlanningProblem& problem, const PoseValidity& validity
   if (problem.goal && !validity.IsValid(*problem.goal)) throw InputErrorAt(where, "goal pose is in collision");
 }
 
-PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
-  options.Check();
-  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal);
+namespace {
+
+PlanResult RunPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  if (options.planner == "rrt") return RunRrt(problem, motion, options);
+  if (options.planner == "est") return RunEst(problem, motion, EstSettings{}, options);
+  if (options.planner == "prm") {
+    PrmSettings settings;
+    settings.threads = options.threads;
+    PrmResult result = RunPrm(problem, motion, {PrmQuery{problem.start, problem.goal}}, settings, options);
+    return result.queries.front();
+  }
   RrtConnectSettings settings;
   settings.randomize_parameters = options.planner == "cr-rrtc";
   settings.u = options.u;
   settings.range_max = options.range_max;
   return RunRrtConnect(problem, motion, settings, options);
+}
+
+}  // namespace
+
+PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
+  options.Check();
+  const auto begin = std::chrono::steady_clock::now();
+  const double step = options.resolution * problem.robot_diagonal;
+  const MotionChecker motion(problem, validity, step);
+  PlanResult result = RunPlanner(problem, motion, options);
+  if (!result.solved()) return result;
+  // Certify the path at a finer step (planning/certify.h), counting its
+  // checks and time in the run's statistics.
+  const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
+  PlannerOptions repair_options = options;
+  repair_options.time_limit_s = std::max(1.0, options.time_limit_s - result.stats.time_s);
+  const CertifyReport report = CertifyPath(problem, validity, step, repair_options, &result.path);
+  result.stats.collision_checks += validity.checks() - checks;
+  result.stats.invalid_checks += validity.invalid_checks() - invalid;
+  result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  if (!report.certified) {
+    result.path.clear();
+    result.status = PlanStatus::kTimeLimit;
+  }
+  return result;
 }
 
 }  // namespace ausbau

@@ -47,6 +47,9 @@ struct PlanResult {
   bool solved() const { return status == PlanStatus::kSolved; }
 };
 
+// The planners Plan() knows.
+const std::vector<std::string>& PlannerNames();
+
 // Plans from problem.start to problem.goal (or into the disassembly region)
 // with the validity check given. Deterministic for a given seed as long as
 // it does not run into the time limit.

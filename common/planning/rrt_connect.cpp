@@ -1,34 +1,13 @@
 #include "planning/rrt_connect.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "core/log.h"
-#include "planning/nearest_neighbors.h"
+#include "planning/sampler.h"
+#include "planning/tree.h"
 
 namespace ausbau {
 namespace {
-
-struct Tree {
-  explicit Tree(const Metric& metric) : index(metric) {}
-  std::vector<Pose> poses;
-  std::vector<int> parents;  // -1 for a root
-  NearestNeighbors index;
-
-  int Add(const Pose& pose, int parent) {
-    poses.push_back(pose);
-    parents.push_back(parent);
-    index.Add(pose);
-    return static_cast<int>(poses.size()) - 1;
-  }
-  std::size_t size() const { return poses.size(); }
-  // Poses from `node` up to its root.
-  std::vector<Pose> BranchToRoot(int node) const {
-    std::vector<Pose> branch;
-    for (int i = node; i >= 0; i = parents[i]) branch.push_back(poses[i]);
-    return branch;
-  }
-};
 
 enum class Extension { kTrapped, kAdvanced, kReached };
 
@@ -41,13 +20,13 @@ class RrtConnect {
         settings_(settings),
         options_(options),
         random_(options.seed),
+        sampler_(problem, motion, ParseSamplerKind(options.sampler), options.sampler_sigma),
         start_tree_(problem.metric),
         goal_tree_(problem.metric) {}
 
   PlanResult Run() {
-    const auto begin = std::chrono::steady_clock::now();
-    const std::int64_t checks_before = motion_.validity().checks();
-    const std::int64_t invalid_before = motion_.validity().invalid_checks();
+    const StatsScope scope(motion_.validity());
+    const Budget budget(options_, scope.begin());
     PlanResult result;
     start_tree_.Add(problem_.start, -1);
     if (problem_.goal) {
@@ -57,18 +36,9 @@ class RrtConnect {
       result.status = PlanStatus::kSolved;
     }
 
-    const auto deadline = begin + std::chrono::duration<double>(options_.time_limit_s);
     bool grow_start = true;
     std::int64_t iteration = 0;
-    while (!result.solved()) {
-      if (options_.max_iterations > 0 && iteration >= options_.max_iterations) {
-        result.status = PlanStatus::kIterationLimit;
-        break;
-      }
-      if (std::chrono::steady_clock::now() >= deadline) {
-        result.status = PlanStatus::kTimeLimit;
-        break;
-      }
+    while (!result.solved() && budget.Continue(iteration, &result.status)) {
       ++iteration;
       if (!problem_.goal) MaybeAddGoalRoot();
 
@@ -79,17 +49,16 @@ class RrtConnect {
       } else {
         grow_start = goal_tree_.size() == 0 ? true : !grow_start;
       }
-      Tree& current = grow_start ? start_tree_ : goal_tree_;
-      Tree& other = grow_start ? goal_tree_ : start_tree_;
+      PoseTree& current = grow_start ? start_tree_ : goal_tree_;
+      PoseTree& other = grow_start ? goal_tree_ : start_tree_;
 
-      const Pose target = problem_.SampleUniform(random_);
+      const Pose target = sampler_.Sample(random_);
       int added = -1;
       if (Extend(current, target, &added) == Extension::kTrapped) continue;
 
       // A start-tree node in the disassembly region solves the problem.
       if (!problem_.goal && grow_start && problem_.InGoalRegion(current.poses[added])) {
-        result.path = start_tree_.BranchToRoot(added);
-        std::reverse(result.path.begin(), result.path.end());
+        result.path = start_tree_.PathFromRoot(added);
         result.status = PlanStatus::kSolved;
         break;
       }
@@ -99,8 +68,7 @@ class RrtConnect {
       if (Extend(other, current.poses[added], &other_added) != Extension::kReached) continue;
       const int start_node = grow_start ? added : other_added;
       const int goal_node = grow_start ? other_added : added;
-      result.path = start_tree_.BranchToRoot(start_node);
-      std::reverse(result.path.begin(), result.path.end());
+      result.path = start_tree_.PathFromRoot(start_node);
       std::vector<Pose> tail = goal_tree_.BranchToRoot(goal_node);
       // The connecting node exists in both trees: keep it once.
       result.path.insert(result.path.end(), tail.begin() + 1, tail.end());
@@ -110,16 +78,14 @@ class RrtConnect {
              static_cast<long long>(goal_roots_));
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
-    result.stats.collision_checks = motion_.validity().checks() - checks_before;
-    result.stats.invalid_checks = motion_.validity().invalid_checks() - invalid_before;
-    result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    scope.Fill(&result.stats);
     return result;
   }
 
  private:
   // Grows `tree` from its nearest node towards `target` by at most
   // range_max (eq. 3), keeping the valid part of the edge (getValidEdge).
-  Extension Extend(Tree& tree, const Pose& target, int* added) {
+  Extension Extend(PoseTree& tree, const Pose& target, int* added) {
     const double u = settings_.randomize_parameters ? random_.UniformOpen01() : settings_.u;
     const double range_max = settings_.randomize_parameters ? random_.UniformOpen01() : settings_.range_max;
     const int near = tree.index.Nearest(target, u);
@@ -141,13 +107,10 @@ class RrtConnect {
   // roots are collision-free by construction; they must lie in bounds.
   void MaybeAddGoalRoot() {
     if (goal_tree_.size() > 0 && goal_roots_ * 2 >= static_cast<std::int64_t>(goal_tree_.size())) return;
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      const Pose pose = problem_.SampleUniform(random_);
-      if (problem_.InGoalRegion(pose) && problem_.InBounds(pose)) {
-        goal_tree_.Add(pose, -1);
-        ++goal_roots_;
-        return;
-      }
+    Pose pose;
+    if (SampleGoalRegion(problem_, random_, &pose)) {
+      goal_tree_.Add(pose, -1);
+      ++goal_roots_;
     }
   }
 
@@ -156,8 +119,9 @@ class RrtConnect {
   const RrtConnectSettings settings_;
   const PlannerOptions& options_;
   Random random_;
-  Tree start_tree_;
-  Tree goal_tree_;
+  Sampler sampler_;
+  PoseTree start_tree_;
+  PoseTree goal_tree_;
   std::int64_t goal_roots_ = 0;
 };
 

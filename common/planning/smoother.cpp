@@ -37,7 +37,9 @@ double SegmentCost(const PlanningProblem& problem, const std::vector<Pose>& path
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity,
                         const std::vector<Pose>& input, const SmoothOptions& options) {
   options.Check();
-  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal);
+  // Shortcuts are few: check them at the certification step (planner step / 4,
+  // planning/certify.h) so that smoothing never trades certainty for length.
+  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0);
   SmoothResult result;
   result.path = input;
   result.before = MeasurePath(problem, input);

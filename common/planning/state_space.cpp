@@ -102,6 +102,17 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
   return problem;
 }
 
+bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose) {
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const Pose candidate = problem.SampleUniform(random);
+    if (problem.InGoalRegion(candidate) && problem.InBounds(candidate)) {
+      *pose = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step)
     : problem_(&problem), validity_(&validity), step_(step) {}
 

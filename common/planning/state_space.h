@@ -82,6 +82,10 @@ struct PlanningProblem {
 // start or goal lie outside the bounds.
 PlanningProblem MakePlanningProblem(const Scene& scene);
 
+// A pose in the disassembly goal region and in bounds (collision-free by
+// construction: D's AABB is separated from S's). False after 100 misses.
+bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose);
+
 // Checks straight motions (linear t, slerp q about the reference point)
 // between poses at a step size bound: between two checked poses no vertex of
 // D moves more than `step` (world units).

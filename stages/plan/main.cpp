@@ -19,6 +19,7 @@ struct PlanStageOptions {
   std::string scene;
   std::string output = "path.h5";
   std::string csv;
+  std::string ompl_path;
   bool verify = true;
   bool force = false;
   PlannerOptions planner;
@@ -42,6 +43,7 @@ int Run(const PlanStageOptions& options, const std::string& parameters) {
     const PathArtifact cached = ReadPathArtifact(options.output);
     LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
     if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
+    if (!options.ompl_path.empty() && cached.success) WriteOmplPath(options.ompl_path, cached.waypoints);
     return cached.success ? kExitOk : kExitNoPath;
   }
 
@@ -68,10 +70,13 @@ int Run(const PlanStageOptions& options, const std::string& parameters) {
   artifact.length_translation = length.translation;
   artifact.length_rotation = length.rotation;
 
-  LogInfo("%s after %.3f s: %lld iterations, %lld nodes, %lld collision checks",
+  LogInfo("%s after %.3f s: %lld iterations, %lld nodes, %lld collision checks (%.1f%% invalid)",
           result.solved() ? "solved" : "no path", result.stats.time_s,
           static_cast<long long>(result.stats.iterations), static_cast<long long>(result.stats.nodes),
-          static_cast<long long>(result.stats.collision_checks));
+          static_cast<long long>(result.stats.collision_checks),
+          result.stats.collision_checks > 0
+              ? 100.0 * result.stats.invalid_checks / result.stats.collision_checks
+              : 0.0);
   if (result.solved() && options.verify) {
     const DenseCheckReport report = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
     if (!report.valid) {
@@ -83,6 +88,7 @@ int Run(const PlanStageOptions& options, const std::string& parameters) {
   }
   WritePathArtifact(options.output, artifact, provenance);
   if (result.solved() && !options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
+  if (result.solved() && !options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
   if (!result.solved()) {
     LogError("no path within the budget (%s)",
              result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
@@ -106,7 +112,15 @@ int main(int argc, char** argv) {
       [&](CLI::App& app) {
         app_ptr = &app;
         app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--planner", options.planner.planner, "rrtc | cr-rrtc")->capture_default_str();
+        app.add_option("--planner", options.planner.planner, "rrt | rrtc | cr-rrtc | est | prm")
+            ->capture_default_str();
+        app.add_option("--sampler", options.planner.sampler, "uniform | gaussian | bridge | mixed")
+            ->capture_default_str();
+        app.add_option("--sigma", options.planner.sampler_sigma,
+                       "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)")
+            ->capture_default_str();
+        app.add_option("--threads", options.planner.threads, "prm edge verification threads; 0 = all cores")
+            ->capture_default_str();
         app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str();
         app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str();
         app.add_option("--max-iterations", options.planner.max_iterations, "0 = unlimited")->capture_default_str();
@@ -119,10 +133,11 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("-o,--output", options.output, "path artifact (HDF5)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
+        app.add_option("--ompl-path", options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
         app.add_flag("!--no-verify", options.verify, "skip the dense re-check of the result");
         app.add_flag("--force", options.force, "plan even when the output is up to date");
       },
       [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "force", "no-verify"}));
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads"}));
       });
 }

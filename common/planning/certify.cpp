@@ -1,0 +1,48 @@
+#include "planning/certify.h"
+
+#include "core/log.h"
+#include "planning/rrt_connect.h"
+
+namespace ausbau {
+
+CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
+                          const PlannerOptions& options, std::vector<Pose>* path) {
+  CertifyReport report;
+  const MotionChecker fine(problem, validity, planner_step / 4.0);
+  std::vector<Pose> certified;
+  if (path->empty()) return report;
+  certified.push_back(path->front());
+  for (std::size_t i = 0; i + 1 < path->size(); ++i) {
+    const Pose& a = (*path)[i];
+    const Pose& b = (*path)[i + 1];
+    if (fine.MotionValid(a, b)) {
+      certified.push_back(b);
+      continue;
+    }
+    // Re-plan this segment with edges checked at the fine step.
+    PlanningProblem local = problem;
+    local.start = a;
+    local.goal = b;
+    PlannerOptions local_options = options;
+    local_options.seed = options.seed + 1000003ull * (i + 1);
+    local_options.max_iterations = 50000;
+    RrtConnectSettings settings;
+    settings.randomize_parameters = true;
+    const PlanResult repair = RunRrtConnect(local, fine, settings, local_options);
+    if (!repair.solved()) {
+      LogWarn("segment %zu of the path fails the fine re-check and could not be re-planned", i);
+      report.certified = false;
+      return report;
+    }
+    certified.insert(certified.end(), repair.path.begin() + 1, repair.path.end());
+    ++report.repaired_segments;
+  }
+  if (report.repaired_segments > 0) {
+    LogInfo("certification re-planned %d path segment(s) that grazed S between checked poses",
+            report.repaired_segments);
+  }
+  path->swap(certified);
+  return report;
+}
+
+}  // namespace ausbau

@@ -1,0 +1,28 @@
+// Certification of a finished path at a finer step than the planner's.
+//
+// Planners check edges at a step bound (no vertex of D moves more than
+// `step` between checked poses), which leaves thin slivers of collision
+// between checked poses undetected. Before a path is returned, every segment
+// is re-checked at step / 4; a segment that fails is re-planned locally
+// (CR-RRTC between its two end poses, edges checked at the fine step) and
+// spliced in. Rare, but without it a grazing path can fail a later dense
+// check.
+#pragma once
+
+#include <vector>
+
+#include "planning/planner.h"
+
+namespace ausbau {
+
+struct CertifyReport {
+  bool certified = true;
+  int repaired_segments = 0;
+};
+
+// `path` is replaced by the certified (possibly repaired) path. `options`
+// supplies the seed and the time budget left for repairs.
+CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
+                          const PlannerOptions& options, std::vector<Pose>* path);
+
+}  // namespace ausbau

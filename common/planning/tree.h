@@ -1,0 +1,88 @@
+// A tree of poses with a nearest-neighbour index, shared by the tree
+// planners (RRT, RRT-Connect, EST).
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "planning/nearest_neighbors.h"
+#include "planning/planner.h"
+
+namespace ausbau {
+
+struct PoseTree {
+  explicit PoseTree(const Metric& metric) : index(metric) {}
+  std::vector<Pose> poses;
+  std::vector<int> parents;  // -1 for a root
+  NearestNeighbors index;
+
+  int Add(const Pose& pose, int parent) {
+    poses.push_back(pose);
+    parents.push_back(parent);
+    index.Add(pose);
+    return static_cast<int>(poses.size()) - 1;
+  }
+  std::size_t size() const { return poses.size(); }
+  // Poses from `node` up to its root.
+  std::vector<Pose> BranchToRoot(int node) const {
+    std::vector<Pose> branch;
+    for (int i = node; i >= 0; i = parents[i]) branch.push_back(poses[i]);
+    return branch;
+  }
+  // Poses from the root down to `node`.
+  std::vector<Pose> PathFromRoot(int node) const {
+    std::vector<Pose> path = BranchToRoot(node);
+    std::reverse(path.begin(), path.end());
+    return path;
+  }
+};
+
+// Collects the run's statistics from the validity counters and the clock.
+class StatsScope {
+ public:
+  explicit StatsScope(const PoseValidity& validity)
+      : validity_(validity),
+        checks_(validity.checks()),
+        invalid_(validity.invalid_checks()),
+        begin_(std::chrono::steady_clock::now()) {}
+  void Fill(PlanStats* stats) const {
+    stats->collision_checks = validity_.checks() - checks_;
+    stats->invalid_checks = validity_.invalid_checks() - invalid_;
+    stats->time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin_).count();
+  }
+  std::chrono::steady_clock::time_point begin() const { return begin_; }
+
+ private:
+  const PoseValidity& validity_;
+  std::int64_t checks_, invalid_;
+  std::chrono::steady_clock::time_point begin_;
+};
+
+// The planner loop's stop rule: iteration budget first (deterministic), then
+// the wall clock.
+class Budget {
+ public:
+  Budget(const PlannerOptions& options, std::chrono::steady_clock::time_point begin)
+      : max_iterations_(options.max_iterations),
+        deadline_(begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                              std::chrono::duration<double>(options.time_limit_s))) {}
+  // Returns false and sets *status when the budget is spent.
+  bool Continue(std::int64_t iteration, PlanStatus* status) const {
+    if (max_iterations_ > 0 && iteration >= max_iterations_) {
+      *status = PlanStatus::kIterationLimit;
+      return false;
+    }
+    if (std::chrono::steady_clock::now() >= deadline_) {
+      *status = PlanStatus::kTimeLimit;
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  std::int64_t max_iterations_;
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+}  // namespace ausbau
