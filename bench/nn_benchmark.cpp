@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
   std::printf("|---|---:|---:|---:|---:|---:|---|\n");
 
   long long sink = 0;
+  std::vector<std::string> by_weight;
   for (Data data : {Data::kUniform, Data::kRandomExtension, Data::kRrtGrowth}) {
     for (int n : {1000, 10000, 100000}) {
       if (n > max_n) continue;
@@ -229,8 +230,27 @@ int main(int argc, char** argv) {
                   scan_us / tree_us, add_us,
                   mismatches == 0 ? "yes" : (std::to_string(mismatches) + " differ").c_str());
       std::fflush(stdout);
+      // The largest n again with fixed weights: how the pruning depends on u.
+      if (n == std::min(max_n, 100000)) {
+        std::string line = std::string("| ") + Name(data) + " | " + std::to_string(n);
+        for (double u : {0.05, 0.5, 0.95}) {
+          const double tree = BestMeanMicroseconds(queries, repetitions, [&](int i) {
+            sink += index.Nearest(query_poses[i], u);
+          });
+          const double linear = BestMeanMicroseconds(queries, repetitions, [&](int i) {
+            sink += scan.Nearest(query_poses[i], u);
+          });
+          char cell[64];
+          std::snprintf(cell, sizeof cell, " | %.2f / %.0f", tree, linear);
+          line += cell;
+        }
+        by_weight.push_back(line + " |");
+      }
     }
   }
+  std::printf("\nFixed weights (kd-tree / linear scan, us per Nearest):\n\n");
+  std::printf("| data | n | u = 0.05 | u = 0.5 | u = 0.95 |\n|---|---:|---:|---:|---:|\n");
+  for (const std::string& line : by_weight) std::printf("%s\n", line.c_str());
   std::printf("\n%d queries per row; times are the best of %d passes (mean per call within a pass); checksum %lld\n",
               queries, repetitions, sink);
   return 0;

@@ -140,7 +140,7 @@ TEST(NearestNeighbors, UniformSmallSizes) {
 
 TEST(NearestNeighbors, Uniform1000) { RunUniform(1000, 100, 7); }
 
-TEST(NearestNeighbors, Uniform20000) { RunUniform(20000, 40, 8); }
+TEST(NearestNeighbors, Uniform20000) { RunUniform(20000, 25, 8); }
 
 // Identical poses, and q next to -q: distances tie exactly, the lower index wins.
 TEST(NearestNeighbors, DuplicatesAndAntipodesTie) {
@@ -281,6 +281,28 @@ TEST(NearestNeighbors, InterleavedInsertsAndQueriesOnAGrowingTree) {
     const Pose& from = i % 3 ? poses[near] : poses[random.Index(poses.size())];
     poses.push_back(Step(random, from, 2.0, 0.1));
     index.Add(poses.back());
+  }
+}
+
+// Far from the origin with tiny steps (a CAD scene in mm): node boxes are
+// stored as floats, whose spacing there (~0.008) exceeds the steps.
+TEST(NearestNeighbors, LargeCoordinatesTinySteps) {
+  const Metric metric{2000.0};
+  Random random(10);
+  NearestNeighbors index(metric);
+  std::vector<Pose> poses;
+  Pose root;
+  root.t = {1.0e5, -2.5e5, 7.0e4};
+  root.q = random.UniformQuaternion();
+  poses.push_back(root);
+  index.Add(root);
+  for (int i = 1; i < 4000; ++i) {
+    poses.push_back(Step(random, poses[random.Index(poses.size())], 1e-3, 1e-4));
+    index.Add(poses.back());
+  }
+  for (int i = 0; i < 40; ++i) {
+    Pose query = Step(random, poses[random.Index(poses.size())], 2e-3, 2e-4);
+    for (double u : Weights(random, 2)) ExpectSameAsBruteForce(metric, poses, index, query, u, random);
   }
 }
 

@@ -5,31 +5,43 @@
 // ("Improving motion-planning algorithms by efficient nearest-neighbor
 // searching"): every pose is a point of R^7 (t, then q in Eigen's coefficient
 // order x y z w, flipped to the hemisphere w >= 0; q and -q are the same
-// rotation). Nodes keep the tight bounding box of their points. Because u is
-// only known at query time, a node's lower bound is built from the two terms
-// separately:
+// rotation). Every node keeps the tight bounding box of its points. Because u
+// is only known at query time, a node's lower bound combines the two terms,
+// each bounded on its own:
 //
 //   d'_c >= u/nu * dist(t_query, translation box)
-//         + (1-u)/pi * acos(min(1, max over the quaternion box of |q_query . x|))
+//         + (1-u)/pi * acos(min(1, upper bound of |q_query . x| over the quaternion box))
 //
-// where the max of |dot| covers both q and -q (max(max dot, -min dot), each
-// from the box corners) and acos is bounded from below by a truncated series
-// of the chord, so no transcendental is evaluated per node. Bounds are shrunk
-// by a tiny relative margin (and the dot bound grown by a few ulps) so that
-// rounding can never prune a point whose computed distance ties the best one.
+// The |dot| bound covers q and -q and is the smaller of the corner bound (q . x
+// is linear in x) and a sphere bound (q . x = (|q|^2 + |x|^2 - |q - x|^2) / 2
+// with |q - x| at least the distance from q, or -q, to the box), which is far
+// tighter for boxes near the query. acos is bounded from below by a truncated
+// series of the chord, so a node costs no transcendental. Search is depth
+// first, nearer child (by bound) first, pruning a child whose bound exceeds
+// the best distance so far.
 //
-// Exactness: every candidate's distance is computed with the very expression
-// of Metric::Distance (stored pose first, query second), and candidates are
-// ordered by (distance, index). Results are identical, bit for bit and with
-// ties to the lower index, to a brute-force scan with Metric::Distance.
+// Leaves hold up to kLeafCapacity points coordinate by coordinate; a leaf
+// scan first computes, for all its points at once (vectorizable), a cheap
+// lower bound from the squared translation and the chord of the rotation, and
+// evaluates the exact distance only for the few points it does not rule out;
+// there, as in the old linear scan, the weighted translation is compared
+// before the acos.
 //
-// Growth: a point is inserted down the tree into a leaf bucket (capacity
-// kLeafCapacity); a full leaf is split at the median of its widest coordinate
-// (translation spreads scaled by 1/nu, quaternion spreads by 1/pi), and a
-// subtree whose larger child holds more than kAlpha of its points is rebuilt
-// balanced (scapegoat style), so the depth stays O(log n) and insertion is
-// O(log^2 n) amortized whatever the insertion order (planner trees grow
-// outwards, which would degrade a tree that is never rebalanced).
+// Exactness: a candidate's distance is computed with the very expressions of
+// Metric::Distance (stored pose first, query second) and candidates are
+// ordered by (distance, index), so results equal a brute-force scan with
+// Metric::Distance bit for bit, ties to the lower index included. Bounds
+// only prune when they exceed the best distance strictly, and are made safe
+// against rounding: boxes are rounded outwards (they are stored as floats),
+// bounds are shrunk by a relative 1e-12 and the |dot| bounds grown by a few
+// ulps (the tests fail without these margins).
+//
+// Growth: a point goes down the tree (by the split planes) into a leaf; a
+// full leaf is split at the median of its widest coordinate (translation
+// spreads over nu, quaternion spreads over pi), and the highest subtree on
+// the path whose larger child holds more than kAlpha of its points is
+// rebuilt balanced (scapegoat style), so depth stays O(log n) and insertion
+// O(log^2 n) amortized for any insertion order (planner trees grow outwards).
 //
 // Queries allocate nothing (Nearest) or only their result (Within,
 // KNearest), use no shared mutable state and may run concurrently; Add must

@@ -24,7 +24,7 @@ struct PlannerOptions {
   double range_max = 0.417;         // rrtc: maximal edge range (Def-RRTC default)
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
-  double resolution = 0.005;
+  double resolution = 0.01;
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;

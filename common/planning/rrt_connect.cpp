@@ -93,6 +93,11 @@ class RrtConnect {
     const double range = problem_.metric.Range(from, target);
     const bool clipped = range > range_max;
     const Pose to = clipped ? Interpolate(from, target, range_max / range) : target;
+    if (!settings_.partial_extension) {
+      if (!motion_.MotionValid(from, to)) return Extension::kTrapped;
+      *added = tree.Add(to, near);
+      return clipped ? Extension::kAdvanced : Extension::kReached;
+    }
     Pose reached;
     const double fraction = motion_.ValidPrefix(from, to, &reached);
     if (fraction <= 0.0) return Extension::kTrapped;

@@ -12,6 +12,10 @@ struct RrtConnectSettings {
   bool randomize_parameters = false;  // CR-RRTC
   double u = 0.583;
   double range_max = 0.417;
+  // true: an extension keeps the valid part of its edge (the thesis's
+  // getValidEdge), checked front to back; false: only a whole valid edge is
+  // added (as OMPL's RRTConnect does), checked in bisection order.
+  bool partial_extension = true;
 };
 
 PlanResult RunRrtConnect(const PlanningProblem& problem, const MotionChecker& motion,

@@ -14,7 +14,7 @@ struct SmoothOptions {
   std::uint64_t seed = 1;
   int attempts = 0;             // 0 = automatic: 100 + 10 per waypoint, at most 2000
   double time_limit_s = 10.0;
-  double resolution = 0.005;    // as PlannerOptions::resolution
+  double resolution = 0.01;     // as PlannerOptions::resolution
   void Check() const;
 };
 
