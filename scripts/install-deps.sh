@@ -4,21 +4,28 @@
 #   scripts/install-deps.sh         the packages every build needs
 #   scripts/install-deps.sh bench   those plus libompl-dev (OMPL 1.5, for
 #                                   ausbau-bench: `make bench`, `make study`)
+#   scripts/install-deps.sh browser those plus chromium (headless browser for
+#                                   the report's browser test: `make test`)
 set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libfcl-dev libassimp-dev libhdf5-dev hdf5-tools
   libyaml-cpp-dev libcli11-dev libgtest-dev libxxhash-dev
+  nodejs npm
 )
 case "${1:-}" in
   "") ;;
   bench) packages+=(libompl-dev) ;;
-  *) echo "install-deps: error: unknown argument '$1' (expected nothing or 'bench')" >&2; exit 2 ;;
+  browser) packages+=(chromium) ;;
+  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench' or 'browser')" >&2; exit 2 ;;
 esac
 
 missing=()
 for p in "${packages[@]}"; do
+  # node and npm may come from elsewhere (NodeSource's nodejs ships npm, and
+  # Debian's npm conflicts with it): a working command is enough.
+  case "$p" in nodejs) command -v node >/dev/null && continue ;; npm) command -v npm >/dev/null && continue ;; esac
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "core/error.h"
 #include "planning/certify.h"
@@ -60,7 +59,6 @@ PlanResult RunPlanner(const PlanningProblem& problem, const MotionChecker& motio
   settings.randomize_parameters = options.planner == "cr-rrtc";
   settings.u = options.u;
   settings.range_max = options.range_max;
-  if (const char* mode = std::getenv("AUSBAU_EXTENSION")) settings.partial_extension = std::string(mode) != "whole";
   return RunRrtConnect(problem, motion, settings, options);
 }
 
