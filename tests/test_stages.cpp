@@ -91,6 +91,34 @@ TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {
   EXPECT_EQ(ReadFile(dir / "a.h5").size(), ReadFile(dir / "b.h5").size());
 }
 
+TEST(PlanStage, WritesOmplsPathFormat) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  const auto dir = yaml.parent_path();
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --planner prm --threads 2 -o " +
+                                            (dir / "p.h5").string() + " --csv " + (dir / "p.csv").string() +
+                                            " --ompl-path " + (dir / "p.path").string());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  // Same poses, OMPL's order: x y z qx qy qz qw.
+  std::istringstream csv(ReadFile(dir / "p.csv")), ompl(ReadFile(dir / "p.path"));
+  std::string header, row, line;
+  std::getline(csv, header);
+  int rows = 0;
+  while (std::getline(csv, row) && std::getline(ompl, line)) {
+    double c[7], o[7];
+    ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6]), 7);
+    std::istringstream fields(line);
+    for (double& v : o) fields >> v;
+    ASSERT_TRUE(fields) << line;
+    EXPECT_EQ(c[0], o[0]);
+    EXPECT_EQ(c[2], o[2]);
+    EXPECT_EQ(c[3], o[6]);  // qw last in OMPL's format
+    EXPECT_EQ(c[4], o[3]);
+    ++rows;
+  }
+  EXPECT_GE(rows, 2);
+  EXPECT_FALSE(std::getline(ompl, line));
+}
+
 TEST(PlanStage, ReusesAnUpToDateOutputAndReplansOnChange) {
   const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
   const auto out = (yaml.parent_path() / "path.h5").string();
