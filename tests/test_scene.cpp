@@ -251,7 +251,10 @@ TEST_F(SceneFiles, SaveObjRoundTripsThroughLoadMesh) {
   EXPECT_EQ(back.vertices.size(), 8u);
   EXPECT_EQ(back.Bounds().min, box.Bounds().min);
   EXPECT_EQ(back.Bounds().max, box.Bounds().max);
-  EXPECT_THROW(SaveObj(box, dir_ / "no such dir" / "box.obj"), std::runtime_error);
+  // A missing folder is created; a folder that cannot exist (its parent is
+  // a file) is an error that names the file.
+  EXPECT_NO_THROW(SaveObj(box, dir_ / "new dir" / "box.obj"));
+  EXPECT_THROW(SaveObj(box, dir_ / "box.obj" / "box.obj"), std::exception);
 }
 
 // ----------------------------------------------------------------- errors

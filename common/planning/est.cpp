@@ -128,17 +128,7 @@ PlanResult RunEst(const PlanningProblem& problem, const MotionChecker& motion, c
     }
     if (!motion.MotionValid(tree.poses[way], candidate)) continue;
     const int added = add_node(candidate, way);
-    if (!problem.goal) {
-      if (problem.InGoalRegion(candidate)) {
-        result.path = tree.PathFromRoot(added);
-        result.status = PlanStatus::kSolved;
-      }
-    } else if (problem.metric.Range(candidate, *problem.goal) <= 2.0 * r1 &&
-               motion.MotionValid(candidate, *problem.goal)) {
-      result.path = tree.PathFromRoot(added);
-      if (problem.metric.Range(candidate, *problem.goal) > 0) result.path.push_back(*problem.goal);
-      result.status = PlanStatus::kSolved;
-    }
+    if (GoalReached(problem, motion, tree, added, 2.0 * r1, &result.path)) result.status = PlanStatus::kSolved;
   }
   result.stats.iterations = iteration;
   result.stats.nodes = static_cast<std::int64_t>(tree.size());

@@ -97,22 +97,6 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   return path;
 }
 
-void WriteTextFileAtomically(const std::filesystem::path& file, const std::string& text) {
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  const std::filesystem::path temporary = file.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw std::runtime_error(file.string() + ": cannot write file");
-    }
-  }
-  std::filesystem::rename(temporary, file);
-}
-
 void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints) {
   std::string text = "x,y,z,qw,qx,qy,qz\n";
   char line[512];

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "artifact/artifact.h"
+#include "core/atomic_file.h"
 #include "planning/planner.h"
 
 namespace ausbau {
@@ -42,7 +43,5 @@ void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& wa
 // dynamic_origin is D's centroid as in the OMPL.app scenes).
 void WriteOmplPath(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
 
-// Writes a text file atomically (temporary file, then rename).
-void WriteTextFileAtomically(const std::filesystem::path& file, const std::string& text);
 
 }  // namespace ausbau

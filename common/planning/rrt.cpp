@@ -28,17 +28,7 @@ PlanResult RunRrt(const PlanningProblem& problem, const MotionChecker& motion, c
     Pose reached;
     if (motion.ValidPrefix(from, to, &reached) <= 0.0) continue;
     const int added = tree.Add(reached, near);
-    if (!problem.goal) {
-      if (problem.InGoalRegion(reached)) {
-        result.path = tree.PathFromRoot(added);
-        result.status = PlanStatus::kSolved;
-      }
-    } else if (problem.metric.Range(reached, *problem.goal) <= options.range_max &&
-               motion.MotionValid(reached, *problem.goal)) {
-      result.path = tree.PathFromRoot(added);
-      if (problem.metric.Range(reached, *problem.goal) > 0) result.path.push_back(*problem.goal);
-      result.status = PlanStatus::kSolved;
-    }
+    if (GoalReached(problem, motion, tree, added, options.range_max, &result.path)) result.status = PlanStatus::kSolved;
   }
   result.stats.iterations = iteration;
   result.stats.nodes = static_cast<std::int64_t>(tree.size());

@@ -38,6 +38,25 @@ struct PoseTree {
   }
 };
 
+// The single-tree planners' goalReached (thesis alg. 1, line 9) for the
+// node just added: in the disassembly region, or, with a goal pose, within
+// `connect_range` (eq. 3) of it with a valid straight motion to it. On
+// success fills the path from the root (ending at the goal pose).
+inline bool GoalReached(const PlanningProblem& problem, const MotionChecker& motion, const PoseTree& tree, int node,
+                        double connect_range, std::vector<Pose>* path) {
+  const Pose& pose = tree.poses[node];
+  if (!problem.goal) {
+    if (!problem.InGoalRegion(pose)) return false;
+    *path = tree.PathFromRoot(node);
+    return true;
+  }
+  const double range = problem.metric.Range(pose, *problem.goal);
+  if (range > connect_range || !motion.MotionValid(pose, *problem.goal)) return false;
+  *path = tree.PathFromRoot(node);
+  if (range > 0) path->push_back(*problem.goal);
+  return true;
+}
+
 // Collects the run's statistics from the validity counters and the clock.
 class StatsScope {
  public:

@@ -20,8 +20,8 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
-#include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace ausbau {
@@ -141,34 +141,18 @@ TriangleMesh LoadMesh(const fs::path& path) {
 }
 
 void SaveObj(const TriangleMesh& mesh, const fs::path& path) {
-  const std::string tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  std::FILE* f = std::fopen(tmp.c_str(), "w");
-  if (f == nullptr) {
-    throw std::runtime_error(path.string() + ": cannot write (" + std::strerror(errno) + ")");
-  }
-  bool ok = std::fprintf(f, "# %zu vertices, %zu triangles\n", mesh.vertices.size(),
-                         mesh.triangles.size()) > 0;
+  std::string text = "# " + std::to_string(mesh.vertices.size()) + " vertices, " +
+                     std::to_string(mesh.triangles.size()) + " triangles\n";
+  char line[128];
   for (const auto& v : mesh.vertices) {
-    if (!ok) break;
-    ok = std::fprintf(f, "v %.17g %.17g %.17g\n", v.x(), v.y(), v.z()) > 0;
+    std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+    text += line;
   }
   for (const auto& t : mesh.triangles) {
-    if (!ok) break;
-    ok = std::fprintf(f, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1) > 0;
+    std::snprintf(line, sizeof line, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    text += line;
   }
-  const int saved_errno = errno;
-  if (std::fclose(f) != 0) ok = false;
-  if (!ok) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path.string() + ": cannot write (" + std::strerror(saved_errno) +
-                             ")");
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path.string() + ": cannot write (" + ec.message() + ")");
-  }
+  WriteTextFileAtomically(path, text);
 }
 
 }  // namespace ausbau

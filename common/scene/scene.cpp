@@ -11,8 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <system_error>
-#include <unistd.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "scene/mesh_io.h"
 
@@ -330,22 +330,7 @@ void SaveSceneYaml(const Scene& scene, const fs::path& path) {
          ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
   }
 
-  const std::string tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << y;
-    out.close();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw std::runtime_error(path.string() + ": cannot write");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path.string() + ": cannot write (" + ec.message() + ")");
-  }
+  WriteTextFileAtomically(path, y);
 }
 
 }  // namespace ausbau
