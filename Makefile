@@ -44,9 +44,16 @@ demo: build
 	@$(MAKE) --no-print-directory -f pipelines/plan.mk \
 	  SCENE=$(DEMO_OUT)/scene/scene.yaml OUT=$(DEMO_OUT) BIN=$(BUILD)/bin SEED=$(SEED) generate-demo-scene all
 	@echo "demo: path written to $(DEMO_OUT)/path.csv (smoothed: $(DEMO_OUT)/path-smooth.csv)"
+	@echo "demo: report: $(DEMO_OUT)/report.html (one self-contained HTML file: open it in a browser)"
 
-test: build
+test: build deps-browser
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Chromium for the report's browser test; without it (no root, no apt) that
+# test is skipped, so this never fails the test run.
+.PHONY: deps-browser
+deps-browser:
+	@scripts/install-deps.sh browser || echo "deps-browser: Chromium could not be installed; the browser test will be skipped" >&2
 
 bench-deps:
 	@scripts/install-deps.sh bench

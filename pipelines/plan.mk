@@ -1,4 +1,4 @@
-# The rigid planning pipeline for one scene: plan -> smooth.
+# The rigid planning pipeline for one scene: plan -> smooth -> report.
 #   make -f pipelines/plan.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [PLANNER=cr-rrtc]
 # Each stage's executable is a variable, so a stage can be swapped:
 #   make -f pipelines/plan.mk ... PLAN=/path/to/my-planner
@@ -8,6 +8,7 @@
 BIN ?= build/bin
 PLAN ?= $(BIN)/ausbau-plan
 SMOOTH ?= $(BIN)/ausbau-smooth
+REPORT ?= $(BIN)/ausbau-report
 SCENE_GEN ?= $(BIN)/ausbau-scene-gen
 SEED ?= 1
 PLANNER ?= cr-rrtc
@@ -22,10 +23,10 @@ ifndef OUT
 $(error OUT=output/folder is required)
 endif
 
-.PHONY: all plan smooth generate-demo-scene
+.PHONY: all plan smooth report generate-demo-scene
 .DELETE_ON_ERROR:
 
-all: smooth
+all: smooth report
 
 plan:
 	@mkdir -p $(OUT)
@@ -35,6 +36,9 @@ plan:
 smooth: plan
 	$(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) \
 	  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+
+report: smooth
+	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html
 
 generate-demo-scene:
 	@$(SCENE_GEN) --family rod-in-cage --seed $(SEED) -o $(dir $(SCENE)) > /dev/null

@@ -1,22 +1,41 @@
 // ausbau-scene-gen: writes a generated scene (meshes + scene.yaml).
 #include "cli/stage_main.h"
 #include "core/log.h"
+#include "scene/clip_scenes.h"
 #include "scene/generators.h"
 
 int main(int argc, char** argv) {
   using namespace ausbau;
   std::string family = "rod-in-cage", output = "scene";
   std::uint64_t seed = 1;
+  std::int64_t triangles = 0;
   return RunStage(
       {"ausbau-scene-gen", "Generates a small benchmark scene: meshes and scene.yaml."}, argc, argv,
       [&](CLI::App& app) {
-        app.add_option("--family", family, "rod-in-cage | peg-in-plate | two-boxes")->capture_default_str();
+        app.add_option("--family", family,
+                       "rod-in-cage | peg-in-plate | two-boxes | clips-ds1 .. clips-ds5 (InIState scenes)")
+            ->capture_default_str();
         app.add_option("--seed", seed, "random seed (varies dimensions)")->capture_default_str();
+        app.add_option("--triangles", triangles,
+                       "clips-ds*: target triangle count of D; 0 = the thesis's (table 14)")
+            ->capture_default_str();
         app.add_option("-o,--output", output, "output folder")->capture_default_str();
       },
       [&] {
-        const auto yaml = GenerateScene(family, seed, output);
-        LogInfo("wrote %s", yaml.string().c_str());
+        std::filesystem::path yaml;
+        if (IsClipSceneFamily(family)) {
+          ClipSceneOptions options;
+          options.seed = seed;
+          options.triangles = triangles;
+          const ClipSceneFiles files = GenerateClipScene(family, options, output);
+          LogInfo("wrote %s, %s and %s", files.scene_yaml.string().c_str(), files.ground_truth_yaml.string().c_str(),
+                  files.ground_truth_path.string().c_str());
+          yaml = files.scene_yaml;
+        } else {
+          if (triangles != 0) throw InputError("--triangles: applies only to the clips-ds* families");
+          yaml = GenerateScene(family, seed, output);
+          LogInfo("wrote %s", yaml.string().c_str());
+        }
         std::printf("%s\n", yaml.string().c_str());
         return kExitOk;
       });

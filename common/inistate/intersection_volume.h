@@ -1,0 +1,116 @@
+// Intersection volumes of D at a pose against S, on voxels (thesis 5.3-5.4):
+//
+//   IV            (def. 5) the number of D's voxels whose transformed centre
+//                 lands in an occupied voxel of S, times D's voxel volume;
+//   MLIV          (def. 5, alg. 11) the volume of the largest 6-connected
+//                 component of those intersecting voxels, connectivity taken
+//                 in D's own grid;
+//   Labeled-MLIV  (alg. 12) the largest sum over a component of voxel volume
+//                 x colorValue(voxel), colorValue in [0 = deformable,
+//                 1 = rigid] (voxel_grid.h: ColorValues); with a threshold
+//                 tau it stops as soon as one component's running sum exceeds
+//                 tau (the early out of 5.4.4) and returns that sum (> tau).
+// So IV >= MLIV >= Labeled-MLIV. Poses are in the planning convention
+// (planning/state_space.h): x_world = R(q) (x_mesh - reference_point) + t,
+// with the reference point given at construction (pass the scene's
+// dynamic_origin to use scene-convention poses instead).
+//
+// Speed (the query runs inside a planner): D's voxels are a compact list
+// sorted into 4x4x4 bricks, each with the 6 neighbour indices of every voxel.
+// A query maps D-grid indices to S-grid indices by one affine map (3x3 + 3),
+// culls a brick with one look-up in a chessboard distance grid of S (the
+// distance to the nearest occupied voxel, capped at 255: a brick whose
+// bounding ball is farther from any occupied voxel is skipped), and tests the
+// remaining voxels lazily, one byte look-up each, flood-filling from every
+// intersecting voxel with reusable buffers (a stamp per voxel, no clearing and
+// no allocation per query). As in alg. 11 every voxel is a seed, not only
+// surface voxels, so the IV is exact on the voxels and a component wholly
+// inside D is found too.
+//
+// An IntersectionVolume is not thread-safe (it owns its query buffers):
+// Clone() one per thread; clones share the precomputed data.
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "collision/validity.h"
+#include "geometry/pose.h"
+#include "inistate/voxel_grid.h"
+
+namespace ausbau {
+
+struct VolumeQuery {
+  // In: also return the cells of the reported component (or of all
+  // intersecting voxels for IV) in `cells`.
+  bool record_cells = false;
+
+  double value = 0;               // volume, scene units^3 (weighted for Labeled-MLIV)
+  std::int64_t voxels = 0;        // voxels behind `value`: IV all intersecting, (Labeled-)MLIV the component's
+  std::int64_t intersecting = 0;  // intersecting voxels found (all of them unless early_out)
+  int components = 0;             // connected components found
+  bool early_out = false;         // Labeled-MLIV: a component exceeded tau, the search stopped
+  std::int64_t tested = 0;        // D voxels looked up in S's grid
+  std::int64_t visited = 0;       // D voxels taken into a component by the flood fill
+  std::int64_t bricks_culled = 0, bricks = 0;
+  std::vector<Eigen::Vector3i> cells;  // D-grid cells (i, j, k), when record_cells
+};
+
+class IntersectionVolume {
+ public:
+  // static_grid: S in world coordinates; dynamic_grid: D's voxels in D's mesh
+  // coordinates (any spacing; usually the same as S's). color_values: one per
+  // cell of dynamic_grid (ColorValues), or empty for all 1 (then
+  // Labeled-MLIV = MLIV). Throws InputError on size mismatches.
+  IntersectionVolume(const VoxelGrid& static_grid, const VoxelGrid& dynamic_grid,
+                     const Eigen::Vector3d& reference_point, const std::vector<float>& color_values = {});
+  IntersectionVolume(IntersectionVolume&&) noexcept;
+  IntersectionVolume& operator=(IntersectionVolume&&) noexcept;
+  ~IntersectionVolume();
+
+  // A copy that shares the precomputed data and has its own buffers.
+  IntersectionVolume Clone() const;
+
+  double Iv(const Pose& pose, VolumeQuery* query = nullptr);
+  double Mliv(const Pose& pose, VolumeQuery* query = nullptr);
+  double LabeledMliv(const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
+                     VolumeQuery* query = nullptr);
+
+  std::int64_t voxel_count() const;   // D's voxels
+  double voxel_volume() const;        // of D's voxels
+  const Eigen::Vector3d& reference_point() const;
+  // colorValue of D's voxel at cell (i, j, k) of its grid (0 where empty).
+  float color_value(int i, int j, int k) const;
+
+ private:
+  struct Data;
+  struct Buffers;
+  IntersectionVolume(std::shared_ptr<const Data> data);
+  enum class Mode { kIv, kMliv, kLabeled };
+  double Run(const Pose& pose, Mode mode, double tau, VolumeQuery* query);
+
+  std::shared_ptr<const Data> data_;
+  std::unique_ptr<Buffers> buffers_;
+};
+
+// The InIState validity test (5.4.4): a pose is valid when its Labeled-MLIV
+// is at most tau. Thread-safe: each check borrows a clone from a pool.
+class LabeledMlivValidity : public PoseValidity {
+ public:
+  LabeledMlivValidity(const IntersectionVolume& volume, double tau);
+  ~LabeledMlivValidity() override;
+  double tau() const { return tau_; }
+
+ protected:
+  bool CheckValid(const Pose& pose) const override;
+
+ private:
+  const IntersectionVolume* prototype_;
+  double tau_;
+  mutable std::mutex mutex_;
+  mutable std::vector<std::unique_ptr<IntersectionVolume>> pool_;
+};
+
+}  // namespace ausbau

@@ -1,0 +1,779 @@
+#include "inistate/voxel_grid.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "core/log.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// ---------------------------------------------------------------- geometry
+
+// Signed solid angle of triangle (a, b, c) seen from the origin (Van Oosterom
+// and Strackee 1983): positive when the origin is behind the triangle (its
+// counter-clockwise side faces away).
+double SolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = a.norm(), lb = b.norm(), lc = c.norm();
+  const double num = a.dot(b.cross(c));
+  const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+  return 2.0 * std::atan2(num, den);
+}
+
+// Closest point on triangle (a, b, c) to p, with barycentrics (Ericson,
+// Real-Time Collision Detection, 5.1.5).
+Vec3 ClosestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, Vec3* bary) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) {
+    *bary = {1, 0, 0};
+    return a;
+  }
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) {
+    *bary = {0, 1, 0};
+    return b;
+  }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    const double v = d1 / (d1 - d3);
+    *bary = {1 - v, v, 0};
+    return a + v * ab;
+  }
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) {
+    *bary = {0, 0, 1};
+    return c;
+  }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    const double w = d2 / (d2 - d6);
+    *bary = {1 - w, 0, w};
+    return a + w * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    *bary = {0, 1 - w, w};
+    return b + w * (c - b);
+  }
+  const double sum = va + vb + vc;
+  if (!(sum > 0)) {  // degenerate triangle: fall back to the nearest vertex
+    const double da = (p - a).squaredNorm(), db = (p - b).squaredNorm(), dc = (p - c).squaredNorm();
+    if (da <= db && da <= dc) {
+      *bary = {1, 0, 0};
+      return a;
+    }
+    if (db <= dc) {
+      *bary = {0, 1, 0};
+      return b;
+    }
+    *bary = {0, 0, 1};
+    return c;
+  }
+  const double v = vb / sum, w = vc / sum;
+  *bary = {1 - v - w, v, w};
+  return a + ab * v + ac * w;
+}
+
+double BoxDistanceSquared(const Aabb& box, const Vec3& p) {
+  const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(Vec3::Zero());
+  return d.squaredNorm();
+}
+
+// Triangle (a, b, c), given relative to the box centre, against the box of
+// half size h: separating axis test over the 13 axes (Akenine-Moeller 2001).
+// Touching counts as overlap.
+bool TriangleBoxOverlap(const Vec3& a, const Vec3& b, const Vec3& c, double h) {
+  // The box's face normals.
+  for (int k = 0; k < 3; ++k) {
+    if (std::min({a[k], b[k], c[k]}) > h || std::max({a[k], b[k], c[k]}) < -h) return false;
+  }
+  const Vec3 e[3] = {b - a, c - b, a - c};
+  // The triangle's normal.
+  const Vec3 n = e[0].cross(e[1]);
+  if (std::abs(n.dot(a)) > h * n.cwiseAbs().sum()) return false;
+  // Edge x box axis.
+  for (const Vec3& edge : e) {
+    for (int k = 0; k < 3; ++k) {
+      Vec3 axis = Vec3::Zero();
+      axis[(k + 1) % 3] = -edge[(k + 2) % 3];
+      axis[(k + 2) % 3] = edge[(k + 1) % 3];
+      const double r = h * axis.cwiseAbs().sum();
+      if (r == 0) continue;
+      const double pa = axis.dot(a), pb = axis.dot(b), pc = axis.dot(c);
+      if (std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r) return false;
+    }
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------- topology
+
+struct Topology {
+  std::vector<int> closed, open;  // triangle indices
+  std::vector<bool> flip;         // per triangle of the mesh
+};
+
+struct PositionHash {
+  std::size_t operator()(const Vec3& v) const {
+    std::size_t h = 1469598103934665603ull;
+    for (int k = 0; k < 3; ++k) {
+      const double x = v[k] == 0.0 ? 0.0 : v[k];  // -0 == 0
+      std::uint64_t bits;
+      std::memcpy(&bits, &x, sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+      h ^= h >> 29;
+    }
+    return h;
+  }
+};
+
+int Find(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+// Splits the triangles into closed and open edge-connected components
+// (vertices welded by position) and orients them (see voxel_grid.h).
+Topology AnalyzeTopology(const TriangleMesh& mesh) {
+  const int nv = static_cast<int>(mesh.vertices.size()), nt = static_cast<int>(mesh.triangles.size());
+  std::vector<int> weld(nv);
+  {
+    std::unordered_map<Vec3, int, PositionHash> ids;
+    ids.reserve(nv);
+    for (int v = 0; v < nv; ++v) weld[v] = ids.emplace(mesh.vertices[v], v).first->second;
+  }
+  std::vector<int> parent(nt);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<bool> valid(nt, false);
+  struct EdgeInfo {
+    int balance = 0;  // +1 per use low->high, -1 per use high->low
+    int triangle = -1;
+  };
+  std::unordered_map<std::uint64_t, EdgeInfo> edges;
+  edges.reserve(3 * static_cast<size_t>(nt));
+  for (int t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    const int w[3] = {weld[tri[0]], weld[tri[1]], weld[tri[2]]};
+    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) continue;  // degenerate: no area, no edges
+    valid[t] = true;
+    for (int k = 0; k < 3; ++k) {
+      const int u = w[k], v = w[(k + 1) % 3];
+      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(u, v)) << 32) | static_cast<std::uint32_t>(std::max(u, v));
+      EdgeInfo& e = edges[key];
+      e.balance += u < v ? 1 : -1;
+      if (e.triangle < 0) {
+        e.triangle = t;
+      } else {
+        const int a = Find(parent, e.triangle), b = Find(parent, t);
+        if (a != b) parent[a] = b;
+      }
+    }
+  }
+  std::vector<bool> open(nt, false);  // per component root
+  for (const auto& [key, e] : edges) {
+    if (e.balance != 0) open[Find(parent, e.triangle)] = true;
+  }
+  // Orientation: signed volume about the component's centroid.
+  std::vector<Vec3> centroid(nt, Vec3::Zero());
+  std::vector<double> weight(nt, 0.0), volume(nt, 0.0);
+  for (int t = 0; t < nt; ++t) {
+    if (!valid[t]) continue;
+    const int r = Find(parent, t);
+    for (int v : mesh.triangles[t]) centroid[r] += mesh.vertices[v];
+    weight[r] += 3;
+  }
+  for (int t = 0; t < nt; ++t) {
+    if (!valid[t]) continue;
+    const int r = Find(parent, t);
+    const Vec3 c = centroid[r] / weight[r];
+    const auto& tri = mesh.triangles[t];
+    volume[r] += (mesh.vertices[tri[0]] - c).dot((mesh.vertices[tri[1]] - c).cross(mesh.vertices[tri[2]] - c));
+  }
+  Topology out;
+  out.flip.assign(nt, false);
+  for (int t = 0; t < nt; ++t) {
+    if (!valid[t]) continue;
+    const int r = Find(parent, t);
+    out.flip[t] = volume[r] < 0;
+    (open[r] ? out.open : out.closed).push_back(t);
+  }
+  return out;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// Reports progress from the master thread of a parallel loop.
+class ParallelProgress {
+ public:
+  ParallelProgress(bool enabled, const std::string& phase, std::int64_t total)
+      : enabled_(enabled), progress_(enabled ? new Progress(phase, total) : nullptr) {}
+  ~ParallelProgress() { delete progress_; }
+  void Add(std::int64_t n) {
+    if (!enabled_) return;
+    const std::int64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
+    if (omp_get_thread_num() == 0) progress_->Update(done);
+  }
+  void Finish() {
+    if (enabled_) {
+      progress_->Update(done_.load());
+      progress_->Finish();
+    }
+  }
+
+ private:
+  bool enabled_;
+  Progress* progress_;
+  std::atomic<std::int64_t> done_{0};
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------- grids
+
+Vec3 VoxelGridGeometry::Center(std::int64_t index) const {
+  const std::int64_t i = index % dims[0], j = (index / dims[0]) % dims[1], k = index / (std::int64_t{dims[0]} * dims[1]);
+  return Center(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+}
+
+Aabb VoxelGridGeometry::Bounds() const {
+  Aabb box;
+  box.Extend(origin);
+  box.Extend(origin + spacing * Vec3(dims[0], dims[1], dims[2]));
+  return box;
+}
+
+std::int64_t VoxelGrid::Count(VoxelState state) const {
+  return std::count(cells.begin(), cells.end(), static_cast<std::uint8_t>(state));
+}
+
+// ---------------------------------------------------------------- BVH
+
+TriangleBvh::TriangleBvh(const TriangleMesh& mesh, const std::vector<int>* triangles, const std::vector<bool>* flip) {
+  std::vector<int> ids;
+  if (triangles != nullptr) {
+    ids = *triangles;
+  } else {
+    ids.resize(mesh.triangles.size());
+    std::iota(ids.begin(), ids.end(), 0);
+  }
+  tris_.reserve(ids.size());
+  for (int t : ids) {
+    const auto& tri = mesh.triangles[t];
+    const bool f = flip != nullptr && (*flip)[t];
+    tris_.push_back({mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]], t, f ? -1.0 : 1.0});
+  }
+  if (tris_.empty()) return;
+  nodes_.reserve(2 * tris_.size() / 4 + 1);
+  nodes_.push_back({});
+  nodes_[0].begin = 0;
+  nodes_[0].end = static_cast<int>(tris_.size());
+  std::vector<int> stack = {0};
+  while (!stack.empty()) {
+    const int id = stack.back();
+    stack.pop_back();
+    Node node = nodes_[id];
+    double area = 0;
+    Aabb centroids;
+    for (int t = node.begin; t < node.end; ++t) {
+      const Tri& tri = tris_[t];
+      node.box.Extend(tri.a);
+      node.box.Extend(tri.b);
+      node.box.Extend(tri.c);
+      const Vec3 vector_area = 0.5 * (tri.b - tri.a).cross(tri.c - tri.a);
+      const double a = vector_area.norm();
+      const Vec3 centroid = (tri.a + tri.b + tri.c) / 3.0;
+      node.area_normal += tri.sign * vector_area;
+      node.center += a * centroid;
+      area += a;
+      centroids.Extend(centroid);
+    }
+    node.center = area > 0 ? Vec3(node.center / area) : centroids.Center();
+    for (int t = node.begin; t < node.end; ++t) {
+      for (const Vec3* v : {&tris_[t].a, &tris_[t].b, &tris_[t].c}) {
+        node.radius = std::max(node.radius, (*v - node.center).norm());
+      }
+    }
+    if (node.end - node.begin > 8) {
+      int axis = 0;
+      centroids.Size().maxCoeff(&axis);
+      const int mid = (node.begin + node.end) / 2;
+      std::nth_element(tris_.begin() + node.begin, tris_.begin() + mid, tris_.begin() + node.end,
+                       [axis](const Tri& x, const Tri& y) { return x.a[axis] + x.b[axis] + x.c[axis] < y.a[axis] + y.b[axis] + y.c[axis]; });
+      node.left = static_cast<int>(nodes_.size());
+      node.right = node.left + 1;
+      Node left, right;
+      left.begin = node.begin;
+      left.end = mid;
+      right.begin = mid;
+      right.end = node.end;
+      nodes_.push_back(left);
+      nodes_.push_back(right);
+      stack.push_back(node.left);
+      stack.push_back(node.right);
+    }
+    nodes_[id] = node;
+  }
+}
+
+double TriangleBvh::WindingNumber(const Vec3& p, double beta) const {
+  if (tris_.empty()) return 0.0;
+  double omega = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    const Vec3 d = n.center - p;
+    const double dist = d.norm();
+    if (dist > beta * n.radius) {
+      omega += n.area_normal.dot(d) / (dist * dist * dist);
+    } else if (n.left < 0) {
+      for (int t = n.begin; t < n.end; ++t) {
+        const Tri& tri = tris_[t];
+        omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
+      }
+    } else {
+      stack[top++] = n.left;
+      stack[top++] = n.right;
+    }
+  }
+  return omega / (4.0 * M_PI);
+}
+
+double TriangleBvh::WindingNumberExact(const Vec3& p) const {
+  double omega = 0;
+  for (const Tri& tri : tris_) omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
+  return omega / (4.0 * M_PI);
+}
+
+TriangleBvh::Closest TriangleBvh::ClosestPoint(const Vec3& p) const {
+  Closest best;
+  if (tris_.empty()) return best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (BoxDistanceSquared(n.box, p) >= best_d2) continue;
+    if (n.left < 0) {
+      for (int t = n.begin; t < n.end; ++t) {
+        const Tri& tri = tris_[t];
+        Vec3 bary;
+        const Vec3 q = ClosestOnTriangle(p, tri.a, tri.b, tri.c, &bary);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best_d2) {
+          best_d2 = d2;
+          best.triangle = tri.id;
+          best.point = q;
+          best.barycentric = bary;
+        }
+      }
+    } else {
+      // Nearer child last, so that it is visited first.
+      const double dl = BoxDistanceSquared(nodes_[n.left].box, p), dr = BoxDistanceSquared(nodes_[n.right].box, p);
+      if (dl < dr) {
+        stack[top++] = n.right;
+        stack[top++] = n.left;
+      } else {
+        stack[top++] = n.left;
+        stack[top++] = n.right;
+      }
+    }
+  }
+  best.distance = std::sqrt(best_d2);
+  return best;
+}
+
+// ---------------------------------------------------------------- voxelization
+
+void VoxelizeOptions::Check() const {
+  if (!(voxel_size >= 0) || !std::isfinite(voxel_size)) {
+    throw InputError("--voxel-size: must be >= 0 (0 = automatic), got " + std::to_string(voxel_size));
+  }
+  if (voxel_budget < 1) throw InputError("--voxel-budget: must be >= 1, got " + std::to_string(voxel_budget));
+  if (memory_limit < 1) throw InputError("--memory-limit: must be > 0");
+  if (!(shrink >= 0) || !std::isfinite(shrink)) throw InputError("--shrink: must be >= 0, got " + std::to_string(shrink));
+  if (!(winding_threshold > 0 && winding_threshold < 1)) throw InputError("winding threshold must lie in (0, 1)");
+}
+
+double AutomaticVoxelSize(const Aabb& box, std::int64_t budget) {
+  if (box.Empty()) throw InputError("cannot size voxels for an empty mesh");
+  const double diagonal = box.Diagonal();
+  const Vec3 extent = box.Size().cwiseMax(Vec3::Constant(0.01 * diagonal));
+  const double size = std::cbrt(extent.prod() / static_cast<double>(std::max<std::int64_t>(budget, 1)));
+  if (!(size > 0) || !std::isfinite(size)) throw InputError("cannot size voxels for a mesh of zero extent");
+  return size;
+}
+
+VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding) {
+  if (box.Empty()) throw InputError("cannot build a voxel grid around an empty mesh");
+  VoxelGridGeometry g;
+  g.spacing = spacing;
+  const Vec3 size = box.Size();
+  for (int k = 0; k < 3; ++k) {
+    const double n = std::ceil(size[k] / spacing - 1e-9) + 2.0 * padding;
+    if (!(n <= 1e9)) {
+      throw InputError("voxel grid of " + std::to_string(n) + " voxels along an axis (voxel size " +
+                       std::to_string(spacing) + "): choose a larger --voxel-size");
+    }
+    g.dims[k] = std::max(1, static_cast<int>(n));
+  }
+  g.origin = box.Center() - 0.5 * spacing * Vec3(g.dims[0], g.dims[1], g.dims[2]);
+  return g;
+}
+
+std::int64_t VoxelizeMemoryBytes(const VoxelGridGeometry& g) {
+  // A state byte and a 4-byte region label per voxel while voxelizing, and a
+  // distance byte per voxel in IntersectionVolume.
+  const double bytes = 6.0 * g.dims[0] * static_cast<double>(g.dims[1]) * g.dims[2];
+  return bytes > 9e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(bytes);
+}
+
+void CheckVoxelMemory(const VoxelGridGeometry& g, std::int64_t limit, const std::string& what) {
+  const std::int64_t bytes = VoxelizeMemoryBytes(g);
+  if (bytes > limit) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "%s: %d x %d x %d voxels of size %g need %.2f GiB, over the limit of %.2f GiB "
+                  "(choose a larger --voxel-size or raise --memory-limit)",
+                  what.c_str(), g.dims[0], g.dims[1], g.dims[2], g.spacing, bytes / double(1 << 30),
+                  limit / double(1 << 30));
+    throw InputError(buf);
+  }
+}
+
+VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options,
+                       VoxelizeStats* stats_out, const std::string& phase) {
+  const auto start = std::chrono::steady_clock::now();
+  VoxelizeStats stats;
+  VoxelGrid grid;
+  grid.geometry = geometry;
+  const std::int64_t count = geometry.Count();
+  grid.cells.assign(static_cast<size_t>(count), kVoxelEmpty);
+  const double h = geometry.spacing;
+  const int nx = geometry.dims[0], ny = geometry.dims[1], nz = geometry.dims[2];
+  std::uint8_t* cells = grid.cells.data();
+
+  // 1. Surface voxels: every voxel whose box a triangle touches.
+  {
+    const double half = 0.5 * h * (1 + 1e-9);
+    const std::int64_t nt = static_cast<std::int64_t>(mesh.triangles.size());
+    ParallelProgress progress(options.progress, phase + ": surface", nt);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::int64_t t = 0; t < nt; ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3& a = mesh.vertices[tri[0]];
+      const Vec3& b = mesh.vertices[tri[1]];
+      const Vec3& c = mesh.vertices[tri[2]];
+      const Vec3 lo = (a.cwiseMin(b).cwiseMin(c) - geometry.origin) / h;
+      const Vec3 hi = (a.cwiseMax(b).cwiseMax(c) - geometry.origin) / h;
+      const int i0 = std::max(0, static_cast<int>(std::floor(lo.x() - 1e-6)));
+      const int j0 = std::max(0, static_cast<int>(std::floor(lo.y() - 1e-6)));
+      const int k0 = std::max(0, static_cast<int>(std::floor(lo.z() - 1e-6)));
+      const int i1 = std::min(nx - 1, static_cast<int>(std::floor(hi.x() + 1e-6)));
+      const int j1 = std::min(ny - 1, static_cast<int>(std::floor(hi.y() + 1e-6)));
+      const int k1 = std::min(nz - 1, static_cast<int>(std::floor(hi.z() + 1e-6)));
+      for (int k = k0; k <= k1; ++k) {
+        for (int j = j0; j <= j1; ++j) {
+          for (int i = i0; i <= i1; ++i) {
+            const std::int64_t index = geometry.Index(i, j, k);
+            if (__atomic_load_n(&cells[index], __ATOMIC_RELAXED) == kVoxelSurface) continue;
+            const Vec3 center = geometry.Center(i, j, k);
+            if (TriangleBoxOverlap(a - center, b - center, c - center, half)) {
+              __atomic_store_n(&cells[index], static_cast<std::uint8_t>(kVoxelSurface), __ATOMIC_RELAXED);
+            }
+          }
+        }
+      }
+      progress.Add(1);
+    }
+    progress.Finish();
+  }
+
+  // 2. Closed and open components of the mesh.
+  const Topology topology = AnalyzeTopology(mesh);
+  stats.closed_triangles = static_cast<std::int64_t>(topology.closed.size());
+  stats.open_triangles = static_cast<std::int64_t>(topology.open.size());
+  const TriangleBvh closed(mesh, &topology.closed, &topology.flip);
+  const TriangleBvh open(mesh, &topology.open, &topology.flip);
+
+  // 3. 6-connected regions of non-surface voxels.
+  std::vector<std::int32_t> region(static_cast<size_t>(count), -1);
+  std::vector<std::int64_t> representative;
+  {
+    std::vector<std::int64_t> queue;
+    const std::int64_t plane = std::int64_t{nx} * ny;
+    for (std::int64_t seed = 0; seed < count; ++seed) {
+      if (cells[seed] != kVoxelEmpty || region[seed] >= 0) continue;
+      const std::int32_t r = static_cast<std::int32_t>(representative.size());
+      representative.push_back(seed);
+      region[seed] = r;
+      queue.assign(1, seed);
+      for (size_t head = 0; head < queue.size(); ++head) {
+        const std::int64_t v = queue[head];
+        const int i = static_cast<int>(v % nx), j = static_cast<int>((v / nx) % ny), k = static_cast<int>(v / plane);
+        auto visit = [&](std::int64_t n) {
+          if (cells[n] == kVoxelEmpty && region[n] < 0) {
+            region[n] = r;
+            queue.push_back(n);
+          }
+        };
+        if (i > 0) visit(v - 1);
+        if (i + 1 < nx) visit(v + 1);
+        if (j > 0) visit(v - nx);
+        if (j + 1 < ny) visit(v + nx);
+        if (k > 0) visit(v - plane);
+        if (k + 1 < nz) visit(v + plane);
+      }
+    }
+  }
+  stats.regions = static_cast<std::int64_t>(representative.size());
+
+  // 4. The closed part's winding number, once per region (an integer).
+  std::vector<double> region_winding(representative.size(), 0.0);
+  if (!closed.empty()) {
+    const std::int64_t nr = static_cast<std::int64_t>(representative.size());
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::int64_t r = 0; r < nr; ++r) {
+      region_winding[r] = std::round(closed.WindingNumber(geometry.Center(representative[r])));
+    }
+    stats.winding_evaluations += nr;
+  }
+
+  // 5. Inside voxels: closed part per region plus the open part per voxel.
+  {
+    const double threshold = options.winding_threshold;
+    std::atomic<std::int64_t> evaluations{0};
+    const std::int64_t slab = std::int64_t{nx} * ny;
+    ParallelProgress progress(options.progress && !open.empty(), phase + ": inside", nz);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < nz; ++k) {
+      std::int64_t local = 0;
+      for (std::int64_t v = k * slab; v < (k + 1) * slab; ++v) {
+        if (cells[v] != kVoxelEmpty) continue;
+        double w = region_winding[region[v]];
+        if (!open.empty()) {
+          w += open.WindingNumber(geometry.Center(v));
+          ++local;
+        }
+        if (w >= threshold) cells[v] = kVoxelInside;
+      }
+      evaluations.fetch_add(local, std::memory_order_relaxed);
+      progress.Add(1);
+    }
+    progress.Finish();
+    stats.winding_evaluations += evaluations.load();
+  }
+
+  stats.surface = grid.Count(kVoxelSurface);
+  stats.inside = grid.Count(kVoxelInside);
+  stats.time_s = Seconds(start);
+  if (stats_out != nullptr) *stats_out = stats;
+  return grid;
+}
+
+VoxelGrid ErodeVoxels(const VoxelGrid& grid, double distance) {
+  if (!(distance > 0)) return grid;
+  const VoxelGridGeometry& g = grid.geometry;
+  const double r = distance / g.spacing;
+  const int reach = static_cast<int>(std::floor(r));
+  std::vector<std::array<int, 3>> ball;
+  for (int dk = -reach; dk <= reach; ++dk) {
+    for (int dj = -reach; dj <= reach; ++dj) {
+      for (int di = -reach; di <= reach; ++di) {
+        if ((di || dj || dk) && di * di + dj * dj + dk * dk <= r * r + 1e-9) ball.push_back({di, dj, dk});
+      }
+    }
+  }
+  const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
+  std::vector<std::uint8_t> kept(grid.cells.size(), 0);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        if (grid.cells[g.Index(i, j, k)] == kVoxelEmpty) continue;
+        bool keep = true;
+        for (const auto& o : ball) {
+          if (!grid.Occupied(i + o[0], j + o[1], k + o[2])) {
+            keep = false;
+            break;
+          }
+        }
+        kept[g.Index(i, j, k)] = keep ? 1 : 0;
+      }
+    }
+  }
+  VoxelGrid out;
+  out.geometry = g;
+  out.cells.assign(grid.cells.size(), kVoxelEmpty);
+  auto is_kept = [&](int i, int j, int k) { return g.Contains(i, j, k) && kept[g.Index(i, j, k)] != 0; };
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int k = 0; k < nz; ++k) {
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        if (!kept[g.Index(i, j, k)]) continue;
+        const bool interior = is_kept(i - 1, j, k) && is_kept(i + 1, j, k) && is_kept(i, j - 1, k) &&
+                              is_kept(i, j + 1, k) && is_kept(i, j, k - 1) && is_kept(i, j, k + 1);
+        out.cells[g.Index(i, j, k)] = interior ? kVoxelInside : kVoxelSurface;
+      }
+    }
+  }
+  return out;
+}
+
+SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
+  options.Check();
+  const Aabb d_box = scene.dynamic_mesh.Bounds(), s_box = scene.static_mesh.Bounds();
+  const double h = options.voxel_size > 0 ? options.voxel_size : AutomaticVoxelSize(d_box, options.voxel_budget);
+  const VoxelGridGeometry gd = GridAround(d_box, h), gs = GridAround(s_box, h);
+  CheckVoxelMemory(gd, options.memory_limit, "D's voxel grid");
+  CheckVoxelMemory(gs, options.memory_limit - VoxelizeMemoryBytes(gd), "S's voxel grid");
+  LogInfo("voxel size %g: S %d x %d x %d, D %d x %d x %d voxels", h, gs.dims[0], gs.dims[1], gs.dims[2], gd.dims[0],
+          gd.dims[1], gd.dims[2]);
+  SceneVoxels out;
+  out.static_grid = VoxelizeMesh(scene.static_mesh, gs, options, &out.static_stats, "voxelize S");
+  out.dynamic_grid = VoxelizeMesh(scene.dynamic_mesh, gd, options, &out.dynamic_stats, "voxelize D");
+  if (options.shrink > 0) {
+    out.dynamic_grid = ErodeVoxels(out.dynamic_grid, options.shrink);
+    out.shrink = options.shrink;
+  }
+  return out;
+}
+
+std::vector<float> ColorValues(const VoxelGrid& grid, const TriangleMesh& mesh, const std::vector<double>& deformability) {
+  if (deformability.size() != mesh.vertices.size()) {
+    throw InputError("labels: " + std::to_string(deformability.size()) + " values for " +
+                     std::to_string(mesh.vertices.size()) + " vertices of D");
+  }
+  const TriangleBvh bvh(mesh);
+  const std::int64_t count = grid.geometry.Count();
+  std::vector<float> out(static_cast<size_t>(count), 0.0f);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t v = 0; v < count; ++v) {
+    if (grid.cells[v] == kVoxelEmpty) continue;
+    const TriangleBvh::Closest c = bvh.ClosestPoint(grid.geometry.Center(v));
+    if (c.triangle < 0) continue;
+    const auto& tri = mesh.triangles[c.triangle];
+    const double d = c.barycentric.x() * deformability[tri[0]] + c.barycentric.y() * deformability[tri[1]] +
+                     c.barycentric.z() * deformability[tri[2]];
+    out[v] = static_cast<float>(std::clamp(1.0 - d, 0.0, 1.0));
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------- artifact
+
+namespace {
+
+void WriteGrid(ArtifactWriter& w, const std::string& group, const VoxelGrid& grid, const std::string& units) {
+  const VoxelGridGeometry& g = grid.geometry;
+  w.WriteBytes(group + "/occupancy", grid.cells,
+               {static_cast<size_t>(g.dims[2]), static_cast<size_t>(g.dims[1]), static_cast<size_t>(g.dims[0])});
+  w.SetAttribute(group + "/occupancy", "axis_order", std::string("z,y,x (x fastest)"));
+  w.SetAttribute(group + "/occupancy", "values", std::string("0 empty, 1 surface, 2 inside"));
+  w.WriteDoubles(group + "/origin", {g.origin.x(), g.origin.y(), g.origin.z()}, {3});
+  w.SetAttribute(group + "/origin", "units", units);
+  w.WriteDoubles(group + "/spacing", {g.spacing}, {});
+  w.SetAttribute(group + "/spacing", "units", units);
+  w.WriteInts(group + "/dims", {g.dims[0], g.dims[1], g.dims[2]}, {3});
+  w.SetAttribute(group + "/dims", "order", std::string("nx,ny,nz"));
+}
+
+VoxelGrid ReadGrid(const ArtifactReader& r, const std::string& group) {
+  const std::string where = r.path().string();
+  VoxelGrid grid;
+  const Array<double> origin = r.ReadDoubles(group + "/origin", 1);
+  const Array<double> spacing = r.ReadDoubles(group + "/spacing");
+  const Array<std::int64_t> dims = r.ReadInts(group + "/dims", 1);
+  if (origin.data.size() != 3) throw InputErrorAt(where, "dataset '" + group + "/origin' must hold 3 numbers");
+  if (dims.data.size() != 3) throw InputErrorAt(where, "dataset '" + group + "/dims' must hold 3 numbers");
+  if (spacing.data.size() != 1 || !(spacing.data[0] > 0) || !std::isfinite(spacing.data[0])) {
+    throw InputErrorAt(where, "dataset '" + group + "/spacing' must be one positive number");
+  }
+  grid.geometry.origin = {origin.data[0], origin.data[1], origin.data[2]};
+  if (!grid.geometry.origin.allFinite()) throw InputErrorAt(where, "dataset '" + group + "/origin' is not finite");
+  grid.geometry.spacing = spacing.data[0];
+  for (int k = 0; k < 3; ++k) {
+    if (dims.data[k] < 1 || dims.data[k] > 1000000000) {
+      throw InputErrorAt(where, "dataset '" + group + "/dims' holds an invalid size");
+    }
+    grid.geometry.dims[k] = static_cast<int>(dims.data[k]);
+  }
+  Array<std::uint8_t> cells = r.ReadBytes(group + "/occupancy", 3);
+  if (cells.dims != std::vector<size_t>{static_cast<size_t>(grid.geometry.dims[2]), static_cast<size_t>(grid.geometry.dims[1]),
+                                        static_cast<size_t>(grid.geometry.dims[0])}) {
+    throw InputErrorAt(where, "dataset '" + group + "/occupancy' does not match '" + group + "/dims' (expected [nz, ny, nx])");
+  }
+  for (std::uint8_t c : cells.data) {
+    if (c > kVoxelInside) throw InputErrorAt(where, "dataset '" + group + "/occupancy' holds a value other than 0, 1, 2");
+  }
+  grid.cells = std::move(cells.data);
+  return grid;
+}
+
+}  // namespace
+
+void WriteVoxelArtifact(const std::filesystem::path& file, const SceneVoxels& voxels, const VoxelArtifactInfo& info,
+                        const Provenance& provenance) {
+  ArtifactWriter w(file, kVoxelsSchema, kVoxelsSchemaVersion, provenance);
+  WriteGrid(w, "static", voxels.static_grid, info.units);
+  WriteGrid(w, "dynamic", voxels.dynamic_grid, info.units);
+  w.WriteDoubles("dynamic/shrink", {voxels.shrink}, {});
+  w.SetAttribute("dynamic/shrink", "units", info.units);
+  w.WriteInts("stats/static_surface", {voxels.static_stats.surface}, {});
+  w.WriteInts("stats/static_inside", {voxels.static_stats.inside}, {});
+  w.WriteInts("stats/dynamic_surface", {voxels.dynamic_grid.Count(kVoxelSurface)}, {});
+  w.WriteInts("stats/dynamic_inside", {voxels.dynamic_grid.Count(kVoxelInside)}, {});
+  w.WriteDoubles("stats/time_s", {voxels.static_stats.time_s + voxels.dynamic_stats.time_s}, {});
+  w.SetAttribute("stats/time_s", "units", std::string("s"));
+  w.SetAttribute("", "scene", info.scene);
+  w.SetAttribute("", "units", info.units);
+  w.Commit();
+}
+
+SceneVoxels ReadVoxelArtifact(const std::filesystem::path& file, VoxelArtifactInfo* info) {
+  ArtifactReader r(file, kVoxelsSchema, kVoxelsSchemaVersion);
+  SceneVoxels out;
+  out.static_grid = ReadGrid(r, "static");
+  out.dynamic_grid = ReadGrid(r, "dynamic");
+  if (std::abs(out.static_grid.geometry.spacing - out.dynamic_grid.geometry.spacing) >
+      1e-12 * out.static_grid.geometry.spacing) {
+    throw InputErrorAt(file.string(), "S's and D's grids have different voxel sizes");
+  }
+  const Array<double> shrink = r.ReadDoubles("dynamic/shrink");
+  if (shrink.data.size() != 1) throw InputErrorAt(file.string(), "dataset 'dynamic/shrink' must be a scalar");
+  out.shrink = shrink.data[0];
+  out.static_stats.surface = out.static_grid.Count(kVoxelSurface);
+  out.static_stats.inside = out.static_grid.Count(kVoxelInside);
+  out.dynamic_stats.surface = out.dynamic_grid.Count(kVoxelSurface);
+  out.dynamic_stats.inside = out.dynamic_grid.Count(kVoxelInside);
+  if (info != nullptr) {
+    info->scene = r.ReadStringAttribute("", "scene");
+    info->units = r.ReadStringAttribute("", "units");
+  }
+  return out;
+}
+
+}  // namespace ausbau

@@ -1,0 +1,678 @@
+#include "labeling/mesh_topology.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+
+namespace ausbau {
+namespace {
+
+// ---------------------------------------------------------------- welding
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellKeyHash {
+  std::size_t operator()(const CellKey& k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// Input vertex -> welded vertex; the first vertex of a cluster (input order)
+// is its representative and keeps its position.
+std::vector<int> Weld(const std::vector<Eigen::Vector3d>& points, const Aabb& box, double tolerance,
+                      std::vector<Eigen::Vector3d>* welded) {
+  const double diagonal = box.Diagonal();
+  const double cell = tolerance > 0 ? tolerance : (diagonal > 0 ? diagonal * 1e-9 : 1.0);
+  const double tolerance_sq = tolerance * tolerance;
+  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
+  grid.reserve(points.size());
+  std::vector<int> map(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d rel = (points[i] - box.min) / cell;
+    const CellKey key{static_cast<std::int64_t>(std::floor(rel.x())), static_cast<std::int64_t>(std::floor(rel.y())),
+                      static_cast<std::int64_t>(std::floor(rel.z()))};
+    int found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx) {
+      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          const auto it = grid.find({key.x + dx, key.y + dy, key.z + dz});
+          if (it == grid.end()) continue;
+          for (int w : it->second) {
+            if (((*welded)[w] - points[i]).squaredNorm() <= tolerance_sq) {
+              found = w;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (found < 0) {
+      found = static_cast<int>(welded->size());
+      welded->push_back(points[i]);
+      grid[key].push_back(found);
+    }
+    map[i] = found;
+  }
+  return map;
+}
+
+// Fixed, deliberately irregular directions for ray-parity tests (no axis
+// alignment, so rays rarely run along edges of CAD meshes).
+const Eigen::Vector3d kRayDirections[3] = {Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
+                                           Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
+                                           Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
+
+int Find(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- topology
+
+MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptions& options) {
+  MeshTopology topo;
+  MeshTopologyStats& stats = topo.stats;
+  stats.input_vertices = static_cast<int>(mesh.vertices.size());
+  stats.input_triangles = static_cast<int>(mesh.triangles.size());
+  const Aabb input_box = mesh.Bounds();
+  const double input_diagonal = input_box.Diagonal();
+
+  // 1. Weld.
+  topo.welded_of_original = Weld(mesh.vertices, input_box, std::max(0.0, options.weld_tolerance) * input_diagonal,
+                                 &topo.vertices);
+  const int n = topo.VertexCount();
+  stats.welded_vertices = n;
+
+  // 2. Clean: drop collapsed, zero-area and repeated triangles.
+  const double min_cross = 1e-13 * input_diagonal * input_diagonal;
+  struct Candidate {
+    std::array<int, 3> sorted;
+    int index;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<std::array<int, 3>> remapped(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    std::array<int, 3> w;
+    for (int k = 0; k < 3; ++k) w[k] = topo.welded_of_original[mesh.triangles[t][k]];
+    remapped[t] = w;
+    if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+      ++stats.degenerate_triangles;
+      continue;
+    }
+    const Eigen::Vector3d cross =
+        (topo.vertices[w[1]] - topo.vertices[w[0]]).cross(topo.vertices[w[2]] - topo.vertices[w[0]]);
+    if (!(cross.norm() > min_cross)) {
+      ++stats.degenerate_triangles;
+      continue;
+    }
+    std::array<int, 3> sorted = w;
+    std::sort(sorted.begin(), sorted.end());
+    candidates.push_back({sorted, static_cast<int>(t)});
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.sorted != b.sorted ? a.sorted < b.sorted : a.index < b.index;
+  });
+  std::vector<int> kept;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (i > 0 && candidates[i].sorted == candidates[i - 1].sorted) {
+      ++stats.duplicate_triangles;
+      continue;
+    }
+    kept.push_back(candidates[i].index);
+  }
+  std::sort(kept.begin(), kept.end());  // input order
+  if (kept.empty()) throw InputError("the part D has no triangle of positive area");
+  const int m = static_cast<int>(kept.size());
+  topo.source_triangle = kept;
+  topo.triangles.resize(m);
+  for (int t = 0; t < m; ++t) topo.triangles[t] = remapped[kept[t]];
+
+  // Edges: (a, b, triangle, slot k of the directed edge tri[k] -> tri[k+1]).
+  struct HalfEdge {
+    int a, b, triangle, slot;
+  };
+  std::vector<HalfEdge> half(3 * static_cast<std::size_t>(m));
+  for (int t = 0; t < m; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int u = topo.triangles[t][k], v = topo.triangles[t][(k + 1) % 3];
+      half[3 * t + k] = {std::min(u, v), std::max(u, v), t, k};
+    }
+  }
+  std::sort(half.begin(), half.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    if (x.a != y.a) return x.a < y.a;
+    if (x.b != y.b) return x.b < y.b;
+    return x.triangle < y.triangle;
+  });
+  std::vector<std::array<int, 3>> triangle_edges(m);
+  topo.edge_triangle_offsets.push_back(0);
+  for (std::size_t i = 0; i < half.size();) {
+    std::size_t j = i;
+    const int e = static_cast<int>(topo.edges.size());
+    topo.edges.push_back({half[i].a, half[i].b});
+    for (; j < half.size() && half[j].a == half[i].a && half[j].b == half[i].b; ++j) {
+      topo.edge_triangles.push_back(half[j].triangle);
+      triangle_edges[half[j].triangle][half[j].slot] = e;
+    }
+    const int count = static_cast<int>(j - i);
+    if (count == 1) ++stats.boundary_edges;
+    if (count > 2) ++stats.non_manifold_edges;
+    topo.edge_triangle_offsets.push_back(static_cast<int>(topo.edge_triangles.size()));
+    i = j;
+  }
+  const auto edge_count = [&](int e) { return topo.edge_triangle_offsets[e + 1] - topo.edge_triangle_offsets[e]; };
+  // Whether triangle tri (as given) runs along edge e from its lower to its higher vertex.
+  const auto forward = [&](const std::array<int, 3>& tri, int e) {
+    const int a = topo.edges[e][0], b = topo.edges[e][1];
+    for (int k = 0; k < 3; ++k) {
+      if (tri[k] == a && tri[(k + 1) % 3] == b) return true;
+    }
+    return false;
+  };
+
+  // 3. Orient patches by breadth-first search over manifold edges.
+  std::vector<std::uint8_t> flip(m, 0);
+  topo.triangle_patch.assign(m, -1);
+  std::vector<std::vector<int>> patches;
+  std::vector<int> queue;
+  for (int seed = 0; seed < m; ++seed) {
+    if (topo.triangle_patch[seed] >= 0) continue;
+    const int patch = static_cast<int>(patches.size());
+    patches.emplace_back();
+    queue.assign(1, seed);
+    topo.triangle_patch[seed] = patch;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int t = queue[head];
+      patches[patch].push_back(t);
+      for (int k = 0; k < 3; ++k) {
+        const int e = triangle_edges[t][k];
+        if (edge_count(e) != 2) continue;
+        const int* pair = &topo.edge_triangles[topo.edge_triangle_offsets[e]];
+        const int u = pair[0] == t ? pair[1] : pair[0];
+        if (topo.triangle_patch[u] >= 0) continue;
+        const bool t_forward = forward(topo.triangles[t], e) != (flip[t] != 0);
+        const bool u_forward = forward(topo.triangles[u], e);
+        flip[u] = (u_forward == t_forward) ? 1 : 0;  // consistent neighbours run the edge in opposite directions
+        topo.triangle_patch[u] = patch;
+        queue.push_back(u);
+      }
+    }
+  }
+  const auto apply_flip = [&](int t) { std::swap(topo.triangles[t][1], topo.triangles[t][2]); };
+  for (int t = 0; t < m; ++t) {
+    if (flip[t]) apply_flip(t);
+  }
+  stats.patches = static_cast<int>(patches.size());
+
+  // Geometry of the (patch-consistent) triangles.
+  topo.triangle_normals.resize(m);
+  topo.triangle_areas.resize(m);
+  const auto update_geometry = [&](int t) {
+    const auto& tri = topo.triangles[t];
+    const Eigen::Vector3d cross =
+        (topo.vertices[tri[1]] - topo.vertices[tri[0]]).cross(topo.vertices[tri[2]] - topo.vertices[tri[0]]);
+    const double norm = cross.norm();
+    topo.triangle_areas[t] = 0.5 * norm;
+    topo.triangle_normals[t] = cross / norm;
+  };
+  for (int t = 0; t < m; ++t) update_geometry(t);
+
+  // 4. Global orientation of each patch.
+  const TriangleBvh bvh(topo.vertices, topo.triangles);
+  const double t_min = 1e-9 * input_diagonal;
+  const auto centroid = [&](int t) {
+    const auto& tri = topo.triangles[t];
+    return Eigen::Vector3d((topo.vertices[tri[0]] + topo.vertices[tri[1]] + topo.vertices[tri[2]]) / 3.0);
+  };
+  const auto samples_of = [&](const std::vector<int>& list) {
+    std::vector<int> out;
+    const int count = static_cast<int>(list.size());
+    const int wanted = std::max(1, std::min(count, options.orientation_samples));
+    for (int s = 0; s < wanted; ++s) out.push_back(list[static_cast<std::size_t>(s) * count / wanted]);
+    return out;
+  };
+  for (int p = 0; p < stats.patches; ++p) {
+    const std::vector<int>& list = patches[p];
+    bool closed = true;
+    for (int t : list) {
+      for (int k = 0; k < 3; ++k) closed = closed && edge_count(triangle_edges[t][k]) == 2;
+    }
+    bool flip_patch = false;
+    if (closed) {
+      ++stats.closed_patches;
+      const Eigen::Vector3d origin = topo.vertices[topo.triangles[list.front()][0]];
+      double volume = 0.0;
+      for (int t : list) {
+        const auto& tri = topo.triangles[t];
+        volume += (topo.vertices[tri[0]] - origin)
+                      .dot((topo.vertices[tri[1]] - origin).cross(topo.vertices[tri[2]] - origin));
+      }
+      flip_patch = volume < 0;
+      // A cavity: every sample lies inside the other surfaces.
+      if (stats.patches > 1) {
+        bool all_inside = true;
+        for (int t : samples_of(list)) {
+          int odd = 0;
+          for (const auto& direction : kRayDirections) {
+            odd += bvh.CountCrossings(centroid(t), direction, t_min,
+                                      [&](int u) { return topo.triangle_patch[u] == p; }) % 2;
+          }
+          if (odd < 2) {
+            all_inside = false;
+            break;
+          }
+        }
+        if (all_inside) {
+          ++stats.cavity_patches;
+          flip_patch = !flip_patch;
+        }
+      }
+    } else {
+      double inward = 0.0, outward = 0.0;
+      for (int t : samples_of(list)) {
+        const Eigen::Vector3d& normal = topo.triangle_normals[t];
+        int odd = 0;
+        for (const auto& direction : kRayDirections) {
+          const Eigen::Vector3d ray = (normal + 0.6 * direction).normalized();
+          odd += bvh.CountCrossings(centroid(t), ray, t_min, [&](int u) { return u == t; }) % 2;
+        }
+        (odd >= 2 ? inward : outward) += topo.triangle_areas[t];
+      }
+      flip_patch = inward > outward;
+    }
+    if (flip_patch) {
+      for (int t : list) {
+        apply_flip(t);
+        flip[t] ^= 1;
+        topo.triangle_normals[t] = -topo.triangle_normals[t];
+      }
+    }
+  }
+  for (int t = 0; t < m; ++t) stats.flipped_triangles += flip[t];
+
+  // 5. Vertex normals, areas, components.
+  topo.vertex_normals.assign(n, Eigen::Vector3d::Zero());
+  topo.vertex_areas.assign(n, 0.0);
+  topo.referenced.assign(n, 0);
+  std::vector<double> largest_area(n, -1.0);
+  std::vector<int> largest(n, -1);
+  std::vector<double> weight_sum(n, 0.0);
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int t = 0; t < m; ++t) {
+    const double area = topo.triangle_areas[t];
+    for (int v : topo.triangles[t]) {
+      topo.vertex_normals[v] += area * topo.triangle_normals[t];
+      weight_sum[v] += area;
+      topo.vertex_areas[v] += area / 3.0;
+      topo.referenced[v] = 1;
+      if (area > largest_area[v]) {
+        largest_area[v] = area;
+        largest[v] = t;
+      }
+    }
+    const int r0 = Find(parent, topo.triangles[t][0]);
+    for (int k = 1; k < 3; ++k) {
+      const int rk = Find(parent, topo.triangles[t][k]);
+      if (rk != r0) parent[std::max(rk, r0)] = std::min(rk, r0);
+    }
+  }
+  topo.component.assign(n, -1);
+  std::vector<int> component_of_root(n, -1);
+  for (int v = 0; v < n; ++v) {
+    if (!topo.referenced[v]) {
+      ++stats.unreferenced_vertices;
+      continue;
+    }
+    const double norm = topo.vertex_normals[v].norm();
+    if (norm > 1e-12 * weight_sum[v]) {
+      topo.vertex_normals[v] /= norm;
+    } else {
+      topo.vertex_normals[v] = topo.triangle_normals[largest[v]];
+    }
+    topo.bounds.Extend(topo.vertices[v]);
+    const int root = Find(parent, v);
+    if (component_of_root[root] < 0) component_of_root[root] = stats.components++;
+    topo.component[v] = component_of_root[root];
+  }
+  topo.diagonal = topo.bounds.Diagonal();
+  return topo;
+}
+
+// ---------------------------------------------------------------- BVH
+
+Eigen::Vector3d TriangleBvh::ClosestPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+TriangleBvh::TriangleBvh(const std::vector<Eigen::Vector3d>& vertices,
+                         const std::vector<std::array<int, 3>>& triangles) {
+  const int m = static_cast<int>(triangles.size());
+  if (m == 0) return;
+  std::vector<Eigen::Vector3d> centroids(m);
+  for (int t = 0; t < m; ++t) {
+    centroids[t] = (vertices[triangles[t][0]] + vertices[triangles[t][1]] + vertices[triangles[t][2]]) / 3.0;
+  }
+  std::vector<int> order(m);
+  std::iota(order.begin(), order.end(), 0);
+  nodes_.reserve(2 * static_cast<std::size_t>(m) / 2 + 8);
+  nodes_.push_back(Node{});
+  a_.resize(m);
+  b_.resize(m);
+  c_.resize(m);
+  id_.resize(m);
+  // Build permutes `order`; afterwards fill the leaf arrays in that order.
+  Build(0, 0, m, order, centroids);
+  slot_of_id_.resize(m);
+  for (int s = 0; s < m; ++s) {
+    const auto& tri = triangles[order[s]];
+    a_[s] = vertices[tri[0]];
+    b_[s] = vertices[tri[1]];
+    c_[s] = vertices[tri[2]];
+    id_[s] = order[s];
+    slot_of_id_[order[s]] = s;
+  }
+  // Leaf boxes: recomputed from the triangles (Build used the order only).
+  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
+    Node& node = nodes_[i];
+    Aabb box;
+    if (node.count > 0) {
+      for (int s = node.first; s < node.first + node.count; ++s) {
+        box.Extend(a_[s]);
+        box.Extend(b_[s]);
+        box.Extend(c_[s]);
+      }
+    } else {
+      for (int child = node.first; child <= node.first + 1; ++child) {
+        box.Extend(Eigen::Vector3d(nodes_[child].min[0], nodes_[child].min[1], nodes_[child].min[2]));
+        box.Extend(Eigen::Vector3d(nodes_[child].max[0], nodes_[child].max[1], nodes_[child].max[2]));
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      node.min[k] = box.min[k];
+      node.max[k] = box.max[k];
+    }
+  }
+}
+
+void TriangleBvh::Build(int index, int begin, int end, std::vector<int>& order,
+                        const std::vector<Eigen::Vector3d>& centroids) {
+  if (end - begin <= 4) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return;
+  }
+  Aabb box;
+  for (int i = begin; i < end; ++i) box.Extend(centroids[order[i]]);
+  int axis = 0;
+  const Eigen::Vector3d size = box.Size();
+  if (size.y() > size[axis]) axis = 1;
+  if (size.z() > size[axis]) axis = 2;
+  const int middle = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, [&](int x, int y) {
+    const double cx = centroids[x][axis], cy = centroids[y][axis];
+    return cx != cy ? cx < cy : x < y;
+  });
+  // Children next to each other: left at `first`, right at `first + 1`.
+  const int left = static_cast<int>(nodes_.size());
+  nodes_.push_back(Node{});
+  nodes_.push_back(Node{});
+  nodes_[index].first = left;
+  nodes_[index].count = 0;
+  Build(left, begin, middle, order, centroids);
+  Build(left + 1, middle, end, order, centroids);
+}
+
+namespace {
+
+inline double BoxDistanceSquared(const double* min, const double* max, const Eigen::Vector3d& q) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double below = min[k] - q[k], above = q[k] - max[k];
+    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+}  // namespace
+
+TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hint) const {
+  Nearest best;
+  if (nodes_.empty()) return best;
+  if (hint >= 0 && hint < TriangleCount()) {
+    // Start the bound from the hinted triangle. The search below then finds
+    // it again (or a strictly nearer one): the answer does not depend on the hint.
+    const int s = slot_of_id_[hint];
+    const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
+    best.distance_squared = std::nextafter((point - q).squaredNorm(), std::numeric_limits<double>::infinity());
+  }
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (BoxDistanceSquared(node.min, node.max, q) >= best.distance_squared) continue;
+    if (node.count > 0) {
+      for (int s = node.first; s < node.first + node.count; ++s) {
+        const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
+        const double d2 = (point - q).squaredNorm();
+        if (d2 < best.distance_squared) {
+          best.distance_squared = d2;
+          best.point = point;
+          best.triangle = id_[s];
+        }
+      }
+      continue;
+    }
+    const int left = node.first, right = node.first + 1;
+    const double dl = BoxDistanceSquared(nodes_[left].min, nodes_[left].max, q);
+    const double dr = BoxDistanceSquared(nodes_[right].min, nodes_[right].max, q);
+    // Push the farther child first so that the nearer one is searched first.
+    if (dl <= dr) {
+      if (dr < best.distance_squared) stack[top++] = right;
+      if (dl < best.distance_squared) stack[top++] = left;
+    } else {
+      if (dl < best.distance_squared) stack[top++] = left;
+      if (dr < best.distance_squared) stack[top++] = right;
+    }
+  }
+  return best;
+}
+
+int TriangleBvh::CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
+                                const std::function<bool(int)>& skip) const {
+  if (nodes_.empty()) return 0;
+  Eigen::Vector3d inverse;
+  for (int k = 0; k < 3; ++k) inverse[k] = 1.0 / direction[k];
+  int crossings = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    double t0 = t_min, t1 = std::numeric_limits<double>::infinity();
+    bool hit = true;
+    for (int k = 0; k < 3 && hit; ++k) {
+      double ta = (node.min[k] - origin[k]) * inverse[k];
+      double tb = (node.max[k] - origin[k]) * inverse[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      hit = t0 <= t1;
+    }
+    if (!hit) continue;
+    if (node.count == 0) {
+      stack[top++] = node.first;
+      stack[top++] = node.first + 1;
+      continue;
+    }
+    for (int s = node.first; s < node.first + node.count; ++s) {
+      if (skip && skip(id_[s])) continue;
+      // Moeller-Trumbore.
+      const Eigen::Vector3d e1 = b_[s] - a_[s], e2 = c_[s] - a_[s];
+      const Eigen::Vector3d pv = direction.cross(e2);
+      const double det = e1.dot(pv);
+      if (std::abs(det) < 1e-300) continue;
+      const double inv_det = 1.0 / det;
+      const Eigen::Vector3d tv = origin - a_[s];
+      const double u = tv.dot(pv) * inv_det;
+      if (u < 0 || u > 1) continue;
+      const Eigen::Vector3d qv = tv.cross(e1);
+      const double v = direction.dot(qv) * inv_det;
+      if (v < 0 || u + v > 1) continue;
+      const double t = e2.dot(qv) * inv_det;
+      if (t > t_min) ++crossings;
+    }
+  }
+  return crossings;
+}
+
+// ---------------------------------------------------------------- grid solids
+
+TriangleMesh MakeGridSolidMesh(const std::vector<double>& xs, const std::vector<double>& ys,
+                               const std::vector<double>& zs, const std::function<bool(int, int, int)>& filled) {
+  const int nx = static_cast<int>(xs.size()) - 1, ny = static_cast<int>(ys.size()) - 1,
+            nz = static_cast<int>(zs.size()) - 1;
+  TriangleMesh mesh;
+  if (nx < 1 || ny < 1 || nz < 1) return mesh;
+  const auto solid = [&](int i, int j, int k) {
+    return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && filled(i, j, k);
+  };
+  std::unordered_map<std::int64_t, int> point_index;
+  const auto point = [&](int i, int j, int k) {
+    const std::int64_t key = (static_cast<std::int64_t>(i) * (ny + 1) + j) * (nz + 1) + k;
+    const auto it = point_index.find(key);
+    if (it != point_index.end()) return it->second;
+    const int index = static_cast<int>(mesh.vertices.size());
+    mesh.vertices.emplace_back(xs[i], ys[j], zs[k]);
+    point_index.emplace(key, index);
+    return index;
+  };
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      for (int k = 0; k < nz; ++k) {
+        if (!solid(i, j, k)) continue;
+        const int cell[3] = {i, j, k};
+        for (int axis = 0; axis < 3; ++axis) {
+          for (int side = 0; side < 2; ++side) {
+            int neighbour[3] = {i, j, k};
+            neighbour[axis] += side == 0 ? -1 : 1;
+            if (solid(neighbour[0], neighbour[1], neighbour[2])) continue;
+            // Quad in the plane axis = cell[axis] + side, spanned by the two
+            // following axes (u, v) in cyclic order: e_u x e_v = e_axis.
+            const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            int corner[4];
+            const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+            for (int c = 0; c < 4; ++c) {
+              int g[3];
+              g[axis] = cell[axis] + side;
+              g[u] = cell[u] + du[c];
+              g[v] = cell[v] + dv[c];
+              corner[c] = point(g[0], g[1], g[2]);
+            }
+            if (side == 1) {
+              mesh.triangles.push_back({corner[0], corner[1], corner[2]});
+              mesh.triangles.push_back({corner[0], corner[2], corner[3]});
+            } else {
+              mesh.triangles.push_back({corner[0], corner[2], corner[1]});
+              mesh.triangles.push_back({corner[0], corner[3], corner[2]});
+            }
+          }
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
+// ---------------------------------------------------------------- PLY
+
+std::array<std::uint8_t, 3> RampColor(ColorRamp ramp, double t) {
+  if (!(t >= 0)) t = 0;  // also NaN
+  if (t > 1) t = 1;
+  const auto mix = [](const double* a, const double* b, double s) {
+    std::array<std::uint8_t, 3> out;
+    for (int k = 0; k < 3; ++k) out[k] = static_cast<std::uint8_t>(std::lround(a[k] + s * (b[k] - a[k])));
+    return out;
+  };
+  if (ramp == ColorRamp::kLargeToSmall) {
+    static const double small[3] = {255, 215, 0}, large[3] = {0, 70, 255};
+    return mix(small, large, t);
+  }
+  static const double stops[5][3] = {{0, 0, 255}, {0, 200, 255}, {0, 200, 0}, {255, 220, 0}, {230, 0, 0}};
+  const double x = t * 4.0;
+  const int i = std::min(3, static_cast<int>(x));
+  return mix(stops[i], stops[i + 1], x - i);
+}
+
+void WriteColoredPly(const std::filesystem::path& path, const TriangleMesh& mesh, const std::vector<double>& values,
+                     const std::string& property, ColorRamp ramp, double lo, double hi, const std::string& comment) {
+  if (values.size() != mesh.vertices.size()) {
+    throw std::runtime_error(path.string() + ": " + std::to_string(values.size()) + " values for " +
+                             std::to_string(mesh.vertices.size()) + " vertices");
+  }
+  std::string out = "ply\nformat binary_little_endian 1.0\n";
+  if (!comment.empty()) out += "comment " + comment + "\n";
+  out += "element vertex " + std::to_string(mesh.vertices.size()) +
+         "\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty float " +
+         property + "\nelement face " + std::to_string(mesh.triangles.size()) +
+         "\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto put32 = [&out](std::uint32_t bits) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<char>((bits >> (8 * k)) & 0xFF));
+  };
+  const auto put_float = [&](double value) {
+    const float f = static_cast<float>(value);
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    put32(bits);
+  };
+  const double range = hi > lo ? hi - lo : 1.0;
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    for (int k = 0; k < 3; ++k) put_float(mesh.vertices[i][k]);
+    const auto rgb = RampColor(ramp, (values[i] - lo) / range);
+    for (int k = 0; k < 3; ++k) out.push_back(static_cast<char>(rgb[k]));
+    put_float(values[i]);
+  }
+  for (const auto& tri : mesh.triangles) {
+    out.push_back(3);
+    for (int k = 0; k < 3; ++k) put32(static_cast<std::uint32_t>(tri[k]));
+  }
+  WriteTextFileAtomically(path, out);
+}
+
+}  // namespace ausbau

@@ -1,0 +1,90 @@
+// ausbau-report: one self-contained HTML file with S and D in 3D, D animated
+// along the path, the clearance along it, the stats and the verdict; or, with
+// --bench-dir, a page of ausbau-bench's tables and pictures. See README.md.
+#include <cstdio>
+#include <string_view>
+
+#include "cli/stage_main.h"
+#include "core/log.h"
+#include "planning/path_io.h"
+#include "report/report.h"
+
+// Compiled in from the build's copy of three.js and viewer.js (embed.cmake).
+namespace ausbau::report_assets {
+extern const char kThreeVersion[];
+extern const unsigned char kThreeModule[], kOrbitControls[], kViewer[];
+extern const std::size_t kThreeModule_size, kOrbitControls_size, kViewer_size;
+}  // namespace ausbau::report_assets
+
+namespace ausbau {
+namespace {
+
+std::string_view View(const unsigned char* data, std::size_t size) {
+  return {reinterpret_cast<const char*>(data), size};
+}
+
+struct ReportStageOptions {
+  ReportOptions report;
+  std::string bench_dir;
+  std::string output = "report.html";
+};
+
+int Run(const ReportStageOptions& options) {
+  ReportSummary summary;
+  std::string html;
+  if (!options.bench_dir.empty()) {
+    if (!options.report.scene.empty() || !options.report.path.empty() || !options.report.smoothed.empty() ||
+        !options.report.run_dir.empty()) {
+      throw InputError("--bench-dir makes a benchmark page and takes no --scene, --path, --smoothed or --run-dir");
+    }
+    html = BuildBenchPageHtml(options.bench_dir, &summary);
+  } else {
+    if (options.report.scene.empty()) throw InputError("--scene is required (or --bench-dir for a benchmark page)");
+    namespace a = report_assets;
+    const ReportAssets assets{View(a::kThreeModule, a::kThreeModule_size),
+                              View(a::kOrbitControls, a::kOrbitControls_size), View(a::kViewer, a::kViewer_size),
+                              a::kThreeVersion};
+    html = BuildReportHtml(options.report, assets, &summary);
+  }
+  for (const std::string& line : summary.used) LogInfo("%s", line.c_str());
+  for (const std::string& line : summary.notes) LogInfo("%s", line.c_str());
+  WriteTextFileAtomically(options.output, html);
+  LogInfo("wrote %s (%.2f MiB)", options.output.c_str(), html.size() / (1024.0 * 1024.0));
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace ausbau
+
+int main(int argc, char** argv) {
+  using namespace ausbau;
+  ReportStageOptions options;
+  std::string scene, path, smoothed, run_dir;
+  return RunStage(
+      {"ausbau-report", "Writes a self-contained HTML report: S and D in 3D, D animated along the path, "
+                        "clearance along it, stats and verdict (or a benchmark page with --bench-dir)."},
+      argc, argv,
+      [&](CLI::App& app) {
+        app.add_option("--scene", scene, "scene.yaml");
+        app.add_option("--path", path, "planned path artifact (ausbau-path)");
+        app.add_option("--smoothed", smoothed, "smoothed path artifact (ausbau-path)");
+        app.add_option("--run-dir", run_dir,
+                       "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json, stats.json "
+                       "when present (explicit --path/--smoothed win)");
+        app.add_option("--clearance-samples", options.report.clearance_samples,
+                       "poses along the path at which the clearance is computed, besides the waypoints")
+            ->capture_default_str()
+            ->check(CLI::Range(0, 100000));
+        app.add_option("--bench-dir", options.bench_dir,
+                       "instead: a page of ausbau-bench's outputs in this folder (summary.md, results.csv, "
+                       "study-*.svg)");
+        app.add_option("-o,--output", options.output, "the HTML file")->capture_default_str();
+      },
+      [&] {
+        options.report.scene = scene;
+        options.report.path = path;
+        options.report.smoothed = smoothed;
+        options.report.run_dir = run_dir;
+        return Run(options);
+      });
+}

@@ -1,0 +1,225 @@
+// Opens an ausbau-report page in headless Chromium (through playwright-core,
+// pointed at the system's Chromium: no browser download) and checks it as a
+// person would see it:
+//   - it loads from file:// with no network request and no console error,
+//   - the 3D view is not blank and shows S (blue) and D (orange),
+//   - at each waypoint's time D's pose is that waypoint (path CSV), and mid-
+//     segment it is the schemas/path.md interpolation about reference_point,
+//   - moving the scrubber (mouse clicks on it) moves D and changes the picture,
+//   - Play advances the time,
+// and saves a screenshot. Prints one JSON line of measurements.
+//
+//   node report_test.js --chromium /usr/bin/chromium --html report.html \
+//     --screenshot out.png [--csv path-smooth.csv --ref x,y,z --origin x,y,z] [--path-key smoothed]
+//     [--load-only] [--expect-labels] [--expect-table ID] [--timeout-ms 60000]
+'use strict';
+const fs = require('fs');
+const path = require('path');
+const { chromium } = require('playwright-core');
+
+function parseArgs(argv) {
+  const args = { pathKey: 'smoothed', timeoutMs: 60000 };
+  for (let i = 2; i < argv.length; ++i) {
+    const key = argv[i].replace(/^--/, '');
+    if (key === 'load-only') { args.loadOnly = true; continue; }
+    if (key === 'expect-labels') { args.expectLabels = true; continue; }
+    const value = argv[++i];
+    if (value === undefined) throw new Error('missing value for --' + key);
+    args[key.replace(/-([a-z])/g, (_, c) => c.toUpperCase())] = value;
+  }
+  for (const required of ['chromium', 'html', 'screenshot']) {
+    if (!args[required]) throw new Error('--' + required + ' is required');
+  }
+  args.timeoutMs = Number(args.timeoutMs);
+  return args;
+}
+
+const failures = [];
+function check(condition, message) {
+  if (!condition) failures.push(message);
+  return condition;
+}
+
+// ---- the expected poses, computed here from the CSV (schemas/path.md) ----
+
+function readCsv(file) {
+  const lines = fs.readFileSync(file, 'utf8').trim().split('\n');
+  if (lines[0] !== 'x,y,z,qw,qx,qy,qz') throw new Error(file + ': unexpected header ' + lines[0]);
+  return lines.slice(1).map((l) => {
+    const v = l.split(',').map(Number);
+    return { t: v.slice(0, 3), q: v.slice(3, 7) };
+  });
+}
+
+function quatMul(a, b) {
+  return [a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+    a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+    a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+    a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]];
+}
+// R(q) v as q v q*, written differently from the viewer on purpose.
+function rotate(q, v) {
+  const r = quatMul(quatMul(q, [0, v[0], v[1], v[2]]), [q[0], -q[1], -q[2], -q[3]]);
+  return [r[1], r[2], r[3]];
+}
+// slerp by axis-angle of the relative rotation a^-1 b (shorter arc).
+function slerp(a, b, s) {
+  let rel = quatMul([a[0], -a[1], -a[2], -a[3]], b);
+  if (rel[0] < 0) rel = rel.map((c) => -c);
+  const angle = 2 * Math.acos(Math.min(1, rel[0]));
+  const sinHalf = Math.sin(angle / 2);
+  if (sinHalf < 1e-12) return a.slice();
+  const axis = [rel[1] / sinHalf, rel[2] / sinHalf, rel[3] / sinHalf];
+  const h = (s * angle) / 2;
+  return quatMul(a, [Math.cos(h), axis[0] * Math.sin(h), axis[1] * Math.sin(h), axis[2] * Math.sin(h)]);
+}
+function expectedPose(wps, ref, origin, i, s) {
+  const off = [ref[0] - origin[0], ref[1] - origin[1], ref[2] - origin[2]];
+  const a = wps[i], b = wps[i + 1];
+  const ra = rotate(a.q, off).map((c, k) => c + a.t[k]);
+  const rb = rotate(b.q, off).map((c, k) => c + b.t[k]);
+  const q = slerp(a.q, b.q, s);
+  const tr = ra.map((c, k) => c + s * (rb[k] - c));
+  return { t: rotate(q, off).map((c, k) => tr[k] - c), q };
+}
+function poseError(p, e) {
+  const dt = Math.hypot(p.t[0] - e.t[0], p.t[1] - e.t[1], p.t[2] - e.t[2]);
+  // About the rotation angle between them (q and -q are one rotation); unlike
+  // 2 acos(|dot|) it does not lose half the digits near zero.
+  const minus = Math.hypot(...p.q.map((c, k) => c - e.q[k])), plus = Math.hypot(...p.q.map((c, k) => c + e.q[k]));
+  return { dt, dq: 2 * Math.min(minus, plus) };
+}
+
+async function main() {
+  const args = parseArgs(process.argv);
+  const html = path.resolve(args.html);
+  const sizeBytes = fs.statSync(html).size;
+  const browser = await chromium.launch({
+    executablePath: args.chromium,
+    headless: true,
+    // WebGL without a GPU: SwiftShader through ANGLE.
+    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist', '--no-sandbox'],
+  });
+  const result = { html, sizeBytes };
+  try {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const consoleErrors = [];
+    const external = [];
+    page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+    page.on('pageerror', (e) => consoleErrors.push('page error: ' + e.message));
+    // Offline: any request for something other than the file itself or inline data fails the test.
+    await page.route('**/*', (route) => {
+      const url = route.request().url();
+      if (url.startsWith('file://') || url.startsWith('data:') || url.startsWith('blob:')) return route.continue();
+      external.push(url);
+      return route.abort();
+    });
+    const t0 = Date.now();
+    await page.goto('file://' + html, { waitUntil: 'load', timeout: args.timeoutMs });
+    await page.waitForFunction(() => window.ausbau && (window.ausbau.ready || window.ausbau.error),
+      null, { timeout: args.timeoutMs });
+    result.wallToReadyMs = Date.now() - t0;
+    result.loadMs = await page.evaluate(() => window.ausbau.loadMs);
+    const error = await page.evaluate(() => window.ausbau.error);
+    check(!error, 'the viewer reported an error: ' + error);
+    result.pixels = await page.evaluate(() => window.ausbau.pixelStats());
+    const px = result.pixels;
+    check(px.nonBackground > 0.02 * px.pixels, `the 3D view is (nearly) blank: ${px.nonBackground} of ${px.pixels} pixels drawn`);
+    check(px.sPixels > 0.01 * px.pixels, `S is not visible (hiding it changes ${px.sPixels} pixels)`);
+    check(px.dPixels > 100, `D is not visible (hiding it changes ${px.dPixels} pixels)`);
+    if (args.expectLabels) {
+      check(await page.evaluate(() => window.ausbau.labelsShown()), 'D is not coloured by its labels (or no legend)');
+    }
+    if (args.expectTable) {
+      const rows = await page.evaluate((id) => { const t = document.getElementById(id); return t ? t.rows.length : -1; },
+        args.expectTable);
+      check(rows > 0, `no table #${args.expectTable} in the page (rows: ${rows})`);
+    }
+
+    if (!args.loadOnly) {
+      const paths = await page.evaluate(() => window.ausbau.paths());
+      const entry = paths.find((p) => p.key === args.pathKey);
+      check(entry, `no '${args.pathKey}' path in the page (has: ${paths.map((p) => p.key).join(', ')})`);
+      if (entry) {
+        await page.evaluate((key) => window.ausbau.selectPath(key), entry.key);
+        // Waypoints and mid-segment poses against the CSV.
+        if (args.csv) {
+          const wps = readCsv(args.csv);
+          check(wps.length === entry.waypoints, `the page has ${entry.waypoints} waypoints, the CSV ${wps.length}`);
+          const ref = args.ref.split(',').map(Number), origin = args.origin.split(',').map(Number);
+          check(Math.hypot(...ref.map((c, k) => c - entry.reference_point[k])) < 1e-9,
+            `reference point in the page ${entry.reference_point} != artifact's ${ref}`);
+          let worstWaypoint = 0, worstMid = { dt: 0, dq: 0 };
+          for (let i = 0; i < wps.length; ++i) {
+            const pose = await page.evaluate((u) => { window.ausbau.setTime(u); return window.ausbau.poseOfD(); }, entry.times[i]);
+            const err = poseError(pose, wps[i]);
+            worstWaypoint = Math.max(worstWaypoint, err.dt, err.dq);
+            if (i + 1 < wps.length) {
+              for (const s of [0.3, 0.5]) {
+                const u = entry.times[i] + s * (entry.times[i + 1] - entry.times[i]);
+                const mid = await page.evaluate((v) => { window.ausbau.setTime(v); return window.ausbau.poseOfD(); }, u);
+                const e = poseError(mid, expectedPose(wps, ref, origin, i, s));
+                worstMid = { dt: Math.max(worstMid.dt, e.dt), dq: Math.max(worstMid.dq, e.dq) };
+              }
+            }
+          }
+          result.worstWaypointError = worstWaypoint;
+          result.worstMidSegmentError = worstMid;
+          check(worstWaypoint < 1e-12, `D is not at the waypoints at their times (error ${worstWaypoint})`);
+          check(worstMid.dt < 1e-9 && worstMid.dq < 1e-9,
+            `mid-segment poses differ from the path.md interpolation (dt ${worstMid.dt}, dq ${worstMid.dq})`);
+        }
+        // The scrubber, with the mouse: D moves and the picture changes.
+        const scrubber = page.locator('#scrubber');
+        const box = await scrubber.boundingBox();
+        await scrubber.click({ position: { x: box.width * 0.05, y: box.height / 2 } });
+        const before = await page.evaluate(() => ({ pose: window.ausbau.poseOfD(), u: window.ausbau.time(),
+          hash: window.ausbau.pixelStats().hash }));
+        await scrubber.click({ position: { x: box.width * 0.8, y: box.height / 2 } });
+        const after = await page.evaluate(() => ({ pose: window.ausbau.poseOfD(), u: window.ausbau.time(),
+          hash: window.ausbau.pixelStats().hash }));
+        result.scrubber = { before: before.u, after: after.u };
+        check(after.u > before.u + 0.5, `the scrubber did not move the time (${before.u} -> ${after.u})`);
+        const moved = poseError(before.pose, after.pose);
+        check(moved.dt > 0 || moved.dq > 0, 'moving the scrubber did not change D\'s pose');
+        check(before.hash !== after.hash, 'moving the scrubber did not change the picture');
+        // Play advances the time.
+        // (Software rendering of a large S can take a second per frame: wait for it.)
+        await page.evaluate(() => window.ausbau.setTime(0));
+        const frames0 = await page.evaluate(() => window.ausbau.frames);
+        const playStart = Date.now();
+        await page.click('#play');
+        await page.waitForTimeout(1000);
+        const advanced = await page.waitForFunction(() => window.ausbau.time() > 0, null, { timeout: 30000 })
+          .then(() => true, () => false);
+        const [playing, frames1] = await page.evaluate(() => [window.ausbau.time(), window.ausbau.frames]);
+        const playedS = (Date.now() - playStart) / 1000;
+        await page.click('#play');
+        result.timeAfterPlay = playing;
+        result.framesPerSecondPlaying = (frames1 - frames0) / playedS;  // software rendering here
+        check(advanced && playing > 0, 'Play did not advance the animation');
+        // For the screenshot: D on its way out.
+        await page.evaluate(() => window.ausbau.setTime(0.45));
+      }
+    }
+    await page.waitForTimeout(200);
+    await page.screenshot({ path: args.screenshot, fullPage: true });
+    result.screenshot = args.screenshot;
+    check(consoleErrors.length === 0, 'console errors: ' + consoleErrors.join(' | '));
+    check(external.length === 0, 'requests outside the file: ' + external.join(', '));
+  } finally {
+    await browser.close();
+  }
+  result.failures = failures;
+  console.log(JSON.stringify(result));
+  if (failures.length) {
+    for (const f of failures) console.error('report_test: FAIL: ' + f);
+    process.exit(1);
+  }
+  console.error('report_test: all checks passed');
+}
+
+main().catch((e) => {
+  console.error('report_test: error: ' + (e && e.stack ? e.stack : e));
+  process.exit(1);
+});

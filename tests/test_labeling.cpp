@@ -1,0 +1,433 @@
+// Deformability labeling (thesis 5.4.1): mesh topology and consistent
+// normals, medial spheres (algorithm 9), PBD labels (algorithm 10), and the
+// two stages end to end.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "artifact/artifact.h"
+#include "geometry/primitives.h"
+#include "labeling/medial_spheres.h"
+#include "labeling/mesh_topology.h"
+#include "labeling/pbd_label.h"
+#include "scene/clip_scenes.h"
+#include "scene/mesh_io.h"
+#include "scene/scene.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+std::vector<double> Steps(double from, double to, int count) {
+  std::vector<double> out;
+  for (int i = 0; i <= count; ++i) out.push_back(from + (to - from) * i / count);
+  return out;
+}
+
+// Sorted union of grid lines.
+std::vector<double> Lines(std::vector<std::vector<double>> parts) {
+  std::vector<double> out;
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }),
+            out.end());
+  return out;
+}
+
+// A box subdivided into `cells` cells along each axis (a closed, connected,
+// outward mesh).
+TriangleMesh SubdividedBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max, int cells) {
+  return MakeGridSolidMesh(Steps(min.x(), max.x(), cells), Steps(min.y(), max.y(), cells),
+                           Steps(min.z(), max.z(), cells), [](int, int, int) { return true; });
+}
+
+// A thick box [0,1] x [0,0.6] x [0,0.3] with a thin tongue (a cantilever,
+// 0.03 thick) sticking out of its +x face: x in [1, 1.6], y in [0.2, 0.4],
+// z in [0.14, 0.17]. One connected closed mesh.
+struct TonguePart {
+  TriangleMesh mesh;
+  std::vector<std::uint8_t> tongue;  // per vertex: on the tongue (x > 1)
+};
+
+TonguePart MakeTonguePart(double tongue_thickness = 0.03) {
+  const double z0 = 0.155 - tongue_thickness / 2, z1 = 0.155 + tongue_thickness / 2;
+  const auto xs = Lines({Steps(0, 1, 10), Steps(1, 1.6, 8)});
+  const auto ys = Lines({Steps(0, 0.6, 12), {0.2, 0.4}});
+  const auto zs = Lines({Steps(0, 0.3, 6), {z0, z1}});
+  const auto centre = [](const std::vector<double>& lines, int i) { return 0.5 * (lines[i] + lines[i + 1]); };
+  TonguePart part;
+  part.mesh = MakeGridSolidMesh(xs, ys, zs, [&](int i, int j, int k) {
+    const double x = centre(xs, i), y = centre(ys, j), z = centre(zs, k);
+    if (x < 1) return true;
+    return x < 1.6 && y > 0.2 && y < 0.4 && z > z0 && z < z1;
+  });
+  for (const auto& v : part.mesh.vertices) part.tongue.push_back(v.x() > 1 + 1e-9 ? 1 : 0);
+  return part;
+}
+
+// Splits every triangle into its own three vertices (a triangle soup, as
+// assimp gives per-face normals), optionally flipping random triangles.
+TriangleMesh Soup(const TriangleMesh& mesh, double flip_probability, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  TriangleMesh soup;
+  for (const auto& tri : mesh.triangles) {
+    const int base = static_cast<int>(soup.vertices.size());
+    for (int k = 0; k < 3; ++k) soup.vertices.push_back(mesh.vertices[tri[k]]);
+    if (uniform(random) < flip_probability) {
+      soup.triangles.push_back({base, base + 2, base + 1});
+    } else {
+      soup.triangles.push_back({base, base + 1, base + 2});
+    }
+  }
+  return soup;
+}
+
+TriangleMesh FlipRandomTriangles(TriangleMesh mesh, double probability, std::uint64_t seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  for (auto& tri : mesh.triangles) {
+    if (uniform(random) < probability) std::swap(tri[1], tri[2]);
+  }
+  return mesh;
+}
+
+double SignedVolume(const MeshTopology& topo) {
+  double volume = 0;
+  for (const auto& tri : topo.triangles) {
+    volume += topo.vertices[tri[0]].dot(topo.vertices[tri[1]].cross(topo.vertices[tri[2]])) / 6.0;
+  }
+  return volume;
+}
+
+// Every kept triangle's normal points away from `centre` (a convex solid).
+void ExpectOutward(const MeshTopology& topo, const Eigen::Vector3d& centre) {
+  for (std::size_t t = 0; t < topo.triangles.size(); ++t) {
+    const auto& tri = topo.triangles[t];
+    const Eigen::Vector3d c = (topo.vertices[tri[0]] + topo.vertices[tri[1]] + topo.vertices[tri[2]]) / 3.0;
+    ASSERT_GT(topo.triangle_normals[t].dot(c - centre), 0) << "triangle " << t;
+  }
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    if (topo.referenced[v]) {
+      ASSERT_GT(topo.vertex_normals[v].dot(topo.vertices[v] - centre), 0) << "vertex " << v;
+    }
+  }
+}
+
+// ------------------------------------------------------------ topology
+
+TEST(MeshTopology, BoxIsClosedAndOutward) {
+  const MeshTopology topo = BuildMeshTopology(MakeBox({0, 0, 0}, {2, 2, 2}));
+  EXPECT_EQ(topo.VertexCount(), 8);
+  EXPECT_EQ(topo.triangles.size(), 12u);
+  EXPECT_EQ(topo.edges.size(), 18u);
+  EXPECT_EQ(topo.stats.boundary_edges, 0);
+  EXPECT_EQ(topo.stats.non_manifold_edges, 0);
+  EXPECT_EQ(topo.stats.closed_patches, 1);
+  EXPECT_EQ(topo.stats.flipped_triangles, 0);
+  EXPECT_EQ(topo.stats.components, 1);
+  EXPECT_NEAR(SignedVolume(topo), 8.0, 1e-12);
+  ExpectOutward(topo, {1, 1, 1});
+  double area = 0;
+  for (double a : topo.vertex_areas) area += a;
+  EXPECT_NEAR(area, 24.0, 1e-12);
+}
+
+TEST(MeshTopology, RandomlyFlippedTrianglesAreMadeConsistent) {
+  const TriangleMesh box = SubdividedBox({-1, -2, -0.5}, {1, 2, 0.5}, 5);
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const TriangleMesh flipped = FlipRandomTriangles(box, 0.5, seed);
+    const MeshTopology topo = BuildMeshTopology(flipped);
+    EXPECT_EQ(topo.stats.patches, 1);
+    EXPECT_EQ(topo.stats.closed_patches, 1);
+    EXPECT_NEAR(SignedVolume(topo), 8.0, 1e-9);
+    ExpectOutward(topo, {0, 0, 0});
+  }
+  // All triangles inward: the whole patch is flipped.
+  const MeshTopology inverted = BuildMeshTopology(FlipRandomTriangles(box, 1.0, 1));
+  EXPECT_NEAR(SignedVolume(inverted), 8.0, 1e-9);
+  EXPECT_EQ(inverted.stats.flipped_triangles, static_cast<int>(inverted.triangles.size()));
+}
+
+TEST(MeshTopology, TriangleSoupIsWeldedAndOriented) {
+  const TriangleMesh box = SubdividedBox({0, 0, 0}, {3, 1, 1}, 4);
+  const MeshTopology reference = BuildMeshTopology(box);
+  const TriangleMesh soup = Soup(box, 0.4, 7);
+  ASSERT_EQ(soup.vertices.size(), 3 * box.triangles.size());
+  const MeshTopology topo = BuildMeshTopology(soup);
+  EXPECT_EQ(topo.VertexCount(), reference.VertexCount());
+  EXPECT_EQ(topo.edges.size(), reference.edges.size());
+  EXPECT_EQ(topo.stats.boundary_edges, 0);
+  EXPECT_EQ(topo.stats.components, 1);
+  EXPECT_NEAR(SignedVolume(topo), 3.0, 1e-9);
+  ExpectOutward(topo, {1.5, 0.5, 0.5});
+  // Original vertices map onto welded vertices at the same place.
+  ASSERT_EQ(topo.OriginalVertexCount(), static_cast<int>(soup.vertices.size()));
+  for (int i = 0; i < topo.OriginalVertexCount(); ++i) {
+    EXPECT_EQ(topo.vertices[topo.welded_of_original[i]], soup.vertices[i]);
+  }
+}
+
+TEST(MeshTopology, NearDuplicatesWeldWithinTheTolerance) {
+  TriangleMesh soup = Soup(SubdividedBox({0, 0, 0}, {1, 1, 1}, 3), 0.0, 1);
+  std::mt19937_64 random(3);
+  std::uniform_real_distribution<double> jitter(-1e-9, 1e-9);
+  for (auto& v : soup.vertices) v += Eigen::Vector3d(jitter(random), jitter(random), jitter(random));
+  EXPECT_EQ(BuildMeshTopology(soup).VertexCount(), 64);  // 1e-7 x diagonal > 3.5e-9
+  MeshTopologyOptions exact;
+  exact.weld_tolerance = 0;
+  EXPECT_GT(BuildMeshTopology(soup, exact).VertexCount(), 64);
+}
+
+TEST(MeshTopology, DuplicateAndDegenerateTrianglesAreDropped) {
+  TriangleMesh box = MakeBox({0, 0, 0}, {1, 1, 1});
+  box.triangles.push_back({box.triangles[0][0], box.triangles[0][2], box.triangles[0][1]});  // double-sided face
+  box.triangles.push_back({0, 0, 1});                                                        // collapsed
+  box.vertices.emplace_back(0.5, 0, 0);
+  box.triangles.push_back({0, 1, 8});  // collinear: zero area
+  const MeshTopology topo = BuildMeshTopology(box);
+  EXPECT_EQ(topo.stats.duplicate_triangles, 1);
+  EXPECT_EQ(topo.stats.degenerate_triangles, 2);
+  EXPECT_EQ(topo.triangles.size(), 12u);
+  EXPECT_EQ(topo.stats.unreferenced_vertices, 1);
+  EXPECT_EQ(topo.vertex_normals[8], Eigen::Vector3d::Zero());
+  EXPECT_NEAR(SignedVolume(topo), 1.0, 1e-12);
+}
+
+TEST(MeshTopology, OpenAndSeparateComponentsAreOrientedOutward) {
+  // Two separate boxes, one given inside out, and an open box (no lid) with
+  // random flips: each gets outward normals.
+  TriangleMesh mesh = SubdividedBox({0, 0, 0}, {1, 1, 1}, 2);
+  mesh.Append(FlipRandomTriangles(SubdividedBox({3, 0, 0}, {4, 1, 1}, 2), 1.0, 1));
+  TriangleMesh open = SubdividedBox({0, 3, 0}, {1, 4, 1}, 4);
+  open.triangles.erase(std::remove_if(open.triangles.begin(), open.triangles.end(),
+                                      [&](const std::array<int, 3>& tri) {
+                                        for (int v : tri) {
+                                          if (open.vertices[v].z() < 1 - 1e-12) return false;
+                                        }
+                                        return true;  // the lid
+                                      }),
+                       open.triangles.end());
+  mesh.Append(FlipRandomTriangles(open, 0.5, 5));
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  EXPECT_EQ(topo.stats.components, 3);
+  EXPECT_EQ(topo.stats.closed_patches, 2);
+  for (std::size_t t = 0; t < topo.triangles.size(); ++t) {
+    const auto& tri = topo.triangles[t];
+    const Eigen::Vector3d c = (topo.vertices[tri[0]] + topo.vertices[tri[1]] + topo.vertices[tri[2]]) / 3.0;
+    const Eigen::Vector3d centre = c.x() > 2 ? Eigen::Vector3d(3.5, 0.5, 0.5)
+                                   : c.y() > 2 ? Eigen::Vector3d(0.5, 3.5, 0.5)
+                                               : Eigen::Vector3d(0.5, 0.5, 0.5);
+    EXPECT_GT(topo.triangle_normals[t].dot(c - centre), 0) << "triangle " << t << " at " << c.transpose();
+  }
+}
+
+TEST(MeshTopology, CavityShellPointsIntoTheCavity) {
+  // A hollow box: outer shell, and an inner shell (given outward) bounding the cavity.
+  TriangleMesh mesh = SubdividedBox({0, 0, 0}, {4, 4, 4}, 2);
+  mesh.Append(SubdividedBox({1, 1, 1}, {3, 3, 3}, 2));
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  EXPECT_EQ(topo.stats.cavity_patches, 1);
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    const Eigen::Vector3d& x = topo.vertices[v];
+    const bool inner = (x.array() > 0.5).all() && (x.array() < 3.5).all();
+    const double dot = topo.vertex_normals[v].dot(x - Eigen::Vector3d(2, 2, 2));
+    if (inner) {
+      EXPECT_LT(dot, 0) << "inner vertex " << x.transpose();
+    } else {
+      EXPECT_GT(dot, 0) << "outer vertex " << x.transpose();
+    }
+  }
+}
+
+TEST(TriangleBvh, NearestPointMatchesBruteForce) {
+  const TriangleMesh mesh = MakeTonguePart().mesh;
+  const TriangleBvh bvh(mesh.vertices, mesh.triangles);
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> coordinate(-0.3, 1.9);
+  for (int q = 0; q < 300; ++q) {
+    const Eigen::Vector3d p(coordinate(random), coordinate(random) * 0.5, coordinate(random) * 0.3);
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& tri : mesh.triangles) {
+      const Eigen::Vector3d c =
+          TriangleBvh::ClosestPoint(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
+      best = std::min(best, (c - p).squaredNorm());
+    }
+    const auto near = bvh.NearestPoint(p);
+    EXPECT_DOUBLE_EQ(near.distance_squared, best);
+    const auto hinted = bvh.NearestPoint(p, q % static_cast<int>(mesh.triangles.size()));
+    EXPECT_EQ(hinted.triangle, near.triangle);
+    EXPECT_EQ(hinted.distance_squared, near.distance_squared);
+  }
+}
+
+// ------------------------------------------------------------ medial spheres
+
+TEST(MedialSpheres, BoxSpheresReachTheCentre) {
+  // Corners too: the centre walks up the corner's diagonal (each step pushes
+  // it away from the nearest of the three faces) to the box's centre.
+  for (int cells : {1, 4}) {
+    const MeshTopology topo = BuildMeshTopology(SubdividedBox({-1, -1, -1}, {1, 1, 1}, cells));
+    const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+    for (int v = 0; v < topo.VertexCount(); ++v) {
+      EXPECT_NEAR(spheres.radii[v], 1.0, 0.05) << "vertex " << topo.vertices[v].transpose();
+      // The sphere stays inside: centre at least its radius from every face.
+      EXPECT_LE(spheres.centers[v].cwiseAbs().maxCoeff() + spheres.radii[v], 1.0 + 1e-9);
+    }
+  }
+}
+
+TEST(MedialSpheres, PlateRadiusIsHalfTheThickness) {
+  const double thickness = 0.02;
+  const MeshTopology topo = BuildMeshTopology(MakeGridSolidMesh(
+      Steps(0, 1, 10), Steps(0, 0.5, 5), {0, thickness}, [](int, int, int) { return true; }));
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    EXPECT_NEAR(spheres.radii[v], thickness / 2, 0.03 * thickness / 2) << topo.vertices[v].transpose();
+    EXPECT_NEAR(spheres.centers[v].z(), thickness / 2, 0.03 * thickness / 2);
+  }
+  EXPECT_NEAR(spheres.MinRadius(), thickness / 2, 0.03 * thickness / 2);
+}
+
+TEST(MedialSpheres, ThinTongueHasSmallSpheresThickBoxLargeOnes) {
+  const TonguePart part = MakeTonguePart();
+  const MeshTopology topo = BuildMeshTopology(part.mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  double tongue_max = 0, box_min = 1e9;
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    // The tongue's tip and sides: half its thickness.
+    if (topo.vertices[v].x() > 1.05) {
+      tongue_max = std::max(tongue_max, spheres.radii[v]);
+      EXPECT_NEAR(spheres.radii[v], 0.015, 0.001);
+    }
+    if (topo.vertices[v].x() < 0.95) box_min = std::min(box_min, spheres.radii[v]);
+  }
+  EXPECT_LT(tongue_max, 0.016);
+  EXPECT_GT(box_min, 0.1);
+}
+
+TEST(MedialSpheres, DeterministicForAnyThreadCount) {
+  const MeshTopology topo = BuildMeshTopology(Soup(MakeTonguePart().mesh, 0.3, 2));
+  MedialSphereOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const MedialSpheres a = ComputeMedialSpheres(topo, one), b = ComputeMedialSpheres(topo, two);
+  EXPECT_EQ(a.radii, b.radii);
+  EXPECT_EQ(a.centers, b.centers);
+}
+
+// ------------------------------------------------------------ PBD labels
+
+PbdLabels LabelPart(const TriangleMesh& mesh, PbdLabelOptions options = {}, MeshTopology* out_topo = nullptr) {
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  PbdLabels labels = ComputePbdLabels(topo, spheres.radii, options);
+  if (out_topo) *out_topo = topo;
+  return labels;
+}
+
+std::vector<double> PerOriginal(const MeshTopology& topo, const std::vector<double>& welded) {
+  std::vector<double> out(topo.OriginalVertexCount());
+  for (int i = 0; i < topo.OriginalVertexCount(); ++i) out[i] = welded[topo.welded_of_original[i]];
+  return out;
+}
+
+TEST(PbdLabels, ThinTongueIsMoreDeformableThanTheThickBox) {
+  const TonguePart part = MakeTonguePart();
+  for (const char* measure : {"self", "sum"}) {
+    PbdLabelOptions options;
+    options.measure = measure;
+    MeshTopology topo;
+    const PbdLabels labels = LabelPart(part.mesh, options, &topo);
+    const std::vector<double> d = PerOriginal(topo, labels.deformability);
+    const double auc = RocAuc(d, part.tongue);
+    double tongue = 0, box = 0;
+    int tongue_count = 0, box_count = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      (part.tongue[i] ? tongue : box) += d[i];
+      ++(part.tongue[i] ? tongue_count : box_count);
+    }
+    std::printf("measure %s: AUC %.4f, mean deformability tongue %.3f, box %.3f; r_min %.4g sigma %.4g, %lld "
+                "load cases, %.2f ms each\n",
+                measure, auc, tongue / tongue_count, box / box_count, labels.r_min, labels.sigma,
+                static_cast<long long>(labels.load_cases), 1e3 * labels.SecondsPerLoadCase());
+    EXPECT_GE(auc, 0.9) << measure;
+    EXPECT_GT(tongue / tongue_count, 2 * box / box_count) << measure;
+    for (double x : d) {
+      EXPECT_GE(x, 0);
+      EXPECT_LE(x, 1);
+    }
+  }
+}
+
+TEST(PbdLabels, ThesisParameters) {
+  PbdLabelOptions options;
+  EXPECT_EQ(options.Steps(), 34);
+  EXPECT_NEAR(options.SolverStiffness(), 1 - 1e-6, 1e-12);  // 1 - (1 - 0.99)^3
+  options.stiffness_formula = "mueller";
+  EXPECT_NEAR(options.SolverStiffness(), 1 - std::cbrt(0.01), 1e-12);
+  const TonguePart part = MakeTonguePart();
+  const MeshTopology topo = BuildMeshTopology(part.mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  const PbdLabels labels = ComputePbdLabels(topo, spheres.radii, {});
+  EXPECT_NEAR(labels.scale, 1 / 1.6, 1e-12);  // largest extent 1.6 -> 1
+  EXPECT_NEAR(labels.r_min, spheres.MinRadius() / 1.6, 1e-12);
+  EXPECT_NEAR(labels.sigma, 5.25 * labels.r_min, 1e-15);
+}
+
+TEST(PbdLabels, DeterministicForAnyThreadCount) {
+  const TriangleMesh mesh = MakeTonguePart().mesh;
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  for (const char* measure : {"self", "sum"}) {
+    PbdLabelOptions one, two, three;
+    one.threads = 1;
+    two.threads = 2;
+    three.threads = 3;
+    one.measure = two.measure = three.measure = measure;
+    const PbdLabels a = ComputePbdLabels(topo, spheres.radii, one);
+    const PbdLabels b = ComputePbdLabels(topo, spheres.radii, two);
+    const PbdLabels c = ComputePbdLabels(topo, spheres.radii, three);
+    EXPECT_EQ(a.deformability, b.deformability) << measure;
+    EXPECT_EQ(a.deformability, c.deformability) << measure;
+    EXPECT_EQ(a.displacement, b.displacement) << measure;
+  }
+}
+
+TEST(PbdLabels, RestingPartDoesNotMoveAndSeparatePartsAreIndependent) {
+  // Two copies of the part far apart label exactly like one (each component
+  // is simulated and fitted on its own).
+  const TriangleMesh one = MakeTonguePart().mesh;
+  TriangleMesh two = one;
+  TriangleMesh shifted = one;
+  for (auto& v : shifted.vertices) v += Eigen::Vector3d(0, 0, 5);
+  two.Append(shifted);
+  MeshTopology topo_one, topo_two;
+  const PbdLabels a = LabelPart(one, {}, &topo_one);
+  const PbdLabels b = LabelPart(two, {}, &topo_two);
+  // The scaled mesh differs (largest extent 5.3 instead of 1.6), so values
+  // differ slightly; the ranking does not.
+  const std::vector<double> da = PerOriginal(topo_one, a.deformability);
+  const std::vector<double> db = PerOriginal(topo_two, b.deformability);
+  ASSERT_EQ(db.size(), 2 * da.size());
+  std::vector<std::uint8_t> tongue = MakeTonguePart().tongue;
+  std::vector<std::uint8_t> tongue2 = tongue;
+  tongue2.insert(tongue2.end(), tongue.begin(), tongue.end());
+  EXPECT_GE(RocAuc(db, tongue2), 0.9);
+  for (std::size_t i = 0; i < da.size(); ++i) EXPECT_NEAR(db[i], db[i + da.size()], 1e-6);
+}
+
+TEST(RocAuc, Basics) {
+  EXPECT_DOUBLE_EQ(RocAuc({0.1, 0.2, 0.8, 0.9}, {0, 0, 1, 1}), 1.0);
+  EXPECT_DOUBLE_EQ(RocAuc({0.9, 0.8, 0.2, 0.1}, {0, 0, 1, 1}), 0.0);
+  EXPECT_DOUBLE_EQ(RocAuc({0.5, 0.5, 0.5, 0.5}, {0, 0, 1, 1}), 0.5);
+}
+
+}  // namespace
+}  // namespace ausbau
