@@ -32,7 +32,9 @@ class DistanceFieldBuilder {
 
   void BuildSurfaceCells();    // octree -> slot_, list_begin_, list_tris_
   // The triangles the votes use: duplicates removed, consistently oriented.
-  std::vector<std::array<Vec3, 3>> OrientedTriangles() const;
+  // *closed: every edge shared by exactly two of them, consistently
+  // oriented; then the votes count winding numbers, else parities.
+  std::vector<std::array<Vec3, 3>> OrientedTriangles(bool* closed) const;
   void ComputeVotes();         // six-ray winding votes -> vote_
   void MarkBand();             // dilation of the surface cells -> band_
   void ComputeBand();          // exact nearest points in the band
@@ -59,6 +61,7 @@ class DistanceFieldBuilder {
   std::vector<std::int32_t> list_tris_;
   std::vector<std::int16_t> vote_;        // sum of the six ray winding numbers
   std::vector<std::uint8_t> band_;        // 1 = surface band (exact nearest point)
+  bool winding_ = true;                   // votes are winding numbers (closed, oriented) or parities
   Progress progress_;
 };
 
@@ -423,7 +426,7 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
   list_begin_[nodes.size()] = static_cast<std::int64_t>(list_tris_.size());
 }
 
-std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles() const {
+std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles(bool* closed) const {
   // Vertices merged by exact position.
   struct KeyHash {
     std::size_t operator()(const std::array<double, 3>& k) const {
@@ -494,9 +497,11 @@ std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles() const
   });
   // neighbours[t]: (other triangle, same traversal direction?) over manifold edges.
   std::vector<std::vector<std::pair<int, bool>>> neighbours(unique.size());
+  *closed = true;
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i != 2) *closed = false;
     if (j - i == 2) {
       const bool same = uses[i].forward == uses[i + 1].forward;
       neighbours[uses[i].tri].push_back({uses[i + 1].tri, same});
@@ -515,7 +520,10 @@ std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles() const
     for (std::size_t head = 0; head < queue.size(); ++head) {
       const int t = queue[head];
       for (const auto& [other, same] : neighbours[t]) {
-        if (flip[other] >= 0) continue;
+        if (flip[other] >= 0) {
+          if (flip[other] != (same ? 1 - flip[t] : flip[t])) *closed = false;  // not orientable
+          continue;
+        }
         // Consistent: the shared edge traversed in opposite directions.
         flip[other] = same ? 1 - flip[t] : flip[t];
         queue.push_back(other);
@@ -539,7 +547,9 @@ std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles() const
 }
 
 void DistanceFieldBuilder::ComputeVotes() {
-  const std::vector<std::array<Vec3, 3>> oriented = OrientedTriangles();
+  bool closed = false;
+  const std::vector<std::array<Vec3, 3>> oriented = OrientedTriangles(&closed);
+  winding_ = closed;
   vote_.assign(n_, 0);
   std::vector<std::int32_t> bucket(n_);
   const std::int64_t dims[3] = {nx_, ny_, nz_};
@@ -574,7 +584,7 @@ void DistanceFieldBuilder::ComputeVotes() {
           const double f = std::floor((c - origin_[a]) / h_);
           const std::int64_t j = static_cast<std::int64_t>(std::clamp(f, 0.0, static_cast<double>(dims[a] - 1)));
           const std::int64_t index = j * stride[a] + iu * stride[u] + iv * stride[v];
-          __atomic_fetch_add(&bucket[index], sign, __ATOMIC_RELAXED);
+          __atomic_fetch_add(&bucket[index], closed ? sign : 1, __ATOMIC_RELAXED);
         }
       }
     }
@@ -592,7 +602,10 @@ void DistanceFieldBuilder::ComputeVotes() {
       for (std::int64_t j = 0; j < dims[a]; ++j) {
         const std::int64_t index = base + j * stride[a];
         const std::int64_t here = bucket[index];
-        const std::int64_t contribution = (total - before - here) - before;
+        // Winding: -(crossings before) towards -a plus (crossings after)
+        // towards +a; parity: the number of the two rays with an odd count.
+        const std::int64_t after = total - before - here;
+        const std::int64_t contribution = closed ? after - before : (after & 1) + (before & 1);
         const std::int64_t sum = vote_[index] + contribution;
         vote_[index] = static_cast<std::int16_t>(std::clamp<std::int64_t>(sum, -32000, 32000));
         before += here;
@@ -800,7 +813,10 @@ void DistanceFieldBuilder::Classify() {
     if (slot_[i] >= 0) {
       classes[i] = static_cast<std::uint8_t>(CellClass::kSurface);
     } else {
-      classes[i] = static_cast<std::uint8_t>(std::abs(static_cast<int>(vote_[i])) >= 3 ? CellClass::kInside
+      // Winding: the mean of the six at least 1/2 in magnitude; parity: at
+      // least five of the six rays odd (open meshes: a hole fools one ray).
+      const int vote = std::abs(static_cast<int>(vote_[i]));
+      classes[i] = static_cast<std::uint8_t>((winding_ ? vote >= 3 : vote >= 5) ? CellClass::kInside
                                                                                      : CellClass::kOutside);
     }
   }

@@ -4,6 +4,8 @@
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 
 #include <algorithm>
+#include <chrono>
+#include <mutex>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -261,6 +263,18 @@ struct FarrCollisionChecker::QueryFrame {
   Vec3 fcl_T;
 };
 
+// The online cost model of the adaptive mode (see farr_checker.h).
+struct FarrCollisionChecker::Adaptive {
+  std::vector<int> candidates;                        // ascending, the last = options.rays
+  std::atomic<int> rays{0};                           // current choice
+  std::atomic<std::int64_t> explored{0}, explored_invalid{0};
+  std::atomic<std::int64_t> witness_ray[FarrOptions::kMaxRays] = {};
+  std::atomic<std::int64_t> probe_ns{0}, probe_rays{0};  // exploration probes without a witness
+  std::atomic<std::int64_t> fcl_collision_ns{0}, fcl_collisions{0};
+  std::atomic<std::int64_t> fcl_ns{0}, fcl_timed{0};          // every timed FCL call
+  std::mutex update;
+};
+
 FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment,
                                            std::shared_ptr<const DistanceField> robot_field,
                                            std::shared_ptr<const DistanceField> environment_field,
@@ -280,6 +294,12 @@ FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const Tria
   }
   robot_ = std::make_unique<MeshData>(robot);
   environment_ = std::make_unique<MeshData>(environment);
+  adaptive_ = std::make_unique<Adaptive>();
+  for (int k : {0, 1, 2, 3, 5, 8, 12, 20, 30, 50, 80}) {
+    if (k < options_.rays) adaptive_->candidates.push_back(k);
+  }
+  adaptive_->candidates.push_back(options_.rays);
+  adaptive_->rays.store(options_.rays);
   const double sqrt3 = std::sqrt(3.0);
   const double diagonal = robot.Bounds().Diagonal();
   const double eps = options_.epsilon * diagonal;
@@ -367,7 +387,7 @@ bool FarrCollisionChecker::Skip(const Pose& pose) const {
 }
 
 template <bool kCheckInside>
-FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, int rays) const {
+FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, int rays, bool complete) const {
   constexpr int kMax = FarrOptions::kMaxRays;
   ProbeResult result;
   const int k = std::min(rays, kMax);
@@ -396,6 +416,7 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
   alignas(64) float d2[kMax], last_d2[kMax];
   alignas(64) std::int32_t ta[kMax], tb[kMax], tc[kMax];
   alignas(64) std::int64_t index[kMax];
+  std::int32_t id[kMax];                               // the ray's number (lanes are compacted)
   PoseStream stream(seed_, pose);
   const std::uint32_t n_start = static_cast<std::uint32_t>(start_vertices_.size());
   for (int r = 0; r < k; ++r) {
@@ -406,6 +427,7 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
     az[r] = static_cast<float>(v.z());
     ta[r] = start_triangle_[pick];
     last_d2[r] = std::numeric_limits<float>::infinity();
+    id[r] = r;
   }
   result.rays_used = k;
   int n = k;
@@ -418,8 +440,11 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
     if (!tested.Insert(key)) return false;
     return PatchWitness(frame, robot_t, env_t, &rejected, &pair_tests);
   };
-  auto finish = [&](bool witness) {
-    result.witness = witness;
+  int best = kMax;  // complete: the lowest ray number with a witness so far
+  auto finish = [&](int lane) {
+    if (lane >= 0) best = std::min(best, id[lane]);
+    result.witness = best < kMax;
+    result.witness_ray = best < kMax ? best : -1;
     pair_tests_.fetch_add(pair_tests, std::memory_order_relaxed);
     if (rejected) pair_rejects_.fetch_add(1, std::memory_order_relaxed);
     return result;
@@ -462,7 +487,10 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
       d2[r] = dx * dx + dy * dy + dz * dz;
     }
     for (int r = 0; r < n; ++r) {
-      if (d2[r] <= gate_s && test(ta[r], tb[r])) return finish(true);
+      if (id[r] < best && d2[r] <= gate_s && test(ta[r], tb[r])) {
+        if (!complete) return finish(r);
+        best = std::min(best, id[r]);
+      }
     }
     // b in D's frame: R^T (b - t).
 #pragma omp simd
@@ -488,54 +516,133 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
       d2[r] = dx * dx + dy * dy + dz * dz;
     }
     for (int r = 0; r < n; ++r) {
-      if (d2[r] <= gate_d && test(tc[r], tb[r])) return finish(true);
+      if (id[r] < best && d2[r] <= gate_d && test(tc[r], tb[r])) {
+        if (!complete) return finish(r);
+        best = std::min(best, id[r]);
+      }
     }
     // a <- a'; a ray ends when a' == a (a local distance minimum, alg. 6
     // line 12) or, with `stall`, when it no longer gets closer.
     int kept = 0;
     for (int r = 0; r < n; ++r) {
+      if (id[r] >= best) continue;  // complete: cannot lower the witness ray any more
       if (cx[r] == ax[r] && cy[r] == ay[r] && cz[r] == az[r]) continue;
       if (stall && d2[r] >= stall_factor * last_d2[r]) continue;
       ax[kept] = cx[r];
       ay[kept] = cy[r];
       az[kept] = cz[r];
       ta[kept] = tc[r];
+      id[kept] = id[r];
       last_d2[kept] = d2[r];
       ++kept;
     }
     n = kept;
   }
-  return finish(false);
+  return finish(-1);
 }
 
-FarrCollisionChecker::ProbeResult FarrCollisionChecker::Probe(const Pose& pose, int rays) const {
-  if (options_.report_containment || options_.count_containment) return Rays<true>(pose, rays);
-  return Rays<false>(pose, rays);
+FarrCollisionChecker::ProbeResult FarrCollisionChecker::Probe(const Pose& pose, int rays, bool complete) const {
+  if (options_.report_containment || options_.count_containment) return Rays<true>(pose, rays, complete);
+  return Rays<false>(pose, rays, complete);
 }
 
 bool FarrCollisionChecker::InCollision(const Pose& pose) const {
-  queries_.fetch_add(1, std::memory_order_relaxed);
-  ProbeResult probe;
+  using Clock = std::chrono::steady_clock;
+  const std::int64_t query = queries_.fetch_add(1, std::memory_order_relaxed);
   const bool containment = options_.report_containment || options_.count_containment;
-  if (!containment && Skip(pose)) {
+  const bool adaptive = options_.adaptive && options_.rays > 0 && !containment;
+  // Exploration: the first 64 queries, then every 32nd, after 4096 queries
+  // every 128th.
+  const bool explore = adaptive && (query < 64 || (query & (query < 4096 ? 31 : 255)) == 0);
+  const int rays = adaptive && !explore ? adaptive_->rays.load(std::memory_order_relaxed) : options_.rays;
+  Adaptive& model = *adaptive_;
+  auto nanoseconds = [](Clock::time_point from) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - from).count();
+  };
+  bool answer = false;
+  bool answered = false;
+  ProbeResult probe;
+  if (rays <= 0 && !containment) {
+    // Plain FCL.
+  } else if (!containment && Skip(pose)) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
   } else {
-    probe = Probe(pose, options_.rays);
+    const Clock::time_point begin = explore ? Clock::now() : Clock::time_point();
+    probe = Probe(pose, rays, explore);
+    if (explore) {
+      const std::int64_t ns = nanoseconds(begin);
+      if (probe.witness) {
+        model.witness_ray[probe.witness_ray].fetch_add(1, std::memory_order_relaxed);
+      } else {
+        model.probe_ns.fetch_add(ns, std::memory_order_relaxed);
+        model.probe_rays.fetch_add(probe.rays_used, std::memory_order_relaxed);
+      }
+    }
     if (probe.witness) {
       witnesses_.fetch_add(1, std::memory_order_relaxed);
-      return true;
+      answer = answered = true;
     }
   }
-  fcl_calls_.fetch_add(1, std::memory_order_relaxed);
-  if (fcl_.InCollision(pose)) {
-    fcl_collisions_.fetch_add(1, std::memory_order_relaxed);
-    return true;
+  if (!answered || explore) {
+    // FCL: the answer, or (exploring, after a witness) only its time.
+    const Clock::time_point begin = explore ? Clock::now() : Clock::time_point();
+    const bool fcl = fcl_.InCollision(pose);
+    if (explore) {
+      const std::int64_t ns = nanoseconds(begin);
+      model.fcl_ns.fetch_add(ns, std::memory_order_relaxed);
+      model.fcl_timed.fetch_add(1, std::memory_order_relaxed);
+      if (fcl) {
+        model.fcl_collision_ns.fetch_add(ns, std::memory_order_relaxed);
+        model.fcl_collisions.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
+    if (!answered) {
+      fcl_calls_.fetch_add(1, std::memory_order_relaxed);
+      if (fcl) fcl_collisions_.fetch_add(1, std::memory_order_relaxed);
+      answer = fcl;
+      if (!fcl && probe.inside) {
+        containments_.fetch_add(1, std::memory_order_relaxed);
+        if (options_.report_containment) answer = true;
+      }
+    }
   }
-  if (probe.inside) {
-    containments_.fetch_add(1, std::memory_order_relaxed);
-    if (options_.report_containment) return true;
+  if (explore) {
+    model.explored.fetch_add(1, std::memory_order_relaxed);
+    if (answer) model.explored_invalid.fetch_add(1, std::memory_order_relaxed);
   }
-  return false;
+  if (adaptive && (query & (query < 4096 ? 63 : 255)) == 63) Recompute();
+  return answer;
+}
+
+void FarrCollisionChecker::Recompute() const {
+  Adaptive& model = *adaptive_;
+  std::unique_lock<std::mutex> lock(model.update, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  const double queries = static_cast<double>(queries_.load());
+  const double explored_invalid = static_cast<double>(model.explored_invalid.load());
+  const double probe_rays = static_cast<double>(model.probe_rays.load());
+  const double timed = static_cast<double>(model.fcl_timed.load());
+  if (queries < 1 || probe_rays < 1 || timed < 1) return;  // nothing measured yet
+  // The invalid portion from all answers; FCL's time on collisions from the
+  // timed ones (their mean over all timed calls until there are a few).
+  const double invalid_portion =
+      static_cast<double>(witnesses_.load() + fcl_collisions_.load()) / queries;
+  const double collisions = static_cast<double>(model.fcl_collisions.load());
+  const double fcl_collision = collisions >= 4 ? static_cast<double>(model.fcl_collision_ns.load()) / collisions
+                                               : static_cast<double>(model.fcl_ns.load()) / timed;
+  const double cost_per_ray = static_cast<double>(model.probe_ns.load()) / probe_rays;
+  double best_value = 0;  // k = 0: nothing spent, nothing saved
+  int best_k = 0;
+  std::int64_t detected = 0;
+  int next_ray = 0;
+  for (int k : model.candidates) {
+    for (; next_ray < k; ++next_ray) detected += model.witness_ray[next_ray].load();
+    // Until a few explored queries were in collision, assume the best case.
+    const double rate = explored_invalid >= 4 ? static_cast<double>(detected) / explored_invalid : 1.0;
+    const double value = k * cost_per_ray - invalid_portion * rate * fcl_collision;
+    if (value < best_value) best_value = value, best_k = k;
+  }
+  model.rays.store(best_k);
 }
 
 FarrStats FarrCollisionChecker::stats() const {
@@ -548,6 +655,8 @@ FarrStats FarrCollisionChecker::stats() const {
   s.skipped = skipped_.load();
   s.pair_tests = pair_tests_.load();
   s.pair_rejects = pair_rejects_.load();
+  s.explored = adaptive_->explored.load();
+  s.rays_now = options_.adaptive ? adaptive_->rays.load() : options_.rays;
   return s;
 }
 

@@ -8,7 +8,8 @@
 namespace ausbau {
 namespace {
 
-constexpr int kBrickShift = 2;  // 4 x 4 x 4 voxels per brick
+constexpr int kBrickShift = 1;  // 2 x 2 x 2 voxels per brick
+constexpr int kGroupShift = 3;  // 8 x 8 x 8 voxels (up to 4 x 4 x 4 bricks) per group
 
 // Chessboard (L-infinity, 26-neighbour) distance in voxels from each cell to
 // the nearest occupied cell, capped at 255: the two-pass chamfer transform
@@ -61,11 +62,12 @@ struct IntersectionVolume::Data {
   std::vector<std::array<std::int32_t, 6>> neighbors;  // -1: none
   std::vector<float> weight;                           // colorValue
   struct Brick {
-    std::int32_t begin, end;
-    Eigen::Vector3d center;  // in D's index space
-    double radius;           // in D's voxels
+    std::int32_t begin, end;  // voxels (bricks for a group)
+    Eigen::Vector3d center;   // in D's index space
+    double radius;            // in D's voxels
   };
   std::vector<Brick> bricks;
+  std::vector<Brick> groups;  // of bricks: a first, coarser cull
   std::vector<float> color_grid;  // per cell of D's grid (for color_value())
 };
 
@@ -98,9 +100,17 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
   }
 
   // D's voxels sorted by brick, then in raster order within a brick.
+  // D's voxels sorted by group, brick and raster order.
   const VoxelGridGeometry& g = dynamic_grid.geometry;
   const int bx = (g.dims[0] >> kBrickShift) + 1, by = (g.dims[1] >> kBrickShift) + 1;
-  std::vector<std::pair<std::int64_t, std::int64_t>> order;  // (brick, cell)
+  const int gx = (g.dims[0] >> kGroupShift) + 1, gy = (g.dims[1] >> kGroupShift) + 1;
+  struct Entry {
+    std::int64_t group, brick, cell;
+    bool operator<(const Entry& o) const {
+      return group != o.group ? group < o.group : brick != o.brick ? brick < o.brick : cell < o.cell;
+    }
+  };
+  std::vector<Entry> order;
   for (int k = 0; k < g.dims[2]; ++k) {
     for (int j = 0; j < g.dims[1]; ++j) {
       for (int i = 0; i < g.dims[0]; ++i) {
@@ -108,7 +118,9 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
         if (dynamic_grid.cells[cell] == kVoxelEmpty) continue;
         const std::int64_t brick =
             (std::int64_t{k >> kBrickShift} * by + (j >> kBrickShift)) * bx + (i >> kBrickShift);
-        order.emplace_back(brick, cell);
+        const std::int64_t group =
+            (std::int64_t{k >> kGroupShift} * gy + (j >> kGroupShift)) * gx + (i >> kGroupShift);
+        order.push_back({group, brick, cell});
       }
     }
   }
@@ -118,7 +130,7 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
   }
   std::vector<std::int32_t> compact(static_cast<size_t>(g.Count()), -1);
   for (size_t n = 0; n < order.size(); ++n) {
-    const std::int64_t cell = order[n].second;
+    const std::int64_t cell = order[n].cell;
     compact[cell] = static_cast<std::int32_t>(n);
     const int i = static_cast<int>(cell % g.dims[0]), j = static_cast<int>((cell / g.dims[0]) % g.dims[1]),
               k = static_cast<int>(cell / (std::int64_t{g.dims[0]} * g.dims[1]));
@@ -134,25 +146,39 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
       data->neighbors[n][e] = g.Contains(i, j, k) ? compact[g.Index(i, j, k)] : -1;
     }
   }
-  for (size_t begin = 0; begin < order.size();) {
-    size_t end = begin;
+  // A ball around voxels [begin, end) of the list.
+  auto ball = [&](size_t begin, size_t end) {
     Aabb box;
-    while (end < order.size() && order[end].first == order[begin].first) {
-      const auto& c = data->cells[end];
+    for (size_t n = begin; n < end; ++n) {
+      const auto& c = data->cells[n];
       box.Extend(Eigen::Vector3d(c[0], c[1], c[2]));
-      ++end;
     }
     Data::Brick brick;
-    brick.begin = static_cast<std::int32_t>(begin);
-    brick.end = static_cast<std::int32_t>(end);
     brick.center = box.Center();
     brick.radius = 0;
     for (size_t n = begin; n < end; ++n) {
       const auto& c = data->cells[n];
       brick.radius = std::max(brick.radius, (Eigen::Vector3d(c[0], c[1], c[2]) - brick.center).norm());
     }
-    data->bricks.push_back(brick);
-    begin = end;
+    return brick;
+  };
+  for (size_t group_begin = 0; group_begin < order.size();) {
+    size_t group_end = group_begin;
+    while (group_end < order.size() && order[group_end].group == order[group_begin].group) ++group_end;
+    Data::Brick group = ball(group_begin, group_end);
+    group.begin = static_cast<std::int32_t>(data->bricks.size());
+    for (size_t begin = group_begin; begin < group_end;) {
+      size_t end = begin;
+      while (end < group_end && order[end].brick == order[begin].brick) ++end;
+      Data::Brick brick = ball(begin, end);
+      brick.begin = static_cast<std::int32_t>(begin);
+      brick.end = static_cast<std::int32_t>(end);
+      data->bricks.push_back(brick);
+      begin = end;
+    }
+    group.end = static_cast<std::int32_t>(data->bricks.size());
+    data->groups.push_back(group);
+    group_begin = group_end;
   }
   data_ = std::move(data);
   buffers_ = std::make_unique<Buffers>();
@@ -224,22 +250,29 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
   std::int64_t best_voxels = 0;
   int components = 0;
   bool early_out = false;
-  double early_value = 0;
+  const double voxel_volume = hd * hd * hd;
   if (record) b.best.clear();
 
-  for (const Data::Brick& brick : d.bricks) {
-    // Cull: no occupied S voxel within reach of the brick's ball.
-    const Eigen::Vector3d c = g0 + m * brick.center;
-    const int ci = static_cast<int>(std::floor(c.x())), cj = static_cast<int>(std::floor(c.y())),
-              ck = static_cast<int>(std::floor(c.z()));
-    const int reach = static_cast<int>(std::floor(brick.radius * scale)) + 1;
+  // True when no occupied S voxel lies within reach of the ball: a voxel
+  // centre p within r of the centre c lies in a cell at most floor(r) + 1
+  // cells (chessboard) from c's cell.
+  auto culled_ball = [&](const Data::Brick& ball) {
+    const Eigen::Vector3d c = g0 + m * ball.center;
+    const double fx = std::floor(c.x()), fy = std::floor(c.y()), fz = std::floor(c.z());
+    const int reach = static_cast<int>(std::floor(ball.radius * scale)) + 1;
+    if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9 && std::abs(fz) < 1e9)) return true;  // far away (or NaN)
+    const int ci = static_cast<int>(fx), cj = static_cast<int>(fy), ck = static_cast<int>(fz);
     const int ii = std::clamp(ci, 0, snx - 1), jj = std::clamp(cj, 0, sny - 1), kk = std::clamp(ck, 0, snz - 1);
     const int outside = std::max({std::abs(ci - ii), std::abs(cj - jj), std::abs(ck - kk)});
-    const int near = distance[kk * splane + std::int64_t{jj} * snx + ii];
-    if (outside > reach || near - outside > reach) {
-      ++culled;
-      continue;
-    }
+    if (outside > reach) return true;
+    // Triangle inequality: from c's cell, occupied cells are at least
+    // (distance at the clamped cell) - outside away.
+    return distance[kk * splane + std::int64_t{jj} * snx + ii] - outside > reach;
+  };
+
+  // Tests the voxels of one brick, flood-filling from each intersecting one;
+  // false after an early out.
+  auto scan = [&](const Data::Brick& brick) {
     for (std::int32_t v = brick.begin; v < brick.end; ++v) {
       if ((b.stamp[v] >> 2) == b.generation) continue;  // tested already
       if (!intersects(v)) {
@@ -270,31 +303,45 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
           b.queue.push_back(w);
           sum += weighted ? d.weight[w] : 1.0;
         }
-        if (weighted && sum * hd * hd * hd > tau) {  // alg. 12 with the early out of 5.4.4
+        if (weighted && sum * voxel_volume > tau) {  // alg. 12 with the early out of 5.4.4
           early_out = true;
-          early_value = sum;
           break;
         }
       }
       ++components;
       visited += static_cast<std::int64_t>(b.queue.size());
       if (early_out || sum > best) {
-        best = early_out ? early_value : sum;
+        best = sum;
         best_voxels = static_cast<std::int64_t>(b.queue.size());
         if (record) b.best = b.queue;
       }
-      if (early_out) break;
+      if (early_out) return false;
     }
-    if (early_out) break;
+    return true;
+  };
+
+  for (const Data::Brick& group : d.groups) {
+    if (culled_ball(group)) {
+      culled += group.end - group.begin;
+      continue;
+    }
+    bool go_on = true;
+    for (std::int32_t i = group.begin; i < group.end && go_on; ++i) {
+      if (culled_ball(d.bricks[i])) {
+        ++culled;
+      } else {
+        go_on = scan(d.bricks[i]);
+      }
+    }
+    if (!go_on) break;
   }
 
-  const double volume = hd * hd * hd;
   double value;
   if (mode == Mode::kIv) {
-    value = intersecting * volume;
+    value = intersecting * voxel_volume;
     best_voxels = intersecting;
   } else {
-    value = best * volume;
+    value = best * voxel_volume;
   }
   if (query != nullptr) {
     query->value = value;

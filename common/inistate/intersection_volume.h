@@ -16,16 +16,18 @@
 // dynamic_origin to use scene-convention poses instead).
 //
 // Speed (the query runs inside a planner): D's voxels are a compact list
-// sorted into 4x4x4 bricks, each with the 6 neighbour indices of every voxel.
-// A query maps D-grid indices to S-grid indices by one affine map (3x3 + 3),
-// culls a brick with one look-up in a chessboard distance grid of S (the
-// distance to the nearest occupied voxel, capped at 255: a brick whose
-// bounding ball is farther from any occupied voxel is skipped), and tests the
-// remaining voxels lazily, one byte look-up each, flood-filling from every
-// intersecting voxel with reusable buffers (a stamp per voxel, no clearing and
-// no allocation per query). As in alg. 11 every voxel is a seed, not only
-// surface voxels, so the IV is exact on the voxels and a component wholly
-// inside D is found too.
+// sorted into 2x2x2 bricks within 8x8x8 groups, with the 6 neighbour indices
+// of every voxel. A query maps D-grid indices to S-grid indices by one affine
+// map (3x3 + 3); it culls a group, then a brick, with one look-up each in a
+// chessboard distance grid of S (voxels to the nearest occupied voxel, capped
+// at 255: a group or brick whose bounding ball cannot reach an occupied voxel
+// is skipped), tests the remaining voxels lazily, one byte look-up each, and
+// flood-fills from every intersecting voxel with reusable buffers (a stamp
+// per voxel, no clearing, no allocation per query). As in alg. 11 every
+// voxel is a seed, not only surface voxels, so the IV is exact on the voxels
+// and a component wholly inside D is found too. On the clips-ds3 scene (189k
+// voxels of D) a query along the first part of the known path takes 65-80 us
+// (thread CPU time) against 40-45 us for FCL's collision query (README.md).
 //
 // An IntersectionVolume is not thread-safe (it owns its query buffers):
 // Clone() one per thread; clones share the precomputed data.
@@ -97,6 +99,7 @@ class IntersectionVolume {
 
 // The InIState validity test (5.4.4): a pose is valid when its Labeled-MLIV
 // is at most tau. Thread-safe: each check borrows a clone from a pool.
+// `volume` must outlive it.
 class LabeledMlivValidity : public PoseValidity {
  public:
   LabeledMlivValidity(const IntersectionVolume& volume, double tau);

@@ -433,7 +433,9 @@ VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding) {
   g.spacing = spacing;
   const Vec3 size = box.Size();
   for (int k = 0; k < 3; ++k) {
-    const double n = std::ceil(size[k] / spacing - 1e-9) + 2.0 * padding;
+    // floor + 1 cells cover the box with a margin in (0, spacing] to share
+    // out, so that no face lies on the padding voxels' boundary.
+    const double n = std::floor(size[k] / spacing) + 1.0 + 2.0 * padding;
     if (!(n <= 1e9)) {
       throw InputError("voxel grid of " + std::to_string(n) + " voxels along an axis (voxel size " +
                        std::to_string(spacing) + "): choose a larger --voxel-size");

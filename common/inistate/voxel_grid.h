@@ -160,8 +160,9 @@ struct VoxelizeStats {
 // `budget` voxels in D's AABB.
 double AutomaticVoxelSize(const Aabb& dynamic_box, std::int64_t budget);
 
-// A grid of the given spacing covering `box` with `padding` empty voxels on
-// every side (the grid is centred on the box).
+// A grid of the given spacing covering `box` with more than `padding` voxels
+// of margin on every side (the grid is centred on the box), so that a face of
+// the box never touches the outermost voxels.
 VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding = 1);
 
 // Bytes VoxelizeMesh needs for a grid (the cells, region labels and the

@@ -193,6 +193,11 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   std::vector<int> queue;
   for (int seed = 0; seed < m; ++seed) {
     if (topo.triangle_patch[seed] >= 0) continue;
+    if (!options.orient) {  // one patch per triangle, nothing flipped
+      topo.triangle_patch[seed] = static_cast<int>(patches.size());
+      patches.push_back({seed});
+      continue;
+    }
     const int patch = static_cast<int>(patches.size());
     patches.emplace_back();
     queue.assign(1, seed);
@@ -234,7 +239,7 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   for (int t = 0; t < m; ++t) update_geometry(t);
 
   // 4. Global orientation of each patch.
-  const TriangleBvh bvh(topo.vertices, topo.triangles);
+  const TriangleBvh bvh = options.orient ? TriangleBvh(topo.vertices, topo.triangles) : TriangleBvh();
   const double t_min = 1e-9 * input_diagonal;
   const auto centroid = [&](int t) {
     const auto& tri = topo.triangles[t];
@@ -247,7 +252,7 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     for (int s = 0; s < wanted; ++s) out.push_back(list[static_cast<std::size_t>(s) * count / wanted]);
     return out;
   };
-  for (int p = 0; p < stats.patches; ++p) {
+  for (int p = 0; p < stats.patches && options.orient; ++p) {
     const std::vector<int>& list = patches[p];
     bool closed = true;
     for (int t : list) {
@@ -470,16 +475,8 @@ inline double BoxDistanceSquared(const double* min, const double* max, const Eig
 
 }  // namespace
 
-TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hint) const {
-  Nearest best;
-  if (nodes_.empty()) return best;
-  if (hint >= 0 && hint < TriangleCount()) {
-    // Start the bound from the hinted triangle. The search below then finds
-    // it again (or a strictly nearer one): the answer does not depend on the hint.
-    const int s = slot_of_id_[hint];
-    const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
-    best.distance_squared = std::nextafter((point - q).squaredNorm(), std::numeric_limits<double>::infinity());
-  }
+template <typename Skip>
+TriangleBvh::Nearest TriangleBvh::Search(const Eigen::Vector3d& q, Nearest best, const Skip& skip) const {
   int stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -488,6 +485,7 @@ TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hin
     if (BoxDistanceSquared(node.min, node.max, q) >= best.distance_squared) continue;
     if (node.count > 0) {
       for (int s = node.first; s < node.first + node.count; ++s) {
+        if (skip(id_[s])) continue;
         const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
         const double d2 = (point - q).squaredNorm();
         if (d2 < best.distance_squared) {
@@ -511,6 +509,24 @@ TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hin
     }
   }
   return best;
+}
+
+TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hint) const {
+  Nearest best;
+  if (nodes_.empty()) return best;
+  if (hint >= 0 && hint < TriangleCount()) {
+    // Start the bound from the hinted triangle. The search then finds it again
+    // (or a strictly nearer one): the answer does not depend on the hint.
+    const int s = slot_of_id_[hint];
+    const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
+    best.distance_squared = std::nextafter((point - q).squaredNorm(), std::numeric_limits<double>::infinity());
+  }
+  return Search(q, best, [](int) { return false; });
+}
+
+TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, const std::function<bool(int)>& skip) const {
+  if (nodes_.empty()) return Nearest{};
+  return Search(q, Nearest{}, skip);
 }
 
 int TriangleBvh::CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,

@@ -51,6 +51,7 @@ namespace ausbau {
 struct MeshTopologyOptions {
   double weld_tolerance = 1e-7;  // fraction of the AABB diagonal; 0 welds exact duplicates only
   int orientation_samples = 32;  // triangles sampled per patch for the ray-parity votes
+  bool orient = true;            // false: keep the triangles' orientation as given (steps 3-4 skipped)
 };
 
 struct MeshTopologyStats {
@@ -116,6 +117,8 @@ class TriangleBvh {
   // `hint`: a triangle likely to be near (the previous answer) to start the
   // pruning bound from. Ties go to the triangle found first (deterministic).
   Nearest NearestPoint(const Eigen::Vector3d& q, int hint = -1) const;
+  // The same over the triangles for which skip(triangle) is false.
+  Nearest NearestPoint(const Eigen::Vector3d& q, const std::function<bool(int)>& skip) const;
 
   // Number of triangles the ray origin + t * direction, t > t_min, crosses;
   // triangles for which skip(triangle) is true are ignored.
@@ -135,6 +138,8 @@ class TriangleBvh {
     int first;  // leaf: first slot in the triangle arrays; inner: index of the left child (right = left + 1)
     int count;  // leaf: number of triangles (> 0); inner: 0
   };
+  template <typename Skip>
+  Nearest Search(const Eigen::Vector3d& q, Nearest best, const Skip& skip) const;
   void Build(int index, int begin, int end, std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroids);
 
   std::vector<Node> nodes_;

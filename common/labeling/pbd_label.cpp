@@ -1,10 +1,7 @@
 #include "labeling/pbd_label.h"
 
 #include <omp.h>
-#if defined(__SSE2__)
-#include <pmmintrin.h>
-#include <xmmintrin.h>
-#endif
+#include <immintrin.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -12,7 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <numeric>
+#include <queue>
+#include <unordered_map>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -30,7 +30,7 @@ void PbdLabelOptions::Check() const {
     throw InputError("--stiffness-formula: expected thesis or mueller, got '" + stiffness_formula + "'");
   }
   if (!(kappa > 0)) throw InputError("--kappa: must be positive");
-  if (!(density > 0)) throw InputError("--density: must be positive");
+  if (!(density >= 0)) throw InputError("--density: must be positive (or 0: automatic)");
   if (measure != "self" && measure != "sum") throw InputError("--measure: expected self or sum, got '" + measure + "'");
   if (threads < 0) throw InputError("--threads: must be at least 0");
 }
@@ -49,6 +49,7 @@ double PbdLabelOptions::SolverStiffness() const {
 namespace {
 
 constexpr int kLanes = 8;  // load cases simulated together (SIMD lanes)
+constexpr double kLoadStrength = 0.1;  // lambda of the automatic density (pbd_label.h)
 
 struct Constraint {
   int i, j;    // simulation vertex indices, i < j
@@ -58,32 +59,67 @@ struct Constraint {
 
 // One Gauss-Seidel sweep over `count` constraints for kLanes simulations.
 // p: positions of the component, [vertex][coordinate][lane], vertex indices
-// relative to the component's first vertex `base`.
-__attribute__((target_clones("avx2", "default"))) void ProjectConstraints(const Constraint* constraints, int count,
-                                                                          float* p, int base) {
-  constexpr float kTiny = 1e-20f;
+// relative to the component's first vertex `base`. Two implementations of
+// the same arithmetic (AVX: one 8-wide vector per coordinate; SSE2: two
+// 4-wide ones); every operation is an IEEE-exact elementwise sub, mul, add,
+// sqrt, div or max in the same order, so both give bit-identical results.
+// (Auto-vectorization does not happen here: GCC keeps the 8-lane loops
+// scalar.)
+__attribute__((target("avx"))) void ProjectConstraintsAvx(const Constraint* constraints, int count, float* p,
+                                                           int base) {
+  const __m256 tiny = _mm256_set1_ps(1e-20f);
   for (int c = 0; c < count; ++c) {
     const Constraint& k = constraints[c];
-    float* __restrict pi = p + static_cast<std::size_t>(k.i - base) * 3 * kLanes;
-    float* __restrict pj = p + static_cast<std::size_t>(k.j - base) * 3 * kLanes;
-    float dx[kLanes], dy[kLanes], dz[kLanes], s[kLanes];
-    for (int l = 0; l < kLanes; ++l) {
-      dx[l] = pj[l] - pi[l];
-      dy[l] = pj[kLanes + l] - pi[kLanes + l];
-      dz[l] = pj[2 * kLanes + l] - pi[2 * kLanes + l];
+    float* pi = p + static_cast<std::size_t>(k.i - base) * 3 * kLanes;
+    float* pj = p + static_cast<std::size_t>(k.j - base) * 3 * kLanes;
+    const __m256 xi = _mm256_loadu_ps(pi), yi = _mm256_loadu_ps(pi + kLanes), zi = _mm256_loadu_ps(pi + 2 * kLanes);
+    const __m256 xj = _mm256_loadu_ps(pj), yj = _mm256_loadu_ps(pj + kLanes), zj = _mm256_loadu_ps(pj + 2 * kLanes);
+    const __m256 dx = _mm256_sub_ps(xj, xi), dy = _mm256_sub_ps(yj, yi), dz = _mm256_sub_ps(zj, zi);
+    const __m256 length = _mm256_sqrt_ps(
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz)));
+    const __m256 s = _mm256_div_ps(_mm256_sub_ps(length, _mm256_set1_ps(k.rest)), _mm256_max_ps(length, tiny));
+    const __m256 a = _mm256_mul_ps(_mm256_set1_ps(k.wi), s), b = _mm256_mul_ps(_mm256_set1_ps(k.wj), s);
+    _mm256_storeu_ps(pi, _mm256_add_ps(xi, _mm256_mul_ps(a, dx)));
+    _mm256_storeu_ps(pi + kLanes, _mm256_add_ps(yi, _mm256_mul_ps(a, dy)));
+    _mm256_storeu_ps(pi + 2 * kLanes, _mm256_add_ps(zi, _mm256_mul_ps(a, dz)));
+    _mm256_storeu_ps(pj, _mm256_sub_ps(xj, _mm256_mul_ps(b, dx)));
+    _mm256_storeu_ps(pj + kLanes, _mm256_sub_ps(yj, _mm256_mul_ps(b, dy)));
+    _mm256_storeu_ps(pj + 2 * kLanes, _mm256_sub_ps(zj, _mm256_mul_ps(b, dz)));
+  }
+}
+
+void ProjectConstraintsSse(const Constraint* constraints, int count, float* p, int base) {
+  static_assert(kLanes == 8, "two 4-wide halves");
+  const __m128 tiny = _mm_set1_ps(1e-20f);
+  for (int c = 0; c < count; ++c) {
+    const Constraint& k = constraints[c];
+    float* pi = p + static_cast<std::size_t>(k.i - base) * 3 * kLanes;
+    float* pj = p + static_cast<std::size_t>(k.j - base) * 3 * kLanes;
+    const __m128 rest = _mm_set1_ps(k.rest), wi = _mm_set1_ps(k.wi), wj = _mm_set1_ps(k.wj);
+    for (int h = 0; h < kLanes; h += 4) {
+      const __m128 xi = _mm_loadu_ps(pi + h), yi = _mm_loadu_ps(pi + kLanes + h), zi = _mm_loadu_ps(pi + 2 * kLanes + h);
+      const __m128 xj = _mm_loadu_ps(pj + h), yj = _mm_loadu_ps(pj + kLanes + h), zj = _mm_loadu_ps(pj + 2 * kLanes + h);
+      const __m128 dx = _mm_sub_ps(xj, xi), dy = _mm_sub_ps(yj, yi), dz = _mm_sub_ps(zj, zi);
+      const __m128 length =
+          _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz)));
+      const __m128 s = _mm_div_ps(_mm_sub_ps(length, rest), _mm_max_ps(length, tiny));
+      const __m128 a = _mm_mul_ps(wi, s), b = _mm_mul_ps(wj, s);
+      _mm_storeu_ps(pi + h, _mm_add_ps(xi, _mm_mul_ps(a, dx)));
+      _mm_storeu_ps(pi + kLanes + h, _mm_add_ps(yi, _mm_mul_ps(a, dy)));
+      _mm_storeu_ps(pi + 2 * kLanes + h, _mm_add_ps(zi, _mm_mul_ps(a, dz)));
+      _mm_storeu_ps(pj + h, _mm_sub_ps(xj, _mm_mul_ps(b, dx)));
+      _mm_storeu_ps(pj + kLanes + h, _mm_sub_ps(yj, _mm_mul_ps(b, dy)));
+      _mm_storeu_ps(pj + 2 * kLanes + h, _mm_sub_ps(zj, _mm_mul_ps(b, dz)));
     }
-    for (int l = 0; l < kLanes; ++l) {
-      const float length = std::sqrt(dx[l] * dx[l] + dy[l] * dy[l] + dz[l] * dz[l]);
-      s[l] = (length - k.rest) / std::max(length, kTiny);
-    }
-    for (int l = 0; l < kLanes; ++l) {
-      pi[l] += k.wi * s[l] * dx[l];
-      pi[kLanes + l] += k.wi * s[l] * dy[l];
-      pi[2 * kLanes + l] += k.wi * s[l] * dz[l];
-      pj[l] -= k.wj * s[l] * dx[l];
-      pj[kLanes + l] -= k.wj * s[l] * dy[l];
-      pj[2 * kLanes + l] -= k.wj * s[l] * dz[l];
-    }
+  }
+}
+
+void ProjectConstraints(const Constraint* constraints, int count, float* p, int base) {
+  static const bool avx = __builtin_cpu_supports("avx");
+  if (avx) {
+    ProjectConstraintsAvx(constraints, count, p, base);
+  } else {
+    ProjectConstraintsSse(constraints, count, p, base);
   }
 }
 
@@ -120,8 +156,8 @@ struct Model {
 
 struct Batch {
   int component;
-  int first;  // first load vertex (simulation index)
-  int count;  // load cases in the batch, <= kLanes
+  int count;           // load cases in the batch, <= kLanes
+  int load[kLanes];    // load vertex of each lane (simulation index)
 };
 
 // Mass-weighted best rigid transform of `rest` onto lane `lane` of `x`; writes
@@ -158,6 +194,159 @@ void RigidResiduals(const Model& model, int begin, int end, const float* x, int 
   }
 }
 
+// Contacts between separate components (CAD parts modelled as separate,
+// overlapping or touching solids): a vertex of one component that lies
+// within `tolerance` of another component's surface, or inside another
+// closed component (ray parity, majority of three rays), is tied to the three
+// vertices of the nearest triangle of that component. Returns (vertex,
+// vertex) pairs of welded indices, sorted.
+std::vector<std::pair<int, int>> FindGlue(const MeshTopology& topology, double tolerance, int threads) {
+  const int components = topology.stats.components;
+  std::vector<std::pair<int, int>> pairs;
+  if (components < 2) return pairs;
+  const int m = static_cast<int>(topology.triangles.size());
+  const int n = topology.VertexCount();
+  std::vector<int> triangle_component(m);
+  std::vector<Aabb> boxes(components);
+  for (int t = 0; t < m; ++t) {
+    triangle_component[t] = topology.component[topology.triangles[t][0]];
+    for (int v : topology.triangles[t]) boxes[triangle_component[t]].Extend(topology.vertices[v]);
+  }
+  std::vector<std::uint8_t> closed(components, 1);
+  for (std::size_t e = 0; e < topology.edges.size(); ++e) {
+    if (topology.edge_triangle_offsets[e + 1] - topology.edge_triangle_offsets[e] != 2) {
+      closed[topology.component[topology.edges[e][0]]] = 0;
+    }
+  }
+  const TriangleBvh bvh(topology.vertices, topology.triangles);
+  static const Eigen::Vector3d kDirections[3] = {Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
+                                                 Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
+                                                 Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
+  std::vector<std::vector<int>> targets(n);
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
+  for (int v = 0; v < n; ++v) {
+    if (!topology.referenced[v]) continue;
+    const int a = topology.component[v];
+    const Eigen::Vector3d& p = topology.vertices[v];
+    bool near_other = false;
+    for (int b = 0; b < components && !near_other; ++b) {
+      if (b == a) continue;
+      Aabb grown = boxes[b];
+      grown.min.array() -= tolerance;
+      grown.max.array() += tolerance;
+      near_other = grown.Contains(p);
+    }
+    if (!near_other) continue;
+    const auto touching = bvh.NearestPoint(p, [&](int t) { return triangle_component[t] == a; });
+    if (touching.triangle >= 0 && touching.distance_squared <= tolerance * tolerance) {
+      targets[v].push_back(touching.triangle);
+    }
+    for (int b = 0; b < components; ++b) {
+      if (b == a || !closed[b] || !boxes[b].Contains(p)) continue;
+      if (touching.triangle >= 0 && triangle_component[touching.triangle] == b && !targets[v].empty()) continue;
+      const auto other = [&](int t) { return triangle_component[t] != b; };
+      int odd = 0;
+      for (const auto& direction : kDirections) odd += bvh.CountCrossings(p, direction, 0.0, other) % 2;
+      if (odd >= 2) targets[v].push_back(bvh.NearestPoint(p, other).triangle);
+    }
+  }
+  for (int v = 0; v < n; ++v) {
+    for (int t : targets[v]) {
+      for (int w : topology.triangles[t]) pairs.emplace_back(v, w);
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+// Longest-edge bisection: while an edge is longer than its limit, split it
+// at its midpoint in every triangle that has it (each triangle (u, w, c)
+// with edge u-w becomes (u, m, c) and (m, w, c), keeping its orientation).
+// Edges are split longest first, ties by vertex indices: deterministic.
+// limit(a, b) = max(factor x 2 min(r_a, r_b), min_length). A new vertex gets
+// the mean radius of the edge's ends. Vertices keep their indices; new ones
+// are appended.
+struct RefinedMesh {
+  TriangleMesh mesh;
+  std::vector<double> radii;
+};
+
+RefinedMesh Refine(const MeshTopology& topology, const std::vector<double>& radii, double factor, double min_length) {
+  RefinedMesh out;
+  out.mesh.vertices = topology.vertices;
+  out.mesh.triangles = topology.triangles;
+  out.radii = radii;
+  auto& vertices = out.mesh.vertices;
+  auto& triangles = out.mesh.triangles;
+  const auto key = [](int a, int b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+  };
+  std::unordered_map<std::uint64_t, std::vector<int>> edge_triangles;
+  for (int t = 0; t < static_cast<int>(triangles.size()); ++t) {
+    for (int k = 0; k < 3; ++k) edge_triangles[key(triangles[t][k], triangles[t][(k + 1) % 3])].push_back(t);
+  }
+  struct Long {
+    double length;
+    int a, b;
+    bool operator<(const Long& o) const {  // max-heap: longest first, then lowest indices
+      if (length != o.length) return length < o.length;
+      if (a != o.a) return a > o.a;
+      return b > o.b;
+    }
+  };
+  std::priority_queue<Long> queue;
+  const auto consider = [&](int a, int b) {
+    const double length = (vertices[a] - vertices[b]).norm();
+    const double limit = std::max(factor * 2.0 * std::min(out.radii[a], out.radii[b]), min_length);
+    if (length > limit) queue.push({length, std::min(a, b), std::max(a, b)});
+  };
+  for (const auto& e : topology.edges) consider(e[0], e[1]);
+  const std::size_t max_vertices = 4 * vertices.size() + 1000;  // a guard; the floor bounds it long before
+  while (!queue.empty() && vertices.size() < max_vertices) {
+    const Long top = queue.top();
+    queue.pop();
+    const auto found = edge_triangles.find(key(top.a, top.b));
+    if (found == edge_triangles.end()) continue;  // already split
+    const std::vector<int> incident = found->second;
+    edge_triangles.erase(found);
+    const int m = static_cast<int>(vertices.size());
+    vertices.push_back(0.5 * (vertices[top.a] + vertices[top.b]));
+    out.radii.push_back(0.5 * (out.radii[top.a] + out.radii[top.b]));
+    std::vector<int> opposite;
+    for (int t : incident) {
+      auto& tri = triangles[t];
+      int k = 0;
+      while (!((tri[k] == top.a && tri[(k + 1) % 3] == top.b) || (tri[k] == top.b && tri[(k + 1) % 3] == top.a))) ++k;
+      const int u = tri[k], w = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
+      const int added = static_cast<int>(triangles.size());
+      tri = {u, m, c};
+      triangles.push_back({m, w, c});
+      edge_triangles[key(u, m)].push_back(t);
+      edge_triangles[key(m, w)].push_back(added);
+      auto& mc = edge_triangles[key(m, c)];
+      mc.push_back(t);
+      mc.push_back(added);
+      for (int& x : edge_triangles[key(w, c)]) {
+        if (x == t) x = added;
+      }
+      opposite.push_back(c);
+    }
+    consider(top.a, m);
+    consider(m, top.b);
+    for (int c : opposite) consider(m, c);
+  }
+  return out;
+}
+
+int FindRoot(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
 Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii, const PbdLabelOptions& options,
                  PbdLabels* labels) {
   Model model;
@@ -170,23 +359,54 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   const Eigen::Vector3d centre = topology.bounds.Center();
   labels->scale = scale;
 
-  // Simulation order: component by component; within one, breadth first from
-  // its lowest vertex (neighbours in increasing order), for memory locality.
+  // Glue separate components where they touch or overlap; glued components
+  // are simulated together.
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const std::vector<std::pair<int, int>> glue =
+      options.glue ? FindGlue(topology, options.glue_tolerance * topology.diagonal, threads)
+                   : std::vector<std::pair<int, int>>{};
+  labels->glue_constraints = static_cast<std::int64_t>(glue.size());
+  const int topology_components = topology.stats.components;
+  std::vector<int> parent(topology_components);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& [v, w] : glue) {
+    const int a = FindRoot(parent, topology.component[v]), b = FindRoot(parent, topology.component[w]);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+
+  // Simulation order: (glued) component by component; within one, breadth
+  // first from its lowest vertex (neighbours in increasing order), for
+  // memory locality.
   std::vector<std::vector<int>> neighbours(welded_count);
   for (const auto& e : topology.edges) {
     neighbours[e[0]].push_back(e[1]);
     neighbours[e[1]].push_back(e[0]);
   }
-  for (auto& list : neighbours) std::sort(list.begin(), list.end());
-  std::vector<int> sim_of_welded(welded_count, -1);
-  const int components = topology.stats.components;
-  std::vector<int> component_seed(components, -1);
-  for (int v = 0; v < welded_count; ++v) {
-    if (topology.referenced[v] && component_seed[topology.component[v]] < 0) component_seed[topology.component[v]] = v;
+  for (const auto& [v, w] : glue) {
+    neighbours[v].push_back(w);
+    neighbours[w].push_back(v);
   }
+  for (auto& list : neighbours) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+  }
+  std::vector<int> sim_of_welded(welded_count, -1);
+  std::vector<int> seeds;  // lowest vertex of each glued component, in increasing order
+  {
+    std::vector<std::uint8_t> seen(topology_components, 0);
+    for (int v = 0; v < welded_count; ++v) {
+      if (!topology.referenced[v]) continue;
+      const int root = FindRoot(parent, topology.component[v]);
+      if (!seen[root]) {
+        seen[root] = 1;
+        seeds.push_back(v);
+      }
+    }
+  }
+  const int components = static_cast<int>(seeds.size());
+  labels->components = components;
   model.vertex_begin.push_back(0);
-  for (int c = 0; c < components; ++c) {
-    const int seed = component_seed[c];
+  for (int seed : seeds) {
     std::size_t head = model.welded.size();
     model.welded.push_back(seed);
     sim_of_welded[seed] = static_cast<int>(model.welded.size()) - 1;
@@ -224,9 +444,20 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
     const Eigen::Vector3d x = (topology.vertices[w] - centre) * scale;
     for (int k = 0; k < 3; ++k) model.rest[3 * i + k] = static_cast<float>(x[k]);
     const double height = options.thickness ? 2.0 * radius[i] : mean_diameter;
-    model.mass[i] = options.density * topology.vertex_areas[w] * scale * scale * height;
+    model.mass[i] = topology.vertex_areas[w] * scale * scale * height;  // x density below
     mass_sum += model.mass[i];
   }
+  // Density: given, or automatic (see pbd_label.h): rho = dt^2 kappa / (2
+  // lambda h^3), h the mean edge length of the scaled mesh.
+  double edge_sum = 0.0;
+  for (const auto& e : topology.edges) edge_sum += (topology.vertices[e[1]] - topology.vertices[e[0]]).norm() * scale;
+  const double mean_edge = edge_sum / std::max<std::size_t>(1, topology.edges.size());
+  labels->mean_edge = mean_edge;
+  labels->density = options.density > 0 ? options.density
+                                         : options.time_step * options.time_step * options.kappa /
+                                               (2.0 * kLoadStrength * mean_edge * mean_edge * mean_edge);
+  for (double& m : model.mass) m *= labels->density;
+  mass_sum *= labels->density;
   const double mass_floor = 1e-6 * mass_sum / n;
   for (double& m : model.mass) m = std::max(m, mass_floor);
 
@@ -252,6 +483,10 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
         }
       }
     }
+  }
+  for (const auto& [v, w] : glue) {
+    const int a = sim_of_welded[v], b = sim_of_welded[w];
+    if (a != b) pairs.emplace_back(std::min(a, b), std::max(a, b));
   }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
@@ -283,6 +518,34 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
     }
     model.constraint_begin[components] = static_cast<int>(model.constraints.size());
   }
+  // Gauss-Seidel order: within each component, greedy colouring (in the
+  // sorted order, each constraint takes the lowest colour that neither of its
+  // vertices has yet), then colour by colour, each in the sorted order. Two
+  // consecutive constraints of one colour share no vertex, so the processor
+  // overlaps their projections instead of waiting for one to store what the
+  // next loads.
+  {
+    std::vector<std::uint64_t> used(n, 0);
+    std::vector<int> colour(model.constraints.size());
+    for (std::size_t c = 0; c < model.constraints.size(); ++c) {
+      const Constraint& k = model.constraints[c];
+      const std::uint64_t taken = used[k.i] | used[k.j];
+      const int lowest = taken == ~std::uint64_t{0} ? 63 : __builtin_ctzll(~taken);
+      colour[c] = lowest;
+      used[k.i] |= std::uint64_t{1} << lowest;
+      used[k.j] |= std::uint64_t{1} << lowest;
+    }
+    std::vector<Constraint> ordered;
+    ordered.reserve(model.constraints.size());
+    for (int comp = 0; comp < components; ++comp) {
+      const int begin = model.constraint_begin[comp], end = model.constraint_begin[comp + 1];
+      std::vector<int> order(end - begin);
+      std::iota(order.begin(), order.end(), begin);
+      std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return colour[a] < colour[b]; });
+      for (int c : order) ordered.push_back(model.constraints[c]);
+    }
+    model.constraints.swap(ordered);
+  }
   labels->constraints = static_cast<std::int64_t>(model.constraints.size());
 
   // Load: f = -sigma n_i, as a velocity increment dt w_i f per step.
@@ -307,18 +570,78 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   PbdLabels labels;
   labels.steps = options.Steps();
   labels.solver_stiffness = options.SolverStiffness();
-  const Model model = BuildModel(topology, radii, options, &labels);
+  // Refine long edges over thin places; the simulation runs on the refined
+  // mesh and the labels are read off at the original vertices (which keep
+  // their indices).
+  MeshTopology refined_topology;
+  std::vector<double> refined_radii;
+  if (options.refine > 0) {
+    const RefinedMesh refined =
+        Refine(topology, radii, options.refine, options.refine_min_length * topology.diagonal);
+    MeshTopologyOptions keep;
+    keep.weld_tolerance = 0;
+    keep.orient = false;
+    refined_topology = BuildMeshTopology(refined.mesh, keep);
+    refined_radii.assign(refined_topology.VertexCount(), 0.0);
+    for (int i = static_cast<int>(refined.radii.size()) - 1; i >= 0; --i) {
+      refined_radii[refined_topology.welded_of_original[i]] = refined.radii[i];
+    }
+  }
+  const MeshTopology& simulated = options.refine > 0 ? refined_topology : topology;
+  const Model model = BuildModel(simulated, options.refine > 0 ? refined_radii : radii, options, &labels);
   const int n = model.n;
   const int components = static_cast<int>(model.vertex_begin.size()) - 1;
 
+  // Load cases: one per referenced vertex of D (inserted vertices only add
+  // degrees of freedom). sim_of_vertex: D's welded vertex -> simulation index.
+  std::vector<int> sim_of_simulated(simulated.VertexCount(), -1);
+  for (int i = 0; i < n; ++i) sim_of_simulated[model.welded[i]] = i;
+  std::vector<int> sim_of_vertex(topology.VertexCount(), -1);
+  std::vector<std::uint8_t> loaded(n, 0);
+  for (int w = 0; w < topology.VertexCount(); ++w) {
+    if (!topology.referenced[w]) continue;
+    const int s = sim_of_simulated[options.refine > 0 ? refined_topology.welded_of_original[w] : w];
+    sim_of_vertex[w] = s;
+    if (s >= 0) loaded[s] = 1;
+  }
+  // Weight of each load case in "sum": its vertex's share of D's area
+  // relative to the mean (1 on a uniform mesh), so that the sum approximates
+  // an integral over where the load is applied, whatever the sampling.
+  std::vector<double> load_weight(n, 0.0);
+  {
+    double area = 0.0;
+    int count = 0;
+    for (int w = 0; w < topology.VertexCount(); ++w) {
+      if (sim_of_vertex[w] >= 0) {
+        area += topology.vertex_areas[w];
+        ++count;
+      }
+    }
+    for (int w = 0; w < topology.VertexCount(); ++w) {
+      if (sim_of_vertex[w] >= 0) {
+        load_weight[sim_of_vertex[w]] = options.area_weighted ? topology.vertex_areas[w] * count / area : 1.0;
+      }
+    }
+  }
   std::vector<Batch> batches;
   int largest = 0;
+  std::int64_t load_cases = 0;
   for (int c = 0; c < components; ++c) {
     const int begin = model.vertex_begin[c], end = model.vertex_begin[c + 1];
     largest = std::max(largest, end - begin);
-    for (int first = begin; first < end; first += kLanes) batches.push_back({c, first, std::min(kLanes, end - first)});
+    Batch batch{c, 0, {}};
+    for (int i = begin; i < end; ++i) {
+      if (!loaded[i]) continue;
+      batch.load[batch.count++] = i;
+      ++load_cases;
+      if (batch.count == kLanes) {
+        batches.push_back(batch);
+        batch.count = 0;
+      }
+    }
+    if (batch.count > 0) batches.push_back(batch);
   }
-  labels.load_cases = n;
+  labels.load_cases = load_cases;
 
   const bool sum = options.measure == "sum";
   std::vector<double> self(n, 0.0);
@@ -335,13 +658,11 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
 
 #pragma omp parallel num_threads(threads) reduction(+ : thread_seconds)
   {
-#if defined(__SSE2__)
     // Displacements decay to subnormal floats far from the load, which are
     // very slow to compute with; flush them to zero (deterministically).
     const unsigned int saved_csr = _mm_getcsr();
     _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
     _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-#endif
     // Per-thread state, allocated once.
     const std::size_t capacity = static_cast<std::size_t>(largest) * 3 * kLanes;
     std::vector<float> x(capacity), p(capacity), v(capacity);
@@ -368,7 +689,7 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
           model.constraint_begin[batch.component + 1] - model.constraint_begin[batch.component];
       for (int step = 0; step < labels.steps; ++step) {
         for (int l = 0; l < batch.count; ++l) {
-          const int g = batch.first + l;
+          const int g = batch.load[l];
           for (int k = 0; k < 3; ++k) {
             v[(static_cast<std::size_t>(g - begin) * 3 + k) * kLanes + l] += model.load_dv[3 * g + k];
           }
@@ -381,40 +702,50 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
       }
       for (int l = 0; l < batch.count; ++l) {
         RigidResiduals(model, begin, end, x.data(), l, residual.data());
-        const int g = batch.first + l;
+        const int g = batch.load[l];
         self[g] = residual[g - begin];
+        if (std::getenv("AUSBAU_PBD_DEBUG")) {
+          double total = 0, mx = 0;
+          for (int local = 0; local < count; ++local) { total += residual[local]; mx = std::max(mx, residual[local]); }
+          const int w = model.welded[g];
+#pragma omp critical(dbg)
+          std::fprintf(stderr, "LC %d pos %.2f %.2f %.2f mass %.3g weight %.3g self %.4g mean %.4g max %.4g\n", g, simulated.vertices[w].x(), simulated.vertices[w].y(), simulated.vertices[w].z(), model.mass[g], load_weight[g], residual[g-begin], total / count, mx);
+        }
         if (sum) {
           for (int local = 0; local < count; ++local) {
-            local_sum[begin + local] += static_cast<std::int64_t>(std::llround(residual[local] * kFixed));
+            local_sum[begin + local] += static_cast<std::int64_t>(std::llround(load_weight[g] * residual[local] * kFixed));
           }
         }
       }
       thread_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - batch_started).count();
       const std::int64_t finished = done += batch.count;
-      if (options.progress && omp_get_thread_num() == 0) options.progress(finished, n);
+      if (options.progress && omp_get_thread_num() == 0) options.progress(finished, load_cases);
     }
     if (sum) {
 #pragma omp critical(ausbau_pbd_sum)
       for (int i = 0; i < n; ++i) accumulated[i] += local_sum[i];
     }
-#if defined(__SSE2__)
     _mm_setcsr(saved_csr);
-#endif
   }
-  if (options.progress) options.progress(n, n);
+  if (options.progress) options.progress(load_cases, load_cases);
   labels.thread_seconds = thread_seconds;
 
-  std::vector<double> value(n);
-  for (int i = 0; i < n; ++i) value[i] = sum ? static_cast<double>(accumulated[i]) / kFixed : self[i];
-  const double lo = n > 0 ? *std::min_element(value.begin(), value.end()) : 0.0;
-  const double hi = n > 0 ? *std::max_element(value.begin(), value.end()) : 0.0;
+  // Values at D's vertices, normalized over them.
   labels.displacement.assign(topology.VertexCount(), 0.0);
   labels.deformability.assign(topology.VertexCount(), 0.0);
-  for (int i = 0; i < n; ++i) {
-    const int w = model.welded[i];
-    labels.displacement[w] = value[i];
-    labels.deformability[w] = hi > lo ? (value[i] - lo) / (hi - lo) : 0.0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int w = 0; w < topology.VertexCount(); ++w) {
+    const int i = sim_of_vertex[w];
+    if (i < 0) continue;
+    const double value = sum ? static_cast<double>(accumulated[i]) / kFixed : self[i];
+    labels.displacement[w] = value;
+    lo = std::min(lo, value);
+    hi = std::max(hi, value);
   }
+  for (int w = 0; w < topology.VertexCount(); ++w) {
+    if (sim_of_vertex[w] >= 0 && hi > lo) labels.deformability[w] = (labels.displacement[w] - lo) / (hi - lo);
+  }
+  labels.simulated_vertices = n;
   labels.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return labels;
 }
@@ -451,6 +782,7 @@ LabelsArtifact ToLabelsArtifact(const MeshTopology& topology, const PbdLabels& l
   out.r_min = labels.r_min;
   out.sigma = labels.sigma;
   out.scale = labels.scale;
+  out.density = labels.density;
   out.measure = measure;
   out.load_cases = labels.load_cases;
   return out;
@@ -465,6 +797,7 @@ void WriteLabelsArtifact(const std::filesystem::path& path, const LabelsArtifact
   writer.SetAttribute("", "r_min", labels.r_min);
   writer.SetAttribute("", "sigma", labels.sigma);
   writer.SetAttribute("", "scale", labels.scale);
+  writer.SetAttribute("", "density", labels.density);
   writer.SetAttribute("", "measure", labels.measure);
   writer.SetAttribute("", "load_cases", labels.load_cases);
   writer.SetAttribute("", "vertices", static_cast<std::int64_t>(n));
@@ -489,6 +822,7 @@ LabelsArtifact ReadLabelsArtifact(const std::filesystem::path& path) {
   out.r_min = reader.ReadDoubleAttribute("", "r_min");
   out.sigma = reader.ReadDoubleAttribute("", "sigma");
   out.scale = reader.ReadDoubleAttribute("", "scale");
+  out.density = reader.ReadDoubleAttribute("", "density");
   out.measure = reader.ReadStringAttribute("", "measure");
   out.load_cases = reader.ReadIntAttribute("", "load_cases");
   return out;

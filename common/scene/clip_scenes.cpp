@@ -600,7 +600,9 @@ std::vector<bool> ClipGroundTruth::ClipTriangleMask() const {
 }
 
 ClipSceneFiles GenerateClipScene(const std::string& family, const ClipSceneOptions& options, const fs::path& dir) {
-  if (options.triangles < 0) throw InputError("--triangles: must be >= 0 (got " + std::to_string(options.triangles) + ")");
+  if (options.triangles < 0 || options.triangles > 2000000) {
+    throw InputError("--triangles: must lie in [0, 2000000] (got " + std::to_string(options.triangles) + ")");
+  }
   Generator generator(family, options.seed);
   const FamilySpec& spec = generator.spec();
   const std::int64_t target_d = options.triangles > 0 ? options.triangles : spec.table_d;

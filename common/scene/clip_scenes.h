@@ -50,6 +50,7 @@ struct ClipSceneOptions {
   // tessellated to the thesis's S/D ratio of the dataset). 0 = the dataset's
   // counts in thesis table 14 (2,448 to 67,134 for D). The result is within a
   // few percent of the target, never below the family's minimum (~150-450).
+  // At most 2,000,000.
   std::int64_t triangles = 0;
 };
 
@@ -104,7 +105,7 @@ struct ClipSceneFiles {
 };
 
 // Writes the scene and its ground truth into `dir` (created). Throws
-// InputError for an unknown family or a negative triangle target.
+// InputError for an unknown family or a triangle target out of range.
 ClipSceneFiles GenerateClipScene(const std::string& family, const ClipSceneOptions& options,
                                  const std::filesystem::path& dir);
 

@@ -1,8 +1,10 @@
 // ausbau-plan: rigid-body planning for one scene, from the start pose to the
 // goal pose or, without a goal, out of S (disassembly). See README.md.
 #include <filesystem>
+#include <memory>
 
 #include "cli/stage_main.h"
+#include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/hash.h"
 #include "core/log.h"
@@ -23,20 +25,70 @@ struct PlanStageOptions {
   bool verify = true;
   bool force = false;
   PlannerOptions planner;
+  std::string collision = "fcl";  // fcl | farr
+  std::string distfield;          // "S.h5,D.h5" (farr); empty: build or reuse through the cache
 };
 
-Provenance MakeProvenance(const Scene& scene, const std::string& parameters) {
+// The two files of --distfield, or none.
+std::vector<std::string> DistfieldPaths(const PlanStageOptions& options) {
+  if (options.collision != "farr" || options.distfield.empty()) return {};
+  const auto comma = options.distfield.find(',');
+  if (comma == std::string::npos || comma == 0 || comma + 1 == options.distfield.size() ||
+      options.distfield.find(',', comma + 1) != std::string::npos) {
+    throw InputError("--distfield: expected two files, S.h5,D.h5 (got '" + options.distfield + "')");
+  }
+  return {options.distfield.substr(0, comma), options.distfield.substr(comma + 1)};
+}
+
+// FCL, or FARR in front of FCL with the distance fields of S and D (given,
+// or built / reused through the cache beside the scene).
+std::unique_ptr<PoseValidity> MakeChecker(const PlanStageOptions& options, const Scene& scene,
+                                          const PlanningProblem& problem) {
+  if (options.collision != "farr") {
+    if (!options.distfield.empty()) LogWarn("--distfield is ignored with --collision fcl");
+    return std::make_unique<FclCollisionChecker>(problem.robot, problem.environment);
+  }
+  std::shared_ptr<const DistanceField> static_field, dynamic_field;
+  const std::vector<std::string> paths = DistfieldPaths(options);
+  if (!paths.empty()) {
+    static_field = ReadDistanceField(paths[0]);
+    dynamic_field = ReadDistanceField(paths[1]);
+    if (static_field->mesh_hash() != MeshContentHash(problem.environment)) {
+      throw InputErrorAt(paths[0], "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
+    }
+    if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot)) {
+      throw InputErrorAt(paths[1], "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
+    }
+  } else {
+    DistanceFieldOptions field_options;
+    field_options.threads = options.planner.threads;
+    const std::filesystem::path cache = DefaultDistanceFieldCacheDir(scene.file);
+    static_field = LoadOrBuildDistanceField(problem.environment, field_options, cache, "distance field of S",
+                                            scene.units, "world");
+    dynamic_field = LoadOrBuildDistanceField(problem.robot, field_options, cache, "distance field of D", scene.units,
+                                             "D relative to its reference point");
+  }
+  return std::make_unique<FarrCollisionChecker>(problem.robot, problem.environment, dynamic_field, static_field,
+                                                options.planner.seed);
+}
+
+Provenance MakeProvenance(const Scene& scene, const std::string& parameters, const PlanStageOptions& options) {
   Provenance provenance{"ausbau-plan", AUSBAU_VERSION, parameters, {}};
   provenance.inputs.emplace_back("scene", HashFile(scene.file));
   for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
   provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+  const std::vector<std::string> distfield = DistfieldPaths(options);
+  if (!distfield.empty()) {
+    provenance.inputs.emplace_back("distfield-static", HashFile(distfield[0]));
+    provenance.inputs.emplace_back("distfield-dynamic", HashFile(distfield[1]));
+  }
   return provenance;
 }
 
 int Run(const PlanStageOptions& options, const std::string& parameters) {
   options.planner.Check();
   const Scene scene = LoadScene(options.scene);
-  const Provenance provenance = MakeProvenance(scene, parameters);
+  const Provenance provenance = MakeProvenance(scene, parameters, options);
 
   // Cache: an existing output with the same provenance is the same answer.
   if (!options.force && ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {
@@ -52,10 +104,18 @@ int Run(const PlanStageOptions& options, const std::string& parameters) {
           scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
           options.planner.planner.c_str(), static_cast<unsigned long long>(options.planner.seed),
           options.planner.time_limit_s);
-  const FclCollisionChecker checker(problem.robot, problem.environment);
+  const std::unique_ptr<PoseValidity> checker_owner = MakeChecker(options, scene, problem);
+  const PoseValidity& checker = *checker_owner;
   CheckEndpoints(problem, checker, scene.file.string());
 
   const PlanResult result = Plan(problem, checker, options.planner);
+  if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
+    const FarrStats stats = farr->stats();
+    LogInfo("FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
+            "%d rays per query at the end",
+            static_cast<long long>(stats.queries), static_cast<long long>(stats.witnesses),
+            static_cast<long long>(stats.fcl_calls), static_cast<long long>(stats.fcl_collisions), stats.rays_now);
+  }
   PathArtifact artifact;
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
@@ -136,8 +196,15 @@ int main(int argc, char** argv) {
         app.add_option("--ompl-path", options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
         app.add_flag("!--no-verify", options.verify, "skip the dense re-check of the result");
         app.add_flag("--force", options.force, "plan even when the output is up to date");
+        app.add_option("--collision", options.collision,
+                       "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")")
+            ->check(CLI::IsMember({"fcl", "farr"}))
+            ->capture_default_str();
+        app.add_option("--distfield", options.distfield,
+                       "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused "
+                       "through the cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)");
       },
       [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads"}));
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads", "distfield"}));
       });
 }

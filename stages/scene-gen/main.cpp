@@ -1,4 +1,6 @@
 // ausbau-scene-gen: writes a generated scene (meshes + scene.yaml).
+#include <algorithm>
+
 #include "cli/stage_main.h"
 #include "core/log.h"
 #include "scene/clip_scenes.h"
@@ -32,6 +34,13 @@ int main(int argc, char** argv) {
                   files.ground_truth_path.string().c_str());
           yaml = files.scene_yaml;
         } else {
+          const auto known = GeneratedSceneFamilies();
+          if (std::find(known.begin(), known.end(), family) == known.end()) {
+            std::string all;
+            for (const auto& f : known) all += f + ", ";
+            for (const auto& f : ClipSceneFamilies()) all += f + (f == ClipSceneFamilies().back() ? "" : ", ");
+            throw InputError("--family: unknown family '" + family + "' (expected one of " + all + ")");
+          }
           if (triangles != 0) throw InputError("--triangles: applies only to the clips-ds* families");
           yaml = GenerateScene(family, seed, output);
           LogInfo("wrote %s", yaml.string().c_str());
