@@ -76,3 +76,16 @@ study: bench-build
 
 clean:
 	rm -rf $(BUILD) out
+
+# FARR against plain FCL (thesis 4.3: sample sets, detection rate, collision
+# time, whole planning with the distance-field build) on alpha-1.2, alpha-1.5,
+# Twistycool and the generated flange scenes; about 15-30 min with the
+# defaults on 2 cores. Needs only the default build (no OMPL).
+BENCH_FARR_OUT ?= out/bench-farr
+BENCH_FARR_ARGS ?=
+
+.PHONY: bench-farr
+bench-farr: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-farr-bench
+	@$(BUILD)/bin/ausbau-farr-bench --output-dir $(BENCH_FARR_OUT) $(BENCH_FARR_ARGS)
+	@echo "bench-farr: $(BENCH_FARR_OUT)/farr-summary.md (printed above), $(BENCH_FARR_OUT)/farr-results.csv"

@@ -4,6 +4,7 @@
 // containment counted separately and confirmed by an independent test.
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <sstream>
 
 #include "artifact/artifact.h"
 #include "collision/distance_field.h"
@@ -690,6 +692,84 @@ TEST(FlangeScene, ClosedMeshesAndAFreeStartInThreeClearances) {
   const auto dir = testing::MakeTempDir("flange-scene");
   const Scene scene = LoadScene(GenerateFlangeScene(0.95, dir));
   EXPECT_EQ(scene.name, "flange-0.95");
+}
+
+// ---------------------------------------------------------------------------
+// The executables: ausbau-distfield-build and ausbau-plan --collision farr.
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Outcome RunStage(const std::string& environment, const std::string& stage, const std::string& arguments) {
+  const std::string command =
+      environment + " " + (testing::BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
+  Outcome outcome;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
+  if (!std::filesystem::exists(testing::BinDir() / "ausbau-distfield-build") ||
+      !std::filesystem::exists(testing::BinDir() / "ausbau-plan")) {
+    GTEST_SKIP() << "executables not built in " << testing::BinDir();
+  }
+  const auto yaml = testing::MakeGeneratedScene("peg-in-plate", 3);
+  const auto dir = testing::MakeTempDir("farr-stages");
+  const std::string env = "AUSBAU_CACHE_DIR=" + (dir / "cache").string();
+  const std::string s = (dir / "df" / "distfield-static.h5").string(), d = (dir / "df" / "distfield-dynamic.h5").string();
+
+  Outcome built = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 64 -o " + (dir / "df").string());
+  ASSERT_EQ(built.exit_code, 0) << built.output;
+  EXPECT_NE(built.output.find(s + "," + d), std::string::npos) << built.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "cache"));  // also stored in the cache
+  Outcome again = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 64 -o " + (dir / "df").string());
+  EXPECT_EQ(again.exit_code, 0);
+  EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
+
+  const std::string common = "--scene " + yaml.string() + " --seed 2 --time-limit 120 ";
+  Outcome fcl = RunStage(env, "plan", common + "-o " + (dir / "fcl.h5").string() + " --csv " + (dir / "fcl.csv").string());
+  ASSERT_EQ(fcl.exit_code, 0) << fcl.output;
+  Outcome given = RunStage(env, "plan", common + "--collision farr --distfield " + s + "," + d + " -o " +
+                                            (dir / "farr.h5").string() + " --csv " + (dir / "farr.csv").string());
+  ASSERT_EQ(given.exit_code, 0) << given.output;
+  EXPECT_EQ(ReadText(dir / "fcl.csv"), ReadText(dir / "farr.csv"));
+  // Without --distfield: built (256 cells) into the cache, then reused.
+  Outcome cached = RunStage(env, "plan", common + "--collision farr -o " + (dir / "farr2.h5").string() + " --csv " +
+                                             (dir / "farr2.csv").string());
+  ASSERT_EQ(cached.exit_code, 0) << cached.output;
+  EXPECT_EQ(ReadText(dir / "fcl.csv"), ReadText(dir / "farr2.csv"));
+  Outcome reused = RunStage(env, "plan", common + "--collision farr --force -o " + (dir / "farr2.h5").string());
+  EXPECT_EQ(reused.exit_code, 0);
+  EXPECT_NE(reused.output.find("reused"), std::string::npos) << reused.output;
+
+  // Errors: exit code 2 and one line naming the problem.
+  Outcome one = RunStage(env, "plan", common + "--collision farr --distfield " + s + " -o " + (dir / "x.h5").string());
+  EXPECT_EQ(one.exit_code, 2);
+  EXPECT_NE(one.output.find("--distfield: expected two files"), std::string::npos) << one.output;
+  Outcome swapped = RunStage(env, "plan", common + "--collision farr --distfield " + d + "," + s + " -o " +
+                                              (dir / "x.h5").string());
+  EXPECT_EQ(swapped.exit_code, 2);
+  EXPECT_NE(swapped.output.find("another mesh"), std::string::npos) << swapped.output;
+  Outcome bogus = RunStage(env, "plan", common + "--collision bvh -o " + (dir / "x.h5").string());
+  EXPECT_EQ(bogus.exit_code, 2);
+  Outcome huge = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 1024 --memory-budget 1");
+  EXPECT_EQ(huge.exit_code, 2);
+  EXPECT_NE(huge.output.find("memory budget"), std::string::npos) << huge.output;
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

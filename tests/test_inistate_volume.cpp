@@ -1,7 +1,6 @@
 // InIState: clip scenes and their ground truth, voxelization (generalized
 // winding number), IV / MLIV / Labeled-MLIV, and ausbau-voxelize.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -234,9 +233,9 @@ TEST(IntersectionVolume, EarlyOutStopsAtTau) {
   const double value = volume.LabeledMliv(Pose(), 10.0, &early);
   EXPECT_TRUE(early.early_out);
   EXPECT_GT(value, 10.0);
-  EXPECT_LT(value, 27.0);          // stopped inside the first component
-  EXPECT_EQ(full.visited, 75);     // every intersecting voxel
-  EXPECT_LT(early.visited, 27);    // the early out visited part of one component
+  EXPECT_LT(value, 27.0);        // stopped inside the first component
+  EXPECT_EQ(full.visited, 75);   // every intersecting voxel
+  EXPECT_LT(early.visited, 27);  // the early out visited part of one component
   EXPECT_LT(early.tested, full.tested);
   // A tau above every component: no early out, the full answer.
   VolumeQuery none;

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "artifact/artifact.h"
+#include "core/error.h"
 #include "geometry/primitives.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
@@ -179,10 +180,10 @@ TEST(MeshTopology, NearDuplicatesWeldWithinTheTolerance) {
   std::mt19937_64 random(3);
   std::uniform_real_distribution<double> jitter(-1e-9, 1e-9);
   for (auto& v : soup.vertices) v += Eigen::Vector3d(jitter(random), jitter(random), jitter(random));
-  EXPECT_EQ(BuildMeshTopology(soup).VertexCount(), 64);  // 1e-7 x diagonal > 3.5e-9
+  EXPECT_EQ(BuildMeshTopology(soup).VertexCount(), 56);  // 4^3 grid points less 2^3 inside; 1e-7 x diagonal > 3.5e-9
   MeshTopologyOptions exact;
   exact.weld_tolerance = 0;
-  EXPECT_GT(BuildMeshTopology(soup, exact).VertexCount(), 64);
+  EXPECT_GT(BuildMeshTopology(soup, exact).VertexCount(), 56);
 }
 
 TEST(MeshTopology, DuplicateAndDegenerateTrianglesAreDropped) {
@@ -327,7 +328,7 @@ TEST(MedialSpheres, DeterministicForAnyThreadCount) {
 PbdLabels LabelPart(const TriangleMesh& mesh, PbdLabelOptions options = {}, MeshTopology* out_topo = nullptr) {
   const MeshTopology topo = BuildMeshTopology(mesh);
   const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
-  PbdLabels labels = ComputePbdLabels(topo, spheres.radii, options);
+  PbdLabels labels = ComputePbdLabels(topo, spheres, options);
   if (out_topo) *out_topo = topo;
   return labels;
 }
@@ -375,7 +376,7 @@ TEST(PbdLabels, ThesisParameters) {
   const TonguePart part = MakeTonguePart();
   const MeshTopology topo = BuildMeshTopology(part.mesh);
   const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
-  const PbdLabels labels = ComputePbdLabels(topo, spheres.radii, {});
+  const PbdLabels labels = ComputePbdLabels(topo, spheres, {});
   EXPECT_NEAR(labels.scale, 1 / 1.6, 1e-12);  // largest extent 1.6 -> 1
   EXPECT_NEAR(labels.r_min, spheres.MinRadius() / 1.6, 1e-12);
   EXPECT_NEAR(labels.sigma, 5.25 * labels.r_min, 1e-15);
@@ -391,9 +392,9 @@ TEST(PbdLabels, DeterministicForAnyThreadCount) {
     two.threads = 2;
     three.threads = 3;
     one.measure = two.measure = three.measure = measure;
-    const PbdLabels a = ComputePbdLabels(topo, spheres.radii, one);
-    const PbdLabels b = ComputePbdLabels(topo, spheres.radii, two);
-    const PbdLabels c = ComputePbdLabels(topo, spheres.radii, three);
+    const PbdLabels a = ComputePbdLabels(topo, spheres, one);
+    const PbdLabels b = ComputePbdLabels(topo, spheres, two);
+    const PbdLabels c = ComputePbdLabels(topo, spheres, three);
     EXPECT_EQ(a.deformability, b.deformability) << measure;
     EXPECT_EQ(a.deformability, c.deformability) << measure;
     EXPECT_EQ(a.displacement, b.displacement) << measure;
@@ -420,7 +421,326 @@ TEST(PbdLabels, RestingPartDoesNotMoveAndSeparatePartsAreIndependent) {
   std::vector<std::uint8_t> tongue2 = tongue;
   tongue2.insert(tongue2.end(), tongue.begin(), tongue.end());
   EXPECT_GE(RocAuc(db, tongue2), 0.9);
-  for (std::size_t i = 0; i < da.size(); ++i) EXPECT_NEAR(db[i], db[i + da.size()], 1e-6);
+  // The two copies are the same up to float rounding of their coordinates.
+  for (std::size_t i = 0; i < da.size(); ++i) EXPECT_NEAR(db[i], db[i + da.size()], 1e-3);
+}
+
+TEST(PbdLabels, SeparateOverlappingSolidsAreGlued) {
+  // A thin plate modelled as its own closed solid, stuck into a thick box (as
+  // CAD models clips): glued, it is simulated with the box and labelled more
+  // deformable; not glued, it is a free rigid body and the rigid fit removes
+  // all its motion.
+  TriangleMesh mesh = SubdividedBox({0, 0, 0}, {1, 0.6, 0.3}, 6);
+  const int box_vertices = static_cast<int>(mesh.vertices.size());
+  mesh.Append(MakeGridSolidMesh(Steps(0.8, 1.6, 10), Steps(0.2, 0.4, 3), {0.14, 0.17},
+                                [](int, int, int) { return true; }));
+  std::vector<std::uint8_t> plate(mesh.vertices.size(), 0);
+  for (std::size_t i = box_vertices; i < plate.size(); ++i) plate[i] = mesh.vertices[i].x() > 1 ? 1 : 0;
+  MeshTopology topo;
+  const PbdLabels glued = LabelPart(mesh, {}, &topo);
+  EXPECT_EQ(topo.stats.components, 2);
+  EXPECT_EQ(glued.components, 1);
+  EXPECT_GT(glued.glue_constraints, 0);
+  const std::vector<double> d = PerOriginal(topo, glued.deformability);
+  // Plate vertices outside the box against the box's vertices.
+  std::vector<double> score;
+  std::vector<std::uint8_t> positive;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (static_cast<int>(i) >= box_vertices && !plate[i]) continue;  // inside the box
+    score.push_back(d[i]);
+    positive.push_back(plate[i]);
+  }
+  EXPECT_GE(RocAuc(score, positive), 0.9);
+
+  PbdLabelOptions loose;
+  loose.glue = false;
+  const PbdLabels free = LabelPart(mesh, loose);
+  EXPECT_EQ(free.components, 2);
+  EXPECT_EQ(free.glue_constraints, 0);
+}
+
+TEST(MedialSpheres, ContactVerticesAreFlaggedAndLeftOutOfRMin) {
+  // Two boxes overlapping in one solid, meshed separately: the bottom face of
+  // the second lies 1e-6 inside the first one's top face. Vertices of either
+  // face there have another surface closer than delta: contacts.
+  TriangleMesh mesh = SubdividedBox({0, 0, 0}, {1, 1, 1}, 2);
+  mesh.Append(SubdividedBox({0.5, 0.25, 1 - 1e-6}, {0.9, 0.75, 1.5}, 2));
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  int contacts = 0, contact_vertex = -1;
+  double expected_min = 1e9;
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    if (!spheres.contact[v]) {
+      expected_min = std::min(expected_min, spheres.radii[v]);
+      continue;
+    }
+    ++contacts;
+    contact_vertex = v;
+    EXPECT_LT(std::abs(topo.vertices[v].z() - 1), 1e-5) << topo.vertices[v].transpose();
+  }
+  ASSERT_GT(contacts, 0);
+  EXPECT_EQ(spheres.MinRadius(), expected_min);
+  // A contact's sliver of a sphere (as at a T-junction of a CAD mesh) sets
+  // neither r_min nor a weightless vertex.
+  spheres.radii[contact_vertex] = 1e-9;
+  EXPECT_EQ(spheres.MinRadius(), expected_min);
+  const PbdLabels labels = ComputePbdLabels(topo, spheres, {});
+  EXPECT_NEAR(labels.r_min, expected_min * labels.scale, 1e-12);
+  EXPECT_LT(labels.deformability[contact_vertex], 1.0);
+}
+
+TEST(PbdLabels, RefinementKeepsOneValuePerVertexOfD) {
+  const TonguePart part = MakeTonguePart();
+  PbdLabelOptions options;
+  options.refine = 1.0;
+  options.refine_min_length = 0.01;
+  MeshTopology topo;
+  const PbdLabels labels = LabelPart(part.mesh, options, &topo);
+  EXPECT_GT(labels.simulated_vertices, topo.VertexCount());
+  EXPECT_EQ(labels.load_cases, topo.VertexCount());
+  ASSERT_EQ(labels.deformability.size(), static_cast<std::size_t>(topo.VertexCount()));
+  EXPECT_GE(RocAuc(PerOriginal(topo, labels.deformability), part.tongue), 0.9);
+}
+
+TEST(PbdLabels, RejectsBadOptions) {
+  const MeshTopology topo = BuildMeshTopology(MakeBox({0, 0, 0}, {1, 1, 1}));
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  PbdLabelOptions options;
+  options.measure = "max";
+  EXPECT_THROW(ComputePbdLabels(topo, spheres, options), InputError);
+  options = {};
+  options.stiffness_formula = "other";
+  EXPECT_THROW(ComputePbdLabels(topo, spheres, options), InputError);
+  options = {};
+  options.time_step = 0;
+  EXPECT_THROW(ComputePbdLabels(topo, spheres, options), InputError);
+  EXPECT_THROW(ComputePbdLabels(topo, std::vector<double>(3, 1.0), {}, PbdLabelOptions{}), InputError);
+}
+
+// ------------------------------------------------------------ clip scenes
+
+// Per vertex of D: 0 where it lies inside (or on) another part of D: a clip's
+// root embedded in the panel. Such vertices cannot move on their own and
+// cannot touch S, so the clip/rigid separation is measured without them.
+std::vector<std::uint8_t> ExposedVertices(const MeshTopology& topo) {
+  const TriangleBvh bvh(topo.vertices, topo.triangles);
+  std::vector<int> component(topo.triangles.size());
+  for (std::size_t t = 0; t < component.size(); ++t) component[t] = topo.component[topo.triangles[t][0]];
+  const Eigen::Vector3d directions[3] = {Eigen::Vector3d(0.577, 0.591, 0.563).normalized(),
+                                         Eigen::Vector3d(-0.707, 0.311, 0.634).normalized(),
+                                         Eigen::Vector3d(0.135, -0.812, 0.567).normalized()};
+  std::vector<std::uint8_t> exposed(topo.OriginalVertexCount(), 1);
+  for (int i = 0; i < topo.OriginalVertexCount(); ++i) {
+    const int w = topo.welded_of_original[i];
+    const int own = topo.component[w];
+    const auto others = [&](int t) { return component[t] == own; };
+    const auto near = bvh.NearestPoint(topo.vertices[w], others);
+    if (near.triangle >= 0 && near.distance_squared < 1e-4 * topo.diagonal * topo.diagonal * 1e-4) {
+      exposed[i] = 0;
+      continue;
+    }
+    int odd = 0;
+    for (const auto& direction : directions) odd += bvh.CountCrossings(topo.vertices[w], direction, 0, others) % 2;
+    if (odd >= 2) exposed[i] = 0;
+  }
+  return exposed;
+}
+
+TEST(ClipScenes, LabelsSeparateClipsFromRigidParts) {
+  // The generated InIState scenes (scene/clip_scenes.h): clips (nominal
+  // deformability 1; ds5's thick clips 0.35) against the panel, rims and
+  // rails (0). The thesis separates the clips of its datasets 1-4 and fails
+  // on dataset 5's thick clips; ds5 is reported, not required.
+  for (const std::string& family : ClipSceneFamilies()) {
+    ClipSceneOptions scene_options;
+    scene_options.triangles = 2000;
+    const ClipSceneFiles files =
+        GenerateClipScene(family, scene_options, testing::MakeTempDir("labels-" + family));
+    const Scene scene = LoadScene(files.scene_yaml);
+    const ClipGroundTruth truth = LoadClipGroundTruth(files.ground_truth_yaml);
+    const MeshTopology topo = BuildMeshTopology(scene.dynamic_mesh);
+    const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+    const PbdLabels labels = ComputePbdLabels(topo, spheres, {});
+    const std::vector<double> nominal = truth.VertexDeformability();
+    ASSERT_EQ(nominal.size(), scene.dynamic_mesh.vertices.size());
+    const std::vector<double> d = PerOriginal(topo, labels.deformability);
+    const std::vector<std::uint8_t> exposed = ExposedVertices(topo);
+    std::vector<double> all_score, exposed_score;
+    std::vector<std::uint8_t> all_clip, exposed_clip;
+    double clip_sum = 0, rigid_sum = 0;
+    int clip_count = 0, rigid_count = 0;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const std::uint8_t clip = nominal[i] > 0.2 ? 1 : 0;
+      all_score.push_back(d[i]);
+      all_clip.push_back(clip);
+      if (!exposed[i]) continue;
+      exposed_score.push_back(d[i]);
+      exposed_clip.push_back(clip);
+      (clip ? clip_sum : rigid_sum) += d[i];
+      ++(clip ? clip_count : rigid_count);
+    }
+    const double auc = RocAuc(exposed_score, exposed_clip);
+    std::printf("%s: %zu triangles, %d parts glued into %d, %lld load cases in %.2f s: ROC AUC %.4f over %zu "
+                "exposed vertices (%.4f over all %zu); mean deformability clips %.3f, rigid parts %.3f\n",
+                family.c_str(), scene.dynamic_mesh.triangles.size(), topo.stats.components, labels.components,
+                static_cast<long long>(labels.load_cases), labels.seconds, auc, exposed_score.size(),
+                RocAuc(all_score, all_clip), d.size(), clip_sum / clip_count, rigid_sum / rigid_count);
+    if (family != "clips-ds5") {
+      EXPECT_GE(auc, 0.9) << family;
+      EXPECT_GT(clip_sum / clip_count, 2 * rigid_sum / rigid_count) << family;
+    }
+  }
+}
+
+TEST(ClipScenes, DeterministicForAnyThreadCount) {
+  ClipSceneOptions scene_options;
+  scene_options.triangles = 1500;
+  const ClipSceneFiles files = GenerateClipScene("clips-ds3", scene_options, testing::MakeTempDir("labels-det"));
+  const MeshTopology topo = BuildMeshTopology(LoadScene(files.scene_yaml).dynamic_mesh);
+  MedialSphereOptions one_sphere, two_spheres;
+  one_sphere.threads = 1;
+  two_spheres.threads = 2;
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, one_sphere);
+  EXPECT_EQ(spheres.radii, ComputeMedialSpheres(topo, two_spheres).radii);
+  PbdLabelOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const PbdLabels a = ComputePbdLabels(topo, spheres, one), b = ComputePbdLabels(topo, spheres, two);
+  EXPECT_GT(a.glue_constraints, 0);
+  EXPECT_EQ(a.displacement, b.displacement);
+  EXPECT_EQ(a.deformability, b.deformability);
+}
+
+// ------------------------------------------------------------ stages
+
+struct Outcome {
+  int exit_code = -1;
+  std::string output;
+};
+
+Outcome RunStage(const std::string& stage, const std::string& arguments) {
+  const std::string command = (testing::BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
+  Outcome outcome;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A scene whose D is the tongue part, given as a triangle soup with random
+// orientations (as CAD exports come), S a box beside it.
+std::filesystem::path WriteTongueScene(const std::filesystem::path& dir) {
+  Scene scene;
+  scene.dynamic_mesh = Soup(MakeTonguePart().mesh, 0.3, 9);
+  scene.static_mesh = MakeBox({3, 0, 0}, {4, 1, 1});
+  scene.name = "tongue";
+  SaveObj(scene.dynamic_mesh, dir / "part.obj");
+  SaveObj(scene.static_mesh, dir / "environment.obj");
+  scene.dynamic_file = dir / "part.obj";
+  scene.static_files = {dir / "environment.obj"};
+  SaveSceneYaml(scene, dir / "scene.yaml");
+  return dir / "scene.yaml";
+}
+
+TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
+  if (!std::filesystem::exists(testing::BinDir() / "ausbau-pbd-label")) GTEST_SKIP() << "stages not built";
+  const auto dir = testing::MakeTempDir("label-stages");
+  const auto yaml = WriteTongueScene(dir);
+  const std::string scene = "--scene " + yaml.string();
+  const auto spheres = dir / "spheres.h5", labels = dir / "labels.h5";
+  const Outcome first = RunStage("medial-spheres", scene + " -o " + spheres.string() + " --csv " +
+                                                       (dir / "spheres.csv").string() + " --ply " +
+                                                       (dir / "spheres.ply").string() + " --threads 2");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const Outcome label = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+                                                  " --csv " + (dir / "labels.csv").string() + " --ply " +
+                                                  (dir / "labels.ply").string());
+  ASSERT_EQ(label.exit_code, 0) << label.output;
+
+  const Scene loaded = LoadScene(yaml);
+  const std::size_t n = loaded.dynamic_mesh.vertices.size();
+  const SpheresArtifact sphere_artifact = ReadSpheresArtifact(spheres);
+  const LabelsArtifact label_artifact = ReadLabelsArtifact(labels);
+  ASSERT_EQ(sphere_artifact.radii.size(), n);  // per original (unwelded) vertex
+  ASSERT_EQ(label_artifact.deformability.size(), n);
+  EXPECT_GT(label_artifact.sigma, 0);
+  EXPECT_NEAR(label_artifact.sigma, 5.25 * label_artifact.r_min, 1e-12);
+  std::vector<std::uint8_t> tongue;
+  for (const auto& v : loaded.dynamic_mesh.vertices) tongue.push_back(v.x() > 1 + 1e-6 ? 1 : 0);
+  EXPECT_GE(RocAuc(label_artifact.deformability, tongue), 0.9);
+
+  const std::string csv = ReadFile(dir / "labels.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "x,y,z,deformability");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), n + 1);
+  const std::string sphere_csv = ReadFile(dir / "spheres.csv");
+  EXPECT_EQ(sphere_csv.substr(0, sphere_csv.find('\n')), "x,y,z,radius");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(sphere_csv.begin(), sphere_csv.end(), '\n')), n + 1);
+  const std::string ply = ReadFile(dir / "labels.ply");
+  EXPECT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+  EXPECT_NE(ply.find("element vertex " + std::to_string(n) + "\n"), std::string::npos);
+  EXPECT_NE(ply.find("property uchar red"), std::string::npos);
+  const std::size_t header = ply.find("end_header\n") + 11;
+  EXPECT_EQ(ply.size(), header + n * (3 * 4 + 3 + 4) + loaded.dynamic_mesh.triangles.size() * (1 + 3 * 4));
+
+  // Up to date: reused, byte-identical; other options or --force: recomputed.
+  const std::string before = ReadFile(labels);
+  const Outcome again = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+                                                  " --threads 1");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
+  const Outcome forced = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+                                                   " --threads 1 --force");
+  ASSERT_EQ(forced.exit_code, 0) << forced.output;
+  EXPECT_EQ(forced.output.find("up to date"), std::string::npos);
+  EXPECT_EQ(ReadFile(labels), before);  // same labels with 1 thread as with all
+  const Outcome changed = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " +
+                                                    labels.string() + " --measure self");
+  ASSERT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_EQ(changed.output.find("up to date"), std::string::npos);
+}
+
+TEST(LabelStages, BadInputIsAOneLineError) {
+  if (!std::filesystem::exists(testing::BinDir() / "ausbau-pbd-label")) GTEST_SKIP() << "stages not built";
+  const auto dir = testing::MakeTempDir("label-errors");
+  const auto yaml = WriteTongueScene(dir);
+  // Spheres of another part.
+  const auto other = testing::MakeTempDir("label-errors-other");
+  Scene box;
+  box.name = "box";
+  SaveObj(MakeBox({0, 0, 0}, {1, 1, 1}), other / "part.obj");
+  SaveObj(MakeBox({3, 0, 0}, {4, 1, 1}), other / "environment.obj");
+  box.dynamic_file = other / "part.obj";
+  box.static_files = {other / "environment.obj"};
+  SaveSceneYaml(box, other / "scene.yaml");
+  ASSERT_EQ(RunStage("medial-spheres", "--scene " + (other / "scene.yaml").string() + " -o " +
+                                           (other / "spheres.h5").string())
+                .exit_code,
+            0);
+  const Outcome wrong = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
+                                                  (other / "spheres.h5").string() + " -o " +
+                                                  (dir / "labels.h5").string());
+  EXPECT_EQ(wrong.exit_code, 2) << wrong.output;
+  EXPECT_NE(wrong.output.find("computed for another part D"), std::string::npos) << wrong.output;
+  const Outcome missing = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
+                                                    (dir / "none.h5").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("file not found"), std::string::npos) << missing.output;
+  const Outcome bad = RunStage("medial-spheres", "--scene " + yaml.string() + " --step 1.5");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--step"), std::string::npos) << bad.output;
+  const Outcome measure = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
+                                                    (other / "spheres.h5").string() + " --measure max");
+  EXPECT_EQ(measure.exit_code, 2) << measure.output;
 }
 
 TEST(RocAuc, Basics) {

@@ -590,56 +590,89 @@ void DistanceFieldBuilder::ComputeVotes() {
     }
     // Per line: winding of the ray towards -a is -(sum of the buckets before
     // the cell), towards +a the sum after it (a crossing inside the cell
-    // itself makes it a surface cell, whose vote is not used).
-    const std::int64_t lines = dims[u] * dims[v];
+    // itself makes it a surface cell, whose vote is not used). Lines along y
+    // and z are processed a row of x at a time, so that memory is read in
+    // order.
+    auto update = [&](std::int64_t index, std::int64_t total, std::int64_t before, std::int64_t here) {
+      // Winding: -(crossings before) towards -a plus (crossings after)
+      // towards +a; parity: the number of the two rays with an odd count.
+      const std::int64_t after = total - before - here;
+      const std::int64_t contribution = closed ? after - before : (after & 1) + (before & 1);
+      const std::int64_t sum = vote_[index] + contribution;
+      vote_[index] = static_cast<std::int16_t>(std::clamp<std::int64_t>(sum, -32000, 32000));
+    };
+    if (a == 0) {
 #pragma omp parallel for schedule(static) num_threads(threads_)
-    for (std::int64_t line = 0; line < lines; ++line) {
-      const std::int64_t iu = line % dims[u], iv = line / dims[u];
-      const std::int64_t base = iu * stride[u] + iv * stride[v];
-      std::int64_t total = 0;
-      for (std::int64_t j = 0; j < dims[a]; ++j) total += bucket[base + j * stride[a]];
-      std::int64_t before = 0;
-      for (std::int64_t j = 0; j < dims[a]; ++j) {
-        const std::int64_t index = base + j * stride[a];
-        const std::int64_t here = bucket[index];
-        // Winding: -(crossings before) towards -a plus (crossings after)
-        // towards +a; parity: the number of the two rays with an odd count.
-        const std::int64_t after = total - before - here;
-        const std::int64_t contribution = closed ? after - before : (after & 1) + (before & 1);
-        const std::int64_t sum = vote_[index] + contribution;
-        vote_[index] = static_cast<std::int16_t>(std::clamp<std::int64_t>(sum, -32000, 32000));
-        before += here;
+      for (std::int64_t row = 0; row < ny_ * nz_; ++row) {
+        const std::int64_t base = row * nx_;
+        std::int64_t total = 0, before = 0;
+        for (std::int64_t x = 0; x < nx_; ++x) total += bucket[base + x];
+        for (std::int64_t x = 0; x < nx_; ++x) {
+          update(base + x, total, before, bucket[base + x]);
+          before += bucket[base + x];
+        }
+      }
+    } else {
+      // a = 1: per z, the rows y; a = 2: per y, the rows z.
+      const std::int64_t outer = a == 1 ? nz_ : ny_, inner = a == 1 ? ny_ : nz_;
+      const std::int64_t outer_stride = a == 1 ? nx_ * ny_ : nx_, inner_stride = a == 1 ? nx_ : nx_ * ny_;
+#pragma omp parallel num_threads(threads_)
+      {
+        std::vector<std::int64_t> total(nx_), before(nx_);
+#pragma omp for schedule(static)
+        for (std::int64_t o = 0; o < outer; ++o) {
+          std::fill(total.begin(), total.end(), 0);
+          std::fill(before.begin(), before.end(), 0);
+          for (std::int64_t j = 0; j < inner; ++j) {
+            const std::int32_t* row = bucket.data() + o * outer_stride + j * inner_stride;
+            for (std::int64_t x = 0; x < nx_; ++x) total[x] += row[x];
+          }
+          for (std::int64_t j = 0; j < inner; ++j) {
+            const std::int64_t base = o * outer_stride + j * inner_stride;
+            for (std::int64_t x = 0; x < nx_; ++x) {
+              update(base + x, total[x], before[x], bucket[base + x]);
+              before[x] += bucket[base + x];
+            }
+          }
+        }
       }
     }
   }
 }
 
 void DistanceFieldBuilder::MarkBand() {
-  // Separable 3x3x3 dilation of the surface cells.
+  // Separable 3x3x3 dilation of the surface cells, a row of x at a time.
   std::vector<std::uint8_t> a(n_), b(n_);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::int64_t i = 0; i < n_; ++i) a[i] = slot_[i] >= 0;
-  const std::int64_t dims[3] = {nx_, ny_, nz_};
-  const std::int64_t stride[3] = {1, nx_, nx_ * ny_};
-  std::vector<std::uint8_t>* src = &a;
-  std::vector<std::uint8_t>* dst = &b;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    const std::int64_t lines = dims[u] * dims[v];
+  // x
 #pragma omp parallel for schedule(static) num_threads(threads_)
-    for (std::int64_t line = 0; line < lines; ++line) {
-      const std::int64_t base = (line % dims[u]) * stride[u] + (line / dims[u]) * stride[v];
-      for (std::int64_t j = 0; j < dims[axis]; ++j) {
-        const std::int64_t index = base + j * stride[axis];
-        std::uint8_t value = (*src)[index];
-        if (j > 0) value |= (*src)[index - stride[axis]];
-        if (j + 1 < dims[axis]) value |= (*src)[index + stride[axis]];
-        (*dst)[index] = value;
+  for (std::int64_t row = 0; row < ny_ * nz_; ++row) {
+    const std::uint8_t* src = a.data() + row * nx_;
+    std::uint8_t* dst = b.data() + row * nx_;
+    for (std::int64_t x = 0; x < nx_; ++x) {
+      dst[x] = src[x] | (x > 0 ? src[x - 1] : 0) | (x + 1 < nx_ ? src[x + 1] : 0);
+    }
+  }
+  // y (b -> a), then z (a -> b).
+  for (int axis = 1; axis < 3; ++axis) {
+    const std::vector<std::uint8_t>& src = axis == 1 ? b : a;
+    std::vector<std::uint8_t>& dst = axis == 1 ? a : b;
+    const std::int64_t outer = axis == 1 ? nz_ : ny_, inner = axis == 1 ? ny_ : nz_;
+    const std::int64_t outer_stride = axis == 1 ? nx_ * ny_ : nx_, inner_stride = axis == 1 ? nx_ : nx_ * ny_;
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (std::int64_t o = 0; o < outer; ++o) {
+      for (std::int64_t j = 0; j < inner; ++j) {
+        const std::int64_t base = o * outer_stride + j * inner_stride;
+        const std::uint8_t* here = src.data() + base;
+        const std::uint8_t* below = j > 0 ? here - inner_stride : here;
+        const std::uint8_t* above = j + 1 < inner ? here + inner_stride : here;
+        std::uint8_t* out = dst.data() + base;
+        for (std::int64_t x = 0; x < nx_; ++x) out[x] = here[x] | below[x] | above[x];
       }
     }
-    std::swap(src, dst);
   }
-  band_.swap(*src);
+  band_.swap(b);
 }
 
 void DistanceFieldBuilder::ComputeBand() {

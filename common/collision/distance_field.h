@@ -27,21 +27,31 @@
 //      point always lies on the surface, and is near-nearest (test_farr
 //      measures the error against brute force).
 //   4. Inside/outside: six axis-parallel rays from every cell centre (+-x,
-//      +-y, +-z), each with its *signed* crossing count (+1 leaving through a
-//      triangle facing along the ray, -1 entering), i.e. the winding number
-//      along that ray; a cell is inside when the mean of the six is at least
-//      1/2 in magnitude. This is a six-direction discretization of the
-//      generalized winding number: exact for closed, consistently oriented
-//      meshes (also several overlapping closed parts, and globally inverted
-//      ones), and degrading gracefully on open meshes, because a hole only
-//      corrupts the rays that pass through it (a box with one face missing
-//      stays "inside" inside: five of six rays agree). Crossings are found
-//      per grid line with the top-left rule of rasterization on canonically
-//      ordered edges, so a line through a shared edge or vertex counts once.
-//      Failure modes: triangles with inconsistent orientation (a flipped
-//      face corrupts the rays through it, as for the winding number); a
-//      region reached through holes by four or more of its six rays; thin
-//      features below a cell are surface cells, never inside.
+//      +-y, +-z), counted for all cells at once per grid line (scanline
+//      crossings with the top-left rule of rasterization on canonically
+//      ordered edges, so that a line through a shared edge or vertex counts
+//      once). First the mesh is cleaned for this purpose only: vertices
+//      merged by position, duplicate triangles (the same three positions in
+//      any order: double-sided exports such as the OMPL.app meshes) kept
+//      once, orientations made consistent across manifold edges, each
+//      component turned to a positive volume.
+//      - Closed and consistently oriented (every edge shared by exactly two
+//        triangles): each ray counts its *signed* crossings (+1 leaving
+//        through a triangle facing along the ray, -1 entering), i.e. the
+//        winding number along it, and a cell is inside when the mean of the
+//        six is at least 1/2 in magnitude: a six-direction discretization of
+//        the generalized winding number, exact for closed meshes, also for
+//        several overlapping closed parts (their union) and inverted ones.
+//      - Otherwise (open, non-manifold, T-junctions, non-orientable): each
+//        ray's crossing parity, and a cell is inside when at least five of
+//        the six rays are odd: a hole fools only the rays through it (a box
+//        with one face missing stays inside inside, outside outside).
+//      Failure modes: overlapping parts of an *open* mesh count as their
+//      symmetric difference (parity); a region seen through holes by two or
+//      more of its rays counts as outside; a closed mesh whose orientation
+//      is inconsistent (a flipped face) is corrected by the propagation
+//      only across manifold edges; thin features below a cell are surface
+//      cells, never inside.
 // All steps run in parallel with OpenMP; the result does not depend on the
 // number of threads.
 #pragma once

@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/log.h"
 
 namespace ausbau {
 
@@ -267,11 +268,18 @@ struct FarrCollisionChecker::QueryFrame {
 struct FarrCollisionChecker::Adaptive {
   std::vector<int> candidates;                        // ascending, the last = options.rays
   std::atomic<int> rays{0};                           // current choice
-  std::atomic<std::int64_t> explored{0}, explored_invalid{0};
-  std::atomic<std::int64_t> witness_ray[FarrOptions::kMaxRays] = {};
-  std::atomic<std::int64_t> probe_ns{0}, probe_rays{0};  // exploration probes without a witness
-  std::atomic<std::int64_t> fcl_collision_ns{0}, fcl_collisions{0};
-  std::atomic<std::int64_t> fcl_ns{0}, fcl_timed{0};          // every timed FCL call
+  // Explored queries (a uniform sample of all), those that ran rays, and per
+  // lowest witness ray r: how many, and FCL's time on them (what r + 1 or
+  // more rays save).
+  std::atomic<std::int64_t> explored{0}, explored_probed{0};
+  std::atomic<std::int64_t> witness_count[FarrOptions::kMaxRays] = {};
+  std::atomic<std::int64_t> witness_fcl_ns[FarrOptions::kMaxRays] = {};
+  // Work of the explored probes without a witness (look-ups per ray), their
+  // time (cold caches), and the time of every 8th regular probe without a
+  // witness (warm).
+  std::atomic<std::int64_t> explore_lookups{0}, explore_rays{0}, explore_ns{0};
+  std::atomic<std::int64_t> warm_lookups{0}, warm_ns{0};
+  std::atomic<std::int64_t> fcl_ns{0};                // FCL's time on all explored queries
   std::mutex update;
 };
 
@@ -295,10 +303,9 @@ FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const Tria
   robot_ = std::make_unique<MeshData>(robot);
   environment_ = std::make_unique<MeshData>(environment);
   adaptive_ = std::make_unique<Adaptive>();
-  for (int k : {0, 1, 2, 3, 5, 8, 12, 20, 30, 50, 80}) {
-    if (k < options_.rays) adaptive_->candidates.push_back(k);
-  }
-  adaptive_->candidates.push_back(options_.rays);
+  // On or off: all `rays` rays, or none. (Intermediate k would fit the
+  // cost model too, but its estimates are too noisy to pick them well.)
+  adaptive_->candidates = {0, options_.rays};
   adaptive_->rays.store(options_.rays);
   const double sqrt3 = std::sqrt(3.0);
   const double diagonal = robot.Bounds().Diagonal();
@@ -313,6 +320,13 @@ FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const Tria
     for (int v : robot.triangles[t]) {
       if (incident[v] < 0) incident[v] = static_cast<int>(t);
     }
+  }
+  std::vector<char> used(environment.vertices.size(), 0);
+  for (const auto& t : environment.triangles) {
+    for (int v : t) used[v] = 1;
+  }
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (used[v]) environment_vertices_.push_back(static_cast<int>(v));
   }
   for (std::size_t v = 0; v < incident.size(); ++v) {
     if (incident[v] < 0) continue;
@@ -386,7 +400,6 @@ bool FarrCollisionChecker::Skip(const Pose& pose) const {
   return d > 1.1 * robot_radius_ + 2.0 * environment_field_->spacing();
 }
 
-template <bool kCheckInside>
 FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, int rays, bool complete) const {
   constexpr int kMax = FarrOptions::kMaxRays;
   ProbeResult result;
@@ -479,7 +492,6 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
       by[r] = cell.nearest[1];
       bz[r] = cell.nearest[2];
       tb[r] = cell.triangle;
-      if (kCheckInside && sv.classes[index[r]] == static_cast<std::uint8_t>(CellClass::kInside)) result.inside = true;
     }
 #pragma omp simd
     for (int r = 0; r < n; ++r) {
@@ -508,7 +520,6 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
       cy[r] = cell.nearest[1];
       cz[r] = cell.nearest[2];
       tc[r] = cell.triangle;
-      if (kCheckInside && dv.classes[index[r]] == static_cast<std::uint8_t>(CellClass::kInside)) result.inside = true;
     }
 #pragma omp simd
     for (int r = 0; r < n; ++r) {
@@ -541,9 +552,35 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
   return finish(-1);
 }
 
+bool FarrCollisionChecker::Contained(const Pose& pose) const {
+  // One side inside the other: of k random vertices (at least 16) none in an
+  // outside cell of the other's field and at least one in an inside cell.
+  // (Surface cells are undecided; an open mesh may fool single points, not
+  // all of them.)
+  const int k = std::max(16, options_.rays);
+  const Eigen::Matrix3d R = pose.q.toRotationMatrix();
+  auto test = [k](const DistanceField& field, const std::vector<int>& vertices, PoseStream& stream, auto&& map) {
+    if (vertices.empty()) return false;
+    bool inside = false;
+    for (int i = 0; i < k; ++i) {
+      const int v = vertices[stream.Index(static_cast<std::uint32_t>(vertices.size()))];
+      const CellClass c = field.cell_class(field.Locate(map(v)));
+      if (c == CellClass::kOutside) return false;
+      inside = inside || c == CellClass::kInside;
+    }
+    return inside;
+  };
+  PoseStream stream(seed_ ^ 0x636f6e7461696eULL, pose);
+  if (test(*environment_field_, start_vertices_, stream,
+           [&](int v) { return Vec3(R * robot_->vertices[v] + pose.t); })) {
+    return true;
+  }
+  return test(*robot_field_, environment_vertices_, stream,
+              [&](int v) { return Vec3(R.transpose() * (environment_->vertices[v] - pose.t)); });
+}
+
 FarrCollisionChecker::ProbeResult FarrCollisionChecker::Probe(const Pose& pose, int rays, bool complete) const {
-  if (options_.report_containment || options_.count_containment) return Rays<true>(pose, rays, complete);
-  return Rays<false>(pose, rays, complete);
+  return Rays(pose, rays, complete);
 }
 
 bool FarrCollisionChecker::InCollision(const Pose& pose) const {
@@ -552,8 +589,9 @@ bool FarrCollisionChecker::InCollision(const Pose& pose) const {
   const bool containment = options_.report_containment || options_.count_containment;
   const bool adaptive = options_.adaptive && options_.rays > 0 && !containment;
   // Exploration: the first 64 queries, then every 32nd, after 4096 queries
-  // every 128th.
-  const bool explore = adaptive && (query < 64 || (query & (query < 4096 ? 31 : 255)) == 0);
+  // every 256th, after 65536 every 1024th.
+  const std::int64_t explore_mask = query < 4096 ? 31 : query < 65536 ? 255 : 1023;
+  const bool explore = adaptive && (query < 64 || (query & explore_mask) == 0);
   const int rays = adaptive && !explore ? adaptive_->rays.load(std::memory_order_relaxed) : options_.rays;
   Adaptive& model = *adaptive_;
   auto nanoseconds = [](Clock::time_point from) {
@@ -567,15 +605,21 @@ bool FarrCollisionChecker::InCollision(const Pose& pose) const {
   } else if (!containment && Skip(pose)) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
   } else {
-    const Clock::time_point begin = explore ? Clock::now() : Clock::time_point();
+    const bool timed = explore || (adaptive && (query & 7) == 3);
+    const Clock::time_point begin = timed ? Clock::now() : Clock::time_point();
     probe = Probe(pose, rays, explore);
-    if (explore) {
+    if (timed) {
       const std::int64_t ns = nanoseconds(begin);
-      if (probe.witness) {
-        model.witness_ray[probe.witness_ray].fetch_add(1, std::memory_order_relaxed);
-      } else {
-        model.probe_ns.fetch_add(ns, std::memory_order_relaxed);
-        model.probe_rays.fetch_add(probe.rays_used, std::memory_order_relaxed);
+      if (explore) {
+        model.explored_probed.fetch_add(1, std::memory_order_relaxed);
+        if (!probe.witness) {
+          model.explore_lookups.fetch_add(probe.lookups, std::memory_order_relaxed);
+          model.explore_rays.fetch_add(probe.rays_used, std::memory_order_relaxed);
+          model.explore_ns.fetch_add(ns, std::memory_order_relaxed);
+        }
+      } else if (!probe.witness) {
+        model.warm_lookups.fetch_add(probe.lookups, std::memory_order_relaxed);
+        model.warm_ns.fetch_add(ns, std::memory_order_relaxed);
       }
     }
     if (probe.witness) {
@@ -590,57 +634,67 @@ bool FarrCollisionChecker::InCollision(const Pose& pose) const {
     if (explore) {
       const std::int64_t ns = nanoseconds(begin);
       model.fcl_ns.fetch_add(ns, std::memory_order_relaxed);
-      model.fcl_timed.fetch_add(1, std::memory_order_relaxed);
-      if (fcl) {
-        model.fcl_collision_ns.fetch_add(ns, std::memory_order_relaxed);
-        model.fcl_collisions.fetch_add(1, std::memory_order_relaxed);
+      if (probe.witness) {
+        model.witness_fcl_ns[probe.witness_ray].fetch_add(ns, std::memory_order_relaxed);
+        model.witness_count[probe.witness_ray].fetch_add(1, std::memory_order_relaxed);
       }
     }
     if (!answered) {
       fcl_calls_.fetch_add(1, std::memory_order_relaxed);
       if (fcl) fcl_collisions_.fetch_add(1, std::memory_order_relaxed);
       answer = fcl;
-      if (!fcl && probe.inside) {
+      if (!fcl && containment && Contained(pose)) {
         containments_.fetch_add(1, std::memory_order_relaxed);
         if (options_.report_containment) answer = true;
       }
     }
   }
-  if (explore) {
-    model.explored.fetch_add(1, std::memory_order_relaxed);
-    if (answer) model.explored_invalid.fetch_add(1, std::memory_order_relaxed);
-  }
+  if (explore) model.explored.fetch_add(1, std::memory_order_relaxed);
   if (adaptive && (query & (query < 4096 ? 63 : 255)) == 63) Recompute();
   return answer;
 }
 
 void FarrCollisionChecker::Recompute() const {
+  // Expected time per query with k rays, from the explored sample:
+  //   cost(k)   = k * cost_per_ray * (probed queries not proven by k rays) / explored
+  //   saving(k) = (FCL's time on the explored queries proven by k rays) / explored
+  // (FCL's time on exactly those: deep collisions, which rays find, are the
+  // ones FCL decides fast too). k minimizes cost - saving; k = 0 costs and
+  // saves nothing.
   Adaptive& model = *adaptive_;
   std::unique_lock<std::mutex> lock(model.update, std::try_to_lock);
   if (!lock.owns_lock()) return;
-  const double queries = static_cast<double>(queries_.load());
-  const double explored_invalid = static_cast<double>(model.explored_invalid.load());
-  const double probe_rays = static_cast<double>(model.probe_rays.load());
-  const double timed = static_cast<double>(model.fcl_timed.load());
-  if (queries < 1 || probe_rays < 1 || timed < 1) return;  // nothing measured yet
-  // The invalid portion from all answers; FCL's time on collisions from the
-  // timed ones (their mean over all timed calls until there are a few).
-  const double invalid_portion =
-      static_cast<double>(witnesses_.load() + fcl_collisions_.load()) / queries;
-  const double collisions = static_cast<double>(model.fcl_collisions.load());
-  const double fcl_collision = collisions >= 4 ? static_cast<double>(model.fcl_collision_ns.load()) / collisions
-                                               : static_cast<double>(model.fcl_ns.load()) / timed;
-  const double cost_per_ray = static_cast<double>(model.probe_ns.load()) / probe_rays;
-  double best_value = 0;  // k = 0: nothing spent, nothing saved
+  const double explored = static_cast<double>(model.explored.load());
+  const double explore_rays = static_cast<double>(model.explore_rays.load());
+  const double explore_lookups = static_cast<double>(model.explore_lookups.load());
+  if (explored < 64 || explore_rays < 1 || explore_lookups < 1) return;  // not enough evidence yet
+  const double warm_lookups = static_cast<double>(model.warm_lookups.load());
+  const double ns_per_lookup = warm_lookups >= 2000 ? static_cast<double>(model.warm_ns.load()) / warm_lookups
+                                                    : static_cast<double>(model.explore_ns.load()) / explore_lookups;
+  const double cost_per_ray = explore_lookups / explore_rays * ns_per_lookup;
+  const double probed = static_cast<double>(model.explored_probed.load());
+  const int current = model.rays.load();
+  double best_value = 0, current_value = 0;
   int best_k = 0;
-  std::int64_t detected = 0;
+  double saved_ns = 0, proven = 0;
   int next_ray = 0;
   for (int k : model.candidates) {
-    for (; next_ray < k; ++next_ray) detected += model.witness_ray[next_ray].load();
-    // Until a few explored queries were in collision, assume the best case.
-    const double rate = explored_invalid >= 4 ? static_cast<double>(detected) / explored_invalid : 1.0;
-    const double value = k * cost_per_ray - invalid_portion * rate * fcl_collision;
+    for (; next_ray < k; ++next_ray) {
+      saved_ns += static_cast<double>(model.witness_fcl_ns[next_ray].load());
+      proven += static_cast<double>(model.witness_count[next_ray].load());
+    }
+    const double value = (k * cost_per_ray * std::max(0.0, probed - proven) - saved_ns) / explored;
     if (value < best_value) best_value = value, best_k = k;
+    if (k == current) current_value = value;
+  }
+  // Hysteresis: change only for a gain of 2% of FCL's mean time per query.
+  const double threshold = 0.02 * static_cast<double>(model.fcl_ns.load()) / explored;
+  if (best_value > current_value - threshold) best_k = current;
+  if (best_k != current) {
+    LogDebug("FARR: %d rays from now on (%.1f look-ups of %.1f ns per ray, %s; %.0f of %.0f explored queries "
+             "proven, saving %.0f ns per query)",
+             best_k, explore_lookups / explore_rays, ns_per_lookup, warm_lookups >= 2000 ? "warm" : "cold",
+             proven, explored, saved_ns / explored);
   }
   model.rays.store(best_k);
 }

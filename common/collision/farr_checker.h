@@ -9,7 +9,11 @@
 // `max_alternations` times, until a repeats (a local distance minimum).
 // Whenever a look-up lands within epsilon (6e-6 x D's AABB diagonal, the
 // thesis's convergence test) or within `band` cell diagonals of the surface
-// it looked up, the two triangles involved are tested for intersection:
+// it looked up, the two triangles involved are tested for intersection,
+// together with their edge neighbours (the stored triangle is the nearest
+// one to the cell's centre, not necessarily the one crossing the other
+// surface at the ray's point): at most 6 x 6 pairs, each first rejected
+// cheaply when one triangle lies on one side of the other's plane, then
 //   - by a robust Moeller-style test that accepts only proper crossings
 //     (every vertex clearly off the other triangle's plane, the two
 //     intersection intervals overlapping by more than a tolerance), so that
@@ -23,28 +27,37 @@
 //
 // Adaptive rays (option `adaptive`, on by default; not in the thesis): the
 // rays pay only where enough queries are in collision (thesis 4.3.5: the
-// invalid portion decides). The checker measures it while it runs: the
-// first 64 queries, then every 32nd, after 4096 queries every 256th, probe
-// with all `rays` rays (to the end, as if each ray ran alone) and are timed,
-// recording which ray found the witness, the probe's cost per ray and FCL's
-// time on collisions. Every 256 queries it picks the k among 0, 1, 2, 3, 5,
-// 8, 12, 20, 30, ... (up to `rays`) that minimizes
-//   k * cost_per_ray - invalid_portion * detection_rate(k) * fcl_time_on_collisions,
-// so that where FARR does not pay the checker falls back to plain FCL plus
-// the sampling. Only the work depends on it, never the answers.
+// invalid portion decides). The checker measures it while it runs, on a
+// uniform sample of its queries (the first 64, then every 32nd, after 4096
+// queries every 256th, after 65536 every 1024th): these run all `rays` rays
+// to the end (recording the lowest ray that proves a collision) and FCL as
+// well, both timed. Every 8th regular probe without a witness is timed too.
+// Every 256 queries it decides between k = `rays` and k = 0 (no rays), by
+// the expected time per query
+//   k * cost_per_ray * P(not proven by k rays) - E[FCL time on the queries k rays prove]
+// (FCL's time on exactly those queries: deep collisions, which the rays find
+// first, are also the ones FCL decides fastest), switching only for a gain
+// above 2% of FCL's mean time. It starts with the rays on. Where FARR does not
+// pay, the checker falls back to plain FCL plus the sampling. Only the work
+// depends on it, never the answers.
 //
 // Containment (one surface entirely inside the other's solid) is no
-// collision for FCL. The rays see it: a point of D's surface in an "inside"
-// cell of S, or a point of S's surface in an "inside" cell of D, while FCL
-// finds no surface intersection. With report_containment such a pose is
-// reported as a collision (and counted); by default it is not, so the
-// checker equals FCL exactly.
+// collision for FCL. When FCL finds no intersection, the fields can still
+// tell it: k random vertices of D (at least 16) in "inside" or "surface"
+// cells of S's field and none in an "outside" cell, at least one inside (or
+// the same for S's vertices in D's field). With report_containment such a
+// pose is reported as a collision (and counted); by default it is not, so
+// the checker equals FCL exactly. On open meshes "inside" is the field's
+// documented classification (collision/distance_field.h).
 //
 // Each query draws its start vertices from its own stream, seeded from the
 // checker's seed and the bits of the pose: the planner's random stream is
-// untouched, the work done for a pose does not depend on the order of the
-// queries or the thread, and the answers are FCL's. Thread-safe; the ray loop
-// allocates nothing.
+// untouched, and k rays on a pose do the same work whatever the order of the
+// queries or the thread (the adaptive k itself depends on what came before).
+// A query whose D, as a ball about its reference point, is clear of S by the
+// field's estimate goes to FCL without rays. The answers are FCL's in every
+// case. Thread-safe; the ray loop allocates nothing (structure of arrays, all
+// active rays advanced in lockstep, so that their look-ups overlap).
 #pragma once
 
 #include <atomic>
@@ -70,8 +83,8 @@ struct FarrOptions {
   double stall = 0.0;
   // Containment: report it as a collision (true) or, like FCL, not (false).
   bool report_containment = false;
-  // Count containment cases even when not reporting them (costs a class
-  // look-up per ray step).
+  // Count containment cases even when not reporting them (costs k class
+  // look-ups per query that FCL finds free).
   bool count_containment = false;
   // Adapt the number of rays per query (at most `rays`) to what pays, by an
   // online cost model (see FarrCollisionChecker); false: always `rays`, as
@@ -115,7 +128,6 @@ class FarrCollisionChecker : public PoseValidity {
   struct ProbeResult {
     bool witness = false;
     int witness_ray = -1;  // which ray (0-based, in drawing order) found it
-    bool inside = false;   // a surface point in an inside cell of the other field (containment hint)
     int rays_used = 0;
     int lookups = 0;
   };
@@ -134,8 +146,8 @@ class FarrCollisionChecker : public PoseValidity {
 
  private:
   struct FieldView;
-  template <bool kCheckInside>
   ProbeResult Rays(const Pose& pose, int rays, bool complete) const;
+  bool Contained(const Pose& pose) const;
   bool Skip(const Pose& pose) const;
 
   struct MeshData;
@@ -151,6 +163,7 @@ class FarrCollisionChecker : public PoseValidity {
   std::unique_ptr<MeshData> robot_, environment_;
   std::unique_ptr<Adaptive> adaptive_;
   std::vector<int> start_vertices_;      // vertices of D used by a triangle
+  std::vector<int> environment_vertices_;  // vertices of S used by a triangle
   std::vector<int> start_triangle_;      // one triangle per start vertex
   double robot_radius_ = 0;              // farthest vertex of D from its reference point
   std::uint64_t seed_;

@@ -67,7 +67,7 @@ struct IntersectionVolume::Data {
     double radius;            // in D's voxels
   };
   std::vector<Brick> bricks;
-  std::vector<Brick> groups;  // of bricks: a first, coarser cull
+  std::vector<Brick> groups;      // of bricks: a first, coarser cull
   std::vector<float> color_grid;  // per cell of D's grid (for color_value())
 };
 
@@ -116,10 +116,8 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
       for (int i = 0; i < g.dims[0]; ++i) {
         const std::int64_t cell = g.Index(i, j, k);
         if (dynamic_grid.cells[cell] == kVoxelEmpty) continue;
-        const std::int64_t brick =
-            (std::int64_t{k >> kBrickShift} * by + (j >> kBrickShift)) * bx + (i >> kBrickShift);
-        const std::int64_t group =
-            (std::int64_t{k >> kGroupShift} * gy + (j >> kGroupShift)) * gx + (i >> kGroupShift);
+        const std::int64_t brick = (std::int64_t{k >> kBrickShift} * by + (j >> kBrickShift)) * bx + (i >> kBrickShift);
+        const std::int64_t group = (std::int64_t{k >> kGroupShift} * gy + (j >> kGroupShift)) * gx + (i >> kGroupShift);
         order.push_back({group, brick, cell});
       }
     }
@@ -237,7 +235,8 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
     const Eigen::Vector3d s = g0 + m * Eigen::Vector3d(c[0], c[1], c[2]);
     const int i = static_cast<int>(std::floor(s.x())), j = static_cast<int>(std::floor(s.y())),
               k = static_cast<int>(std::floor(s.z()));
-    if (static_cast<unsigned>(i) >= static_cast<unsigned>(snx) || static_cast<unsigned>(j) >= static_cast<unsigned>(sny) ||
+    if (static_cast<unsigned>(i) >= static_cast<unsigned>(snx) ||
+        static_cast<unsigned>(j) >= static_cast<unsigned>(sny) ||
         static_cast<unsigned>(k) >= static_cast<unsigned>(snz)) {
       return false;
     }
@@ -246,7 +245,7 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
 
   const double scale = hd / hs;
   const bool record = query != nullptr && query->record_cells;
-  double best = 0;             // largest component value (count or weight sum)
+  double best = 0;  // largest component value (count or weight sum)
   std::int64_t best_voxels = 0;
   int components = 0;
   bool early_out = false;

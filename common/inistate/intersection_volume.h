@@ -80,8 +80,8 @@ class IntersectionVolume {
   double LabeledMliv(const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
                      VolumeQuery* query = nullptr);
 
-  std::int64_t voxel_count() const;   // D's voxels
-  double voxel_volume() const;        // of D's voxels
+  std::int64_t voxel_count() const;  // D's voxels
+  double voxel_volume() const;       // of D's voxels
   const Eigen::Vector3d& reference_point() const;
   // colorValue of D's voxel at cell (i, j, k) of its grid (0 where empty).
   float color_value(int i, int j, int k) const;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -177,7 +178,8 @@ Topology AnalyzeTopology(const TriangleMesh& mesh) {
     valid[t] = true;
     for (int k = 0; k < 3; ++k) {
       const int u = w[k], v = w[(k + 1) % 3];
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(u, v)) << 32) | static_cast<std::uint32_t>(std::max(u, v));
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(std::min(u, v)) << 32) | static_cast<std::uint32_t>(std::max(u, v));
       EdgeInfo& e = edges[key];
       e.balance += u < v ? 1 : -1;
       if (e.triangle < 0) {
@@ -227,8 +229,7 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 class ParallelProgress {
  public:
   ParallelProgress(bool enabled, const std::string& phase, std::int64_t total)
-      : enabled_(enabled), progress_(enabled ? new Progress(phase, total) : nullptr) {}
-  ~ParallelProgress() { delete progress_; }
+      : enabled_(enabled), progress_(enabled ? std::make_unique<Progress>(phase, total) : nullptr) {}
   void Add(std::int64_t n) {
     if (!enabled_) return;
     const std::int64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
@@ -243,7 +244,7 @@ class ParallelProgress {
 
  private:
   bool enabled_;
-  Progress* progress_;
+  std::unique_ptr<Progress> progress_;
   std::atomic<std::int64_t> done_{0};
 };
 
@@ -252,7 +253,8 @@ class ParallelProgress {
 // ---------------------------------------------------------------- grids
 
 Vec3 VoxelGridGeometry::Center(std::int64_t index) const {
-  const std::int64_t i = index % dims[0], j = (index / dims[0]) % dims[1], k = index / (std::int64_t{dims[0]} * dims[1]);
+  const std::int64_t i = index % dims[0], j = (index / dims[0]) % dims[1],
+                     k = index / (std::int64_t{dims[0]} * dims[1]);
   return Center(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
 }
 
@@ -319,7 +321,9 @@ TriangleBvh::TriangleBvh(const TriangleMesh& mesh, const std::vector<int>* trian
       centroids.Size().maxCoeff(&axis);
       const int mid = (node.begin + node.end) / 2;
       std::nth_element(tris_.begin() + node.begin, tris_.begin() + mid, tris_.begin() + node.end,
-                       [axis](const Tri& x, const Tri& y) { return x.a[axis] + x.b[axis] + x.c[axis] < y.a[axis] + y.b[axis] + y.c[axis]; });
+                       [axis](const Tri& x, const Tri& y) {
+                         return x.a[axis] + x.b[axis] + x.c[axis] < y.a[axis] + y.b[axis] + y.c[axis];
+                       });
       node.left = static_cast<int>(nodes_.size());
       node.right = node.left + 1;
       Node left, right;
@@ -414,7 +418,8 @@ void VoxelizeOptions::Check() const {
   }
   if (voxel_budget < 1) throw InputError("--voxel-budget: must be >= 1, got " + std::to_string(voxel_budget));
   if (memory_limit < 1) throw InputError("--memory-limit: must be > 0");
-  if (!(shrink >= 0) || !std::isfinite(shrink)) throw InputError("--shrink: must be >= 0, got " + std::to_string(shrink));
+  if (!(shrink >= 0) || !std::isfinite(shrink))
+    throw InputError("--shrink: must be >= 0, got " + std::to_string(shrink));
   if (!(winding_threshold > 0 && winding_threshold < 1)) throw InputError("winding threshold must lie in (0, 1)");
 }
 
@@ -664,7 +669,8 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
   return out;
 }
 
-std::vector<float> ColorValues(const VoxelGrid& grid, const TriangleMesh& mesh, const std::vector<double>& deformability) {
+std::vector<float> ColorValues(const VoxelGrid& grid, const TriangleMesh& mesh,
+                               const std::vector<double>& deformability) {
   if (deformability.size() != mesh.vertices.size()) {
     throw InputError("labels: " + std::to_string(deformability.size()) + " values for " +
                      std::to_string(mesh.vertices.size()) + " vertices of D");
@@ -724,12 +730,15 @@ VoxelGrid ReadGrid(const ArtifactReader& r, const std::string& group) {
     grid.geometry.dims[k] = static_cast<int>(dims.data[k]);
   }
   Array<std::uint8_t> cells = r.ReadBytes(group + "/occupancy", 3);
-  if (cells.dims != std::vector<size_t>{static_cast<size_t>(grid.geometry.dims[2]), static_cast<size_t>(grid.geometry.dims[1]),
+  if (cells.dims != std::vector<size_t>{static_cast<size_t>(grid.geometry.dims[2]),
+                                        static_cast<size_t>(grid.geometry.dims[1]),
                                         static_cast<size_t>(grid.geometry.dims[0])}) {
-    throw InputErrorAt(where, "dataset '" + group + "/occupancy' does not match '" + group + "/dims' (expected [nz, ny, nx])");
+    throw InputErrorAt(where,
+                       "dataset '" + group + "/occupancy' does not match '" + group + "/dims' (expected [nz, ny, nx])");
   }
   for (std::uint8_t c : cells.data) {
-    if (c > kVoxelInside) throw InputErrorAt(where, "dataset '" + group + "/occupancy' holds a value other than 0, 1, 2");
+    if (c > kVoxelInside)
+      throw InputErrorAt(where, "dataset '" + group + "/occupancy' holds a value other than 0, 1, 2");
   }
   grid.cells = std::move(cells.data);
   return grid;

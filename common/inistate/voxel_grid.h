@@ -70,9 +70,7 @@ struct VoxelGridGeometry {
   std::array<int, 3> dims{0, 0, 0};                  // nx, ny, nz
 
   std::int64_t Count() const { return static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2]; }
-  std::int64_t Index(int i, int j, int k) const {
-    return (static_cast<std::int64_t>(k) * dims[1] + j) * dims[0] + i;
-  }
+  std::int64_t Index(int i, int j, int k) const { return (static_cast<std::int64_t>(k) * dims[1] + j) * dims[0] + i; }
   bool Contains(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2];
   }
@@ -112,9 +110,9 @@ class TriangleBvh {
   double WindingNumberExact(const Eigen::Vector3d& p) const;
 
   struct Closest {
-    int triangle = -1;                 // index into the mesh's triangles
-    Eigen::Vector3d point;             // closest point on it
-    Eigen::Vector3d barycentric;       // of `point` w.r.t. the triangle's vertices (in mesh order)
+    int triangle = -1;            // index into the mesh's triangles
+    Eigen::Vector3d point;        // closest point on it
+    Eigen::Vector3d barycentric;  // of `point` w.r.t. the triangle's vertices (in mesh order)
     double distance = 0;
   };
   Closest ClosestPoint(const Eigen::Vector3d& p) const;
@@ -138,26 +136,31 @@ class TriangleBvh {
 };
 
 struct VoxelizeOptions {
-  double voxel_size = 0;                          // scene units; 0 = automatic (AutomaticVoxelSize)
-  std::int64_t voxel_budget = 1000000;            // automatic size: about this many voxels in D's AABB
+  double voxel_size = 0;                              // scene units; 0 = automatic (AutomaticVoxelSize)
+  std::int64_t voxel_budget = 1000000;                // automatic size: about this many voxels in D's AABB
   std::int64_t memory_limit = std::int64_t{2} << 30;  // bytes; larger grids are refused (InputError)
-  double shrink = 0;                              // erode D's voxels by this distance (scene units), thesis 5.3
+  double shrink = 0;                                  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
-  bool progress = false;                          // report progress through core/log.h
-  void Check() const;                             // throws InputError
+  bool progress = false;  // report progress through core/log.h
+  void Check() const;     // throws InputError
 };
 
 struct VoxelizeStats {
   double time_s = 0;
-  std::int64_t surface = 0, inside = 0;          // voxel counts
-  std::int64_t regions = 0;                      // 6-connected regions of non-surface voxels
+  std::int64_t surface = 0, inside = 0;  // voxel counts
+  std::int64_t regions = 0;              // 6-connected regions of non-surface voxels
   std::int64_t closed_triangles = 0, open_triangles = 0;
   std::int64_t winding_evaluations = 0;
 };
 
 // The automatic voxel edge: the cube root of D's AABB volume over the budget
 // (each extent counted as at least 1% of the AABB's diagonal), i.e. about
-// `budget` voxels in D's AABB.
+// `budget` voxels in D's AABB. No thickness is estimated here (the medial
+// spheres of the labeling know the thinnest part; pass a voxel size when
+// clips must be resolved finer): a clip thinner than a voxel is still found,
+// as a layer of surface voxels, but its volume is over-estimated. At the
+// default budget of 10^6 the clips-ds* scenes get 0.6-0.9 mm voxels for
+// 1.2-4 mm thick clips.
 double AutomaticVoxelSize(const Aabb& dynamic_box, std::int64_t budget);
 
 // A grid of the given spacing covering `box` with more than `padding` voxels
@@ -172,9 +175,8 @@ std::int64_t VoxelizeMemoryBytes(const VoxelGridGeometry& geometry);
 void CheckVoxelMemory(const VoxelGridGeometry& geometry, std::int64_t limit, const std::string& what);
 
 // Voxelizes a mesh on the given grid (multi-threaded with OpenMP).
-VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry,
-                       const VoxelizeOptions& options = {}, VoxelizeStats* stats = nullptr,
-                       const std::string& phase = "voxelize");
+VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options = {},
+                       VoxelizeStats* stats = nullptr, const std::string& phase = "voxelize");
 
 // Erosion by a ball: a voxel stays when every voxel whose centre lies within
 // `distance` of its centre is occupied (voxels outside the grid count as

@@ -24,7 +24,7 @@ void MedialSphereOptions::Check() const {
 double MedialSpheres::MinRadius() const {
   double r = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < radii.size(); ++i) {
-    if (valid[i]) r = std::min(r, radii[i]);
+    if (valid[i] && !contact[i]) r = std::min(r, radii[i]);
   }
   return std::isfinite(r) ? r : 0.0;
 }
@@ -32,7 +32,7 @@ double MedialSpheres::MinRadius() const {
 double MedialSpheres::MaxRadius() const {
   double r = 0.0;
   for (std::size_t i = 0; i < radii.size(); ++i) {
-    if (valid[i]) r = std::max(r, radii[i]);
+    if (valid[i] && !contact[i]) r = std::max(r, radii[i]);
   }
   return r;
 }
@@ -45,6 +45,7 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
   out.centers = topology.vertices;
   out.radii.assign(n, 0.0);
   out.valid.assign(n, 0);
+  out.contact.assign(n, 0);
   const TriangleBvh bvh(topology.vertices, topology.triangles);
   const double delta = options.delta * topology.diagonal;
   const double step = options.step;
@@ -57,6 +58,12 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
 #pragma omp parallel for schedule(dynamic, 32) num_threads(threads) reduction(+ : queries)
   for (int v = 0; v < n; ++v) {
     if (topology.referenced[v]) {
+      const auto& triangles = topology.triangles;
+      const TriangleBvh::Nearest other = bvh.NearestPoint(topology.vertices[v], [&](int t) {
+        return triangles[t][0] == v || triangles[t][1] == v || triangles[t][2] == v;
+      });
+      ++queries;
+      out.contact[v] = other.triangle >= 0 && other.distance_squared < delta * delta ? 1 : 0;
       const Eigen::Vector3d& normal = topology.vertex_normals[v];
       Eigen::Vector3d p = topology.vertices[v] - delta * normal;
       TriangleBvh::Nearest near = bvh.NearestPoint(p);
@@ -104,12 +111,14 @@ SpheresArtifact ToSpheresArtifact(const MeshTopology& topology, const MedialSphe
   out.radii.resize(n);
   out.normals.resize(n);
   out.valid.resize(n);
+  out.contact.resize(n);
   for (int i = 0; i < n; ++i) {
     const int w = topology.welded_of_original[i];
     out.centers[i] = spheres.centers[w];
     out.radii[i] = spheres.radii[w];
     out.normals[i] = topology.vertex_normals[w];
     out.valid[i] = spheres.valid[w];
+    out.contact[i] = spheres.contact[w];
   }
   return out;
 }
@@ -141,13 +150,14 @@ void WriteSpheresArtifact(const std::filesystem::path& path, const SpheresArtifa
   writer.WriteDoubles("radii", spheres.radii, {n});
   writer.WriteDoubles("normals", Flatten(spheres.normals), {n, 3});
   writer.WriteBytes("valid", spheres.valid, {n});
+  writer.WriteBytes("contact", spheres.contact, {n});
   if (!spheres.units.empty()) {
     writer.SetAttribute("centers", "units", spheres.units);
     writer.SetAttribute("radii", "units", spheres.units);
   }
   double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (!spheres.valid[i]) continue;
+    if (!spheres.valid[i] || spheres.contact[i]) continue;
     r_min = std::min(r_min, spheres.radii[i]);
     r_max = std::max(r_max, spheres.radii[i]);
   }
@@ -183,6 +193,13 @@ SpheresArtifact ReadSpheresArtifact(const std::filesystem::path& path) {
     out.valid = valid.data;
   } else {
     out.valid.assign(n, 1);
+  }
+  if (reader.Has("contact")) {
+    const Array<std::uint8_t> contact = reader.ReadBytes("contact", 1);
+    if (contact.dims[0] != n) throw InputErrorAt(path.string(), "dataset 'contact' does not match 'radii' in shape");
+    out.contact = contact.data;
+  } else {
+    out.contact.assign(n, 0);
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(out.radii[i]) || out.radii[i] < 0) {

@@ -20,6 +20,10 @@
 // cools linearly from `step` to step / cooling_iterations over
 // `cooling_iterations` iterations, as in the thesis. growth_iterations = 0
 // gives the thesis's pure cooling schedule.
+// Contacts: a vertex where another surface of D (a triangle not incident to
+// it) passes closer than delta gets a sphere that measures the gap between
+// the surfaces (internal faces of overlapping solids, T-junctions in CAD
+// meshes, touching parts): it is flagged (`contact`) and left out of r_min.
 // Defaults relative to D's size: delta = 1e-4 x D's AABB diagonal (well under
 // half the thickness of a 1 mm clip on a 1 m part), step 0.75, 30 cooling
 // iterations, at most 200 growth iterations. On a 2 x 2 x 2 box every vertex
@@ -59,10 +63,16 @@ struct MedialSpheres {
   std::vector<Eigen::Vector3d> centers;
   std::vector<double> radii;
   std::vector<std::uint8_t> valid;
+  // 1 where another surface of D passes closer to the vertex than delta (a
+  // triangle not incident to it): internal faces of overlapping solids,
+  // T-junctions, touching parts. Such a sphere measures the gap between the
+  // two surfaces, not a thickness; it is kept but left out of MinRadius().
+  std::vector<std::uint8_t> contact;
   std::int64_t nearest_queries = 0;
   double seconds = 0.0;  // wall-clock time of the computation
 
-  // Smallest and largest radius over valid spheres (0 when there is none).
+  // Smallest and largest radius over valid spheres that are not contacts (0
+  // when there is none).
   double MinRadius() const;
   double MaxRadius() const;
 };
@@ -80,6 +90,7 @@ struct SpheresArtifact {
   std::vector<double> radii;
   std::vector<Eigen::Vector3d> normals;  // the consistent outward vertex normals used
   std::vector<std::uint8_t> valid;
+  std::vector<std::uint8_t> contact;
   std::string units;                     // the scene's units, informative ("" if not given)
 };
 

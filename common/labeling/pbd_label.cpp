@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <numeric>
 #include <queue>
 #include <unordered_map>
@@ -33,6 +32,13 @@ void PbdLabelOptions::Check() const {
   if (!(density >= 0)) throw InputError("--density: must be positive (or 0: automatic)");
   if (measure != "self" && measure != "sum") throw InputError("--measure: expected self or sum, got '" + measure + "'");
   if (threads < 0) throw InputError("--threads: must be at least 0");
+  if (!(refine >= 0)) throw InputError("--refine: must be at least 0 (0: off)");
+  if (refine > 0 && !(refine_min_length > 0 && refine_min_length < 1)) {
+    throw InputError("refine_min_length: must lie in (0, 1) (a fraction of D's AABB diagonal)");
+  }
+  if (!(glue_tolerance >= 0 && glue_tolerance < 1)) {
+    throw InputError("--glue-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
+  }
 }
 
 int PbdLabelOptions::Steps() const {
@@ -559,13 +565,26 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
 
 }  // namespace
 
-PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& radii,
-                           const PbdLabelOptions& options) {
+PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& given_radii,
+                           const std::vector<std::uint8_t>& contact, const PbdLabelOptions& options) {
   options.Check();
-  if (static_cast<int>(radii.size()) != topology.VertexCount()) {
-    throw InputError("medial-sphere radii: " + std::to_string(radii.size()) + " values for " +
+  if (static_cast<int>(given_radii.size()) != topology.VertexCount() ||
+      (!contact.empty() && contact.size() != given_radii.size())) {
+    throw InputError("medial spheres: " + std::to_string(given_radii.size()) + " radii for " +
                      std::to_string(topology.VertexCount()) + " vertices");
   }
+  // r_min over reliable spheres (referenced, positive, not a contact); every
+  // radius is raised to at least r_min, so that a contact's sliver of a
+  // sphere neither sets the load nor makes a vertex weightless.
+  double r_min = std::numeric_limits<double>::infinity();
+  for (int v = 0; v < topology.VertexCount(); ++v) {
+    if (topology.referenced[v] && given_radii[v] > 0 && (contact.empty() || !contact[v])) {
+      r_min = std::min(r_min, given_radii[v]);
+    }
+  }
+  if (!std::isfinite(r_min)) throw InputError("D has no medial sphere of positive radius (outside contacts)");
+  std::vector<double> radii(given_radii.size());
+  for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = std::max(given_radii[v], r_min);
   const auto started = std::chrono::steady_clock::now();
   PbdLabels labels;
   labels.steps = options.Steps();
@@ -647,7 +666,8 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   std::vector<double> self(n, 0.0);
   // Fixed point for "sum": integer addition is associative, so the result
   // does not depend on which thread added what first.
-  constexpr double kFixed = 4294967296.0;  // 2^32 units per scaled-mesh unit
+  constexpr double kFixed = 268435456.0;  // 2^28 units per scaled-mesh unit
+  constexpr double kTermLimit = 1e15;     // fixed-point units per term: sums stay far from int64 overflow
   std::vector<std::int64_t> accumulated(sum ? n : 0, 0);
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   const float dt = static_cast<float>(options.time_step);
@@ -704,16 +724,10 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
         RigidResiduals(model, begin, end, x.data(), l, residual.data());
         const int g = batch.load[l];
         self[g] = residual[g - begin];
-        if (std::getenv("AUSBAU_PBD_DEBUG")) {
-          double total = 0, mx = 0;
-          for (int local = 0; local < count; ++local) { total += residual[local]; mx = std::max(mx, residual[local]); }
-          const int w = model.welded[g];
-#pragma omp critical(dbg)
-          std::fprintf(stderr, "LC %d pos %.2f %.2f %.2f mass %.3g weight %.3g self %.4g mean %.4g max %.4g\n", g, simulated.vertices[w].x(), simulated.vertices[w].y(), simulated.vertices[w].z(), model.mass[g], load_weight[g], residual[g-begin], total / count, mx);
-        }
         if (sum) {
           for (int local = 0; local < count; ++local) {
-            local_sum[begin + local] += static_cast<std::int64_t>(std::llround(load_weight[g] * residual[local] * kFixed));
+            const double term = std::min(load_weight[g] * residual[local] * kFixed, kTermLimit);
+            local_sum[begin + local] += static_cast<std::int64_t>(std::llround(term));
           }
         }
       }
@@ -750,22 +764,25 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   return labels;
 }
 
-std::vector<double> RadiiPerWeldedVertex(const MeshTopology& topology, const SpheresArtifact& spheres,
-                                         const std::string& source) {
+void SpheresPerWeldedVertex(const MeshTopology& topology, const SpheresArtifact& spheres, const std::string& source,
+                            std::vector<double>* radii_out, std::vector<std::uint8_t>* contact_out) {
   if (static_cast<int>(spheres.radii.size()) != topology.OriginalVertexCount()) {
     throw InputErrorAt(source, "holds " + std::to_string(spheres.radii.size()) + " spheres but D has " +
                                    std::to_string(topology.OriginalVertexCount()) +
                                    " vertices (computed for another part?)");
   }
-  std::vector<double> radii(topology.VertexCount(), 0.0);
+  std::vector<double>& radii = *radii_out;
+  std::vector<std::uint8_t>& contact = *contact_out;
+  radii.assign(topology.VertexCount(), 0.0);
+  contact.assign(topology.VertexCount(), 0);
   std::vector<std::uint8_t> set(topology.VertexCount(), 0);
   for (int i = 0; i < topology.OriginalVertexCount(); ++i) {
     const int w = topology.welded_of_original[i];
     if (set[w] || !spheres.valid[i]) continue;
     radii[w] = spheres.radii[i];
+    contact[w] = spheres.contact[i];
     set[w] = 1;
   }
-  return radii;
 }
 
 // ---------------------------------------------------------------- artifact

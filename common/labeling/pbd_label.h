@@ -6,12 +6,14 @@
 //  - D's welded mesh is scaled to an axis-aligned box of largest extent 1
 //    (and centred, for float precision).
 //  - Vertex masses: m_i = rho x (a third of the area of the incident
-//    triangles) x (the local diameter: twice the medial-sphere radius).
+//    triangles) x (the local diameter: twice the medial-sphere radius, at
+//    least 2 r_min).
 //  - Constraints: a distance constraint per edge, and a bending constraint
 //    per pair of triangles sharing an edge, realized as a distance constraint
 //    between the two vertices opposite the edge. A pair of vertices is
 //    constrained once (a bending pair that is also an edge, rare, adds
-//    nothing). Gauss-Seidel projection in a fixed order.
+//    nothing). Gauss-Seidel projection in a fixed order (by colour, see
+//    pbd_label.cpp).
 //  - dt = 30 ms for 1 s: ceil(1 / 0.03) = 34 steps; N = 3 solver iterations;
 //    linear velocity damping v <- 0.99 v every step.
 //  - Stiffness k = 0.99 per iteration as k' = 1 - (1 - k)^N, as the thesis
@@ -20,7 +22,8 @@
 //    together give k); `stiffness_formula = "mueller"` selects that form.
 //  - Load case i: a constant external force f = -sigma n_i on vertex i only
 //    (against its outward normal), sigma = kappa x r_min, kappa = 5.25, r_min
-//    the smallest medial-sphere radius in the scaled mesh.
+//    the smallest medial-sphere radius in the scaled mesh (spheres flagged as
+//    contacts, see medial_spheres.h, left out).
 // Density: the thesis gives none, and it matters: the dynamics depend on
 // the force only through sigma / rho (accelerations; constraint projection
 // uses mass ratios only), so kappa and rho are one knob. Too light a mesh
@@ -32,28 +35,46 @@
 // area h^2 at the thinnest place (diameter 2 r_min) moves lambda h in one
 // step, h the mean edge length of the scaled mesh, lambda = 0.1:
 //   rho = dt^2 kappa / (2 lambda h^3).
-// Measured on a box with a thin tongue (tests/test_labeling.cpp), the "sum"
-// labels separate the tongue (ROC AUC >= 0.998) for rho from 10 to 10^5 at
-// two resolutions; rho = 1 gives 0.85-0.92. `density` > 0 sets rho directly.
+// On the box with a thin tongue (tests/test_labeling.cpp) the labels separate
+// the tongue for rho from 10 to 10^5 at two resolutions (ROC AUC >= 0.998);
+// rho = 1 gives 0.85-1.0 (and "self" 0.27-0.85). `density` > 0 sets rho
+// directly.
 // Anchoring: D is free, so a load case also moves D rigidly. Deformation is
 // measured relative to the best rigid motion: at the end of a load case the
 // mass-weighted best-fit rigid transform (Kabsch) of the rest positions onto
 // the simulated ones is computed, and a vertex's displacement is its
 // distance from where that transform puts it. Only the load vertex's
-// connected component is simulated (and fitted); other components do not
-// feel the load.
+// (glued) component is simulated and fitted; other components do not feel
+// the load.
+// Separate solids (`glue`): CAD parts often model a clip, a rim or a rail as
+// its own closed solid overlapping (or touching) the panel. Simulated alone,
+// such a solid can only move rigidly, and the rigid fit removes all of it. So
+// a vertex that lies inside another closed component (ray parity) or within
+// glue_tolerance x D's diagonal of another component is tied by distance
+// constraints to the three vertices of that component's nearest triangle,
+// and glued components are simulated as one.
 // Deformation value (`measure`):
 //  - "sum" (default): the thesis's wording (the displacements of all
 //    vertices are "summed over all iterations" of the load-case loop):
-//    vertex j's value is the sum over all load cases of j's displacement at
-//    their end. A cantilever moves when it is pushed and also lags behind
-//    when the rest of the part is pushed, so it collects from every load case;
-//  - "self": vertex i's displacement at the end of its own load case only.
-//    Cheaper to reason about but much less robust: on the tongue test its
-//    AUC swings between 0.27 and 1.0 with rho and the mesh resolution.
-// Normalization: deformability = (d - d_min) / (d_max - d_min) over the
-// simulated vertices, so the stiffest vertex is 0 and the most deformable 1
-// (all 0 when every value is equal); the raw values are kept too.
+//    vertex j's value is the sum over all load cases i of j's displacement
+//    at their end, each load case weighted by its vertex's share of D's area
+//    (area_i / mean area: 1 on a uniform mesh), so that the sum does not
+//    depend on where the mesh happens to be fine. A cantilever moves when it
+//    is pushed and lags behind when the rest of the part is pushed, so it
+//    collects from every load case;
+//  - "self": vertex i's displacement at the end of its own load case only
+//    (a driving-point compliance). Measured: on the clip scenes as good as
+//    "sum" (ROC AUC 0.98-1.0), on the thick-tongue test worse (0.85-0.92 for
+//    tongues a third as thick as the box, against 0.96-1.0).
+// Normalization: deformability = (d - d_min) / (d_max - d_min) over D's
+// vertices, so the stiffest vertex is 0 and the most deformable 1 (all 0 when
+// every value is equal); the raw values are kept too.
+// Refinement (`refine` > 0, off by default): edges longer than refine x the
+// local diameter (and than refine_min_length x D's diagonal) are split before
+// simulating (longest-edge bisection, radii interpolated), so that a clip
+// modelled as one long box gets vertices along its length; load cases stay
+// one per vertex of D and labels are read at D's vertices. On the clip scenes
+// it did not help (it adds light vertices at panel corners) and costs time.
 // Parallelism and determinism: load cases run 8 at a time in SIMD lanes (one
 // simulation per lane over the same constraints) and batches of 8 in
 // parallel over OpenMP threads, each thread with its own buffers (the inner
@@ -86,7 +107,7 @@ struct PbdLabelOptions {
   bool bending = true;      // bending constraints (thesis figure 42: needed)
   bool thickness = true;    // masses from the sphere diameters (false: a constant height, the mean diameter)
   std::string measure = "sum";  // sum | self
-  double refine = 4.0;            // split edges longer than refine x local diameter; 0 = off
+  double refine = 0.0;            // split edges longer than refine x local diameter; 0 = off
   double refine_min_length = 0.02;  // never split below this fraction of D's AABB diagonal
   bool area_weighted = true;       // "sum": weight load cases by their vertex's area
   bool glue = true;               // tie separate components where they touch or overlap
@@ -121,15 +142,21 @@ struct PbdLabels {
   double SecondsPerLoadCase() const { return load_cases > 0 ? thread_seconds / load_cases : 0.0; }
 };
 
-// `radii`: medial-sphere radius per welded vertex, in mesh units.
+// `radii`: medial-sphere radius per welded vertex, in mesh units; `contact`
+// (empty, or per welded vertex): spheres left out of r_min (see
+// medial_spheres.h). Masses use max(radius, r_min).
 PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& radii,
-                           const PbdLabelOptions& options);
+                           const std::vector<std::uint8_t>& contact, const PbdLabelOptions& options);
+inline PbdLabels ComputePbdLabels(const MeshTopology& topology, const MedialSpheres& spheres,
+                                  const PbdLabelOptions& options) {
+  return ComputePbdLabels(topology, spheres.radii, spheres.contact, options);
+}
 
-// Radius per welded vertex from a spheres artifact (per original vertex):
-// the radius of the first valid original vertex of each welded vertex.
-// Throws InputError naming `source` when the vertex counts differ.
-std::vector<double> RadiiPerWeldedVertex(const MeshTopology& topology, const SpheresArtifact& spheres,
-                                         const std::string& source);
+// Radius and contact flag per welded vertex from a spheres artifact (per
+// original vertex): those of the first valid original vertex of each welded
+// vertex. Throws InputError naming `source` when the vertex counts differ.
+void SpheresPerWeldedVertex(const MeshTopology& topology, const SpheresArtifact& spheres, const std::string& source,
+                            std::vector<double>* radii, std::vector<std::uint8_t>* contact);
 
 // ---- the `ausbau-labels` artifact (schemas/labels.md)
 

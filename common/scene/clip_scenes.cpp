@@ -28,11 +28,11 @@ constexpr char kGroundTruthFormat[] = "ausbau-clip-ground-truth/1";
 // Fixed dimensions (mm).
 constexpr double kPanelThickness = 2.5;
 constexpr double kPlateThickness = 2.0;
-constexpr double kPlateMargin = 25.0;   // S's plate reaches this far beyond the panel
-constexpr double kRigidClearance = 3.0;  // between rigid parts of D and S
+constexpr double kPlateMargin = 25.0;       // S's plate reaches this far beyond the panel
+constexpr double kRigidClearance = 3.0;     // between rigid parts of D and S
 constexpr double kClipSideClearance = 1.5;  // tongue to the hole's ends
-constexpr double kBendRoom = 1.5;        // hole room behind the tongue beyond the barb's overlap
-constexpr double kLiftMargin = 4.0;      // barbs this far above S's top at the clear waypoint
+constexpr double kBendRoom = 1.5;           // hole room behind the tongue beyond the barb's overlap
+constexpr double kLiftMargin = 4.0;         // barbs this far above S's top at the clear waypoint
 constexpr double kRimWidth = 2.0;
 constexpr double kFrictionInterference = 0.3;  // ds4: the rails' feet reach this far into the lips
 
@@ -108,8 +108,8 @@ std::vector<double> Breakpoints(std::vector<double> base, int cells) {
   if (cells > 1) {
     for (double x : Uniform(base.front(), base.back(), cells)) {
       const auto it = std::lower_bound(base.begin(), base.end(), x);
-      const double near = std::min(it == base.end() ? 1e300 : std::abs(*it - x),
-                                   it == base.begin() ? 1e300 : std::abs(*(it - 1) - x));
+      const double near =
+          std::min(it == base.end() ? 1e300 : std::abs(*it - x), it == base.begin() ? 1e300 : std::abs(*(it - 1) - x));
       if (near >= 0.05) out.push_back(x);
     }
     std::sort(out.begin(), out.end());
@@ -132,8 +132,10 @@ TriangleMesh MakePrism(const std::vector<Eigen::Vector2d>& polygon, double w0, d
   auto add_tri = [&](int a, int b, int c) {
     const Vec3 n3 = (m.vertices[b] - m.vertices[a]).cross(m.vertices[c] - m.vertices[a]);
     const Vec3 out = (m.vertices[a] + m.vertices[b] + m.vertices[c]) / 3.0 - centroid;
-    if (n3.dot(out) >= 0) m.triangles.push_back({a, b, c});
-    else m.triangles.push_back({a, c, b});
+    if (n3.dot(out) >= 0)
+      m.triangles.push_back({a, b, c});
+    else
+      m.triangles.push_back({a, c, b});
   };
   for (int k = 1; k + 1 < n; ++k) {
     add_tri(0, k, k + 1);
@@ -179,13 +181,13 @@ struct ClipSpec {
 };
 
 struct RailSpec {
-  char shape;        // 'L' (foot under a lip bracket) or 'T' (head under the plate, keyhole slot)
-  double length;     // L: along y; T: along x
-  double leg;        // leg thickness
-  double foot;       // L: foot thickness; T: head thickness
-  double engage;     // L: how far the foot reaches under the overhang
-  double over;       // L: overhang thickness
-  double head_width; // T: head width in y
+  char shape;         // 'L' (foot under a lip bracket) or 'T' (head under the plate, keyhole slot)
+  double length;      // L: along y; T: along x
+  double leg;         // leg thickness
+  double foot;        // L: foot thickness; T: head thickness
+  double engage;      // L: how far the foot reaches under the overhang
+  double over;        // L: overhang thickness
+  double head_width;  // T: head width in y
 };
 
 struct FamilySpec {
@@ -207,27 +209,73 @@ const RailSpec kSmallT{'T', 9.0, 3.0, 2.0, 0, 0, 12.0};
 
 FamilySpec Family(const std::string& family) {
   if (family == "clips-ds1") {
-    return {110, 65, 8, kSmallClip, {kSmallL}, false, 0.5, 2.0, 67134, 43918,
+    return {110,
+            65,
+            8,
+            kSmallClip,
+            {kSmallL},
+            false,
+            0.5,
+            2.0,
+            67134,
+            43918,
             "8 small clips + 1 L-rail: the clips' summed overlap exceeds the rail's; slide -x, then lift"};
   }
   if (family == "clips-ds2") {
-    return {100, 60, 3, kSmallClip, {kSmallL}, false, 0.5, 2.0, 48308, 26364,
+    return {100,
+            60,
+            3,
+            kSmallClip,
+            {kSmallL},
+            false,
+            0.5,
+            2.0,
+            48308,
+            26364,
             "3 small clips + 1 L-rail: the clips' overlap is small; slide -x, then lift"};
   }
   if (family == "clips-ds3") {
     RailSpec l = kSmallL;
     l.length = 8.0;
-    return {90, 55, 6, kLargeClip, {l, kSmallT}, false, 0.5, 2.0, 6544, 26430,
-            "6 large clips + 2 rails (L under a lip, T in a keyhole slot), clips bigger than rails; slide -x, then lift"};
+    return {
+        90,
+        55,
+        6,
+        kLargeClip,
+        {l, kSmallT},
+        false,
+        0.5,
+        2.0,
+        6544,
+        26430,
+        "6 large clips + 2 rails (L under a lip, T in a keyhole slot), clips bigger than rails; slide -x, then lift"};
   }
   if (family == "clips-ds4") {
     RailSpec l = kSmallL;
     l.length = 14.0;
-    return {80, 45, 2, kSmallClip, {l, l}, true, 0.0, 0.0, 2448, 4250,
+    return {80,
+            45,
+            2,
+            kSmallClip,
+            {l, l},
+            true,
+            0.0,
+            0.0,
+            2448,
+            4250,
             "2 small clips + 2 L-rails in a friction fit (their feet intersect the lips); slide -x, then lift"};
   }
   if (family == "clips-ds5") {
-    return {90, 55, 4, kThickClip, {}, false, 0.0, 0.0, 26290, 16810,
+    return {90,
+            55,
+            4,
+            kThickClip,
+            {},
+            false,
+            0.0,
+            0.0,
+            26290,
+            16810,
             "4 thick, nearly rigid clips, no rails: a straight pull-out in +z"};
   }
   throw InputError("--family: unknown family '" + family + "' (expected clips-ds1 .. clips-ds5)");
@@ -307,7 +355,8 @@ class Generator {
     const int nx = std::max(1, static_cast<int>(std::lround(ny * half_x_ / half_y_)));
     const std::vector<double> pxs = Uniform(-half_x_, half_x_, nx), pys = Uniform(-half_y_, half_y_, ny);
     add_part("panel", "panel", 0.0,
-             MakeGridSolid(pxs, pys, gap_, gap_ + kPanelThickness, [](int, int) { return true; }, dz));
+             MakeGridSolid(
+                 pxs, pys, gap_, gap_ + kPanelThickness, [](int, int) { return true; }, dz));
     if (rim_) {
       // A skirt along the edges, from the panel's mid-plane down to
       // kRigidClearance above S's top; it follows the panel's curvature.
@@ -362,8 +411,8 @@ class Generator {
       part.overlap_box.Extend(Vec3(xc - w / 2, edge, -kPlateThickness));
       part.overlap_box.Extend(Vec3(xc + w / 2, outer + sign * clip_.barb, z_barb_top));
       const double inner = yc - sign * (clip_.thickness / 2 + o + kBendRoom);
-      holes.push_back({xc - w / 2 - kClipSideClearance - slide_, xc + w / 2 + kClipSideClearance,
-                       std::min(edge, inner), std::max(edge, inner)});
+      holes.push_back({xc - w / 2 - kClipSideClearance - slide_, xc + w / 2 + kClipSideClearance, std::min(edge, inner),
+                       std::max(edge, inner)});
       truth.clip_pull_overlap += pull;
     }
 
@@ -378,13 +427,14 @@ class Generator {
       Aabb friction_box;
       if (r.shape == 'L') {
         const double foot_z0 = kRigidClearance, foot_z1 = foot_z0 + r.foot;
-        const double x_over0 = xr + r.leg + kRigidClearance;      // the overhang's free end
-        const double x_foot1 = x_over0 + r.engage;                // the foot's end
+        const double x_over0 = xr + r.leg + kRigidClearance;  // the overhang's free end
+        const double x_foot1 = x_over0 + r.engage;            // the foot's end
         const double x_post0 = x_foot1 + kRigidClearance, x_post1 = x_post0 + 3.0;
         const double z_over0 = LipBottom(r), z_over1 = z_over0 + r.over;
         rail.Append(MakeBox({xr, yr - r.length / 2, foot_z0}, {xr + r.leg, yr + r.length / 2, panel_mid + dz(xr)}));
         rail.Append(MakeBox({xr, yr - r.length / 2, foot_z0}, {x_foot1, yr + r.length / 2, foot_z1}));
-        lips.Append(MakeBox({x_post0, yr - r.length / 2 - 2, -kPlateThickness / 2}, {x_post1, yr + r.length / 2 + 2, z_over1}));
+        lips.Append(
+            MakeBox({x_post0, yr - r.length / 2 - 2, -kPlateThickness / 2}, {x_post1, yr + r.length / 2 + 2, z_over1}));
         lips.Append(MakeBox({x_over0, yr - r.length / 2 - 2, z_over0}, {x_post1, yr + r.length / 2 + 2, z_over1}));
         truth.rail_block_overlap += r.engage * r.length * std::min(r.foot, r.over);
         if (spec_.friction) {
@@ -399,7 +449,8 @@ class Generator {
         // D has slid by `slide_`.
         const double narrow = r.leg / 2 + kRigidClearance, wide = r.head_width / 2 + kRigidClearance;
         holes.push_back({xr - slide_ - kRigidClearance, xr + r.length + kRigidClearance, yr - narrow, yr + narrow});
-        holes.push_back({xr - slide_ - kRigidClearance, xr - slide_ + r.length + kRigidClearance, yr - wide, yr + wide});
+        holes.push_back(
+            {xr - slide_ - kRigidClearance, xr - slide_ + r.length + kRigidClearance, yr - wide, yr + wide});
         lowest = std::min(lowest, head_z0);
         const double slot = r.leg + 2 * kRigidClearance;
         truth.rail_block_overlap += (r.head_width - slot) * r.length * std::min(r.foot, kPlateThickness);
@@ -606,9 +657,9 @@ ClipSceneFiles GenerateClipScene(const std::string& family, const ClipSceneOptio
   Generator generator(family, options.seed);
   const FamilySpec& spec = generator.spec();
   const std::int64_t target_d = options.triangles > 0 ? options.triangles : spec.table_d;
-  const std::int64_t target_s =
-      options.triangles > 0 ? std::llround(static_cast<double>(options.triangles) * spec.table_s / spec.table_d)
-                            : spec.table_s;
+  const std::int64_t target_s = options.triangles > 0
+                                    ? std::llround(static_cast<double>(options.triangles) * spec.table_s / spec.table_d)
+                                    : spec.table_s;
 
   // The triangle count grows monotonically with the cell counts: bisect each.
   auto closest = [](const std::function<std::int64_t(int)>& count, std::int64_t target) {
@@ -692,7 +743,8 @@ std::vector<Pose> ReadPathCsv(const fs::path& file) {
   if (!in) throw InputErrorAt(file.string(), "file not found");
   std::string line;
   std::getline(in, line);
-  if (line.rfind("x,y,z,qw,qx,qy,qz", 0) != 0) throw InputErrorAt(file.string(), "expected the header x,y,z,qw,qx,qy,qz");
+  if (line.rfind("x,y,z,qw,qx,qy,qz", 0) != 0)
+    throw InputErrorAt(file.string(), "expected the header x,y,z,qw,qx,qy,qz");
   std::vector<Pose> path;
   while (std::getline(in, line)) {
     if (line.empty()) continue;

@@ -61,11 +61,11 @@ struct IndexRange {
 };
 
 struct ClipScenePart {
-  std::string name;           // "panel", "rim", "clip-0", "rail-0", ...
-  std::string kind;           // panel | rim | clip | rail
-  bool deformable = false;    // clip geometry
-  double deformability = 0;   // nominal label in [0, 1]: thin clips 1, ds5's thick clips 0.35, rigid 0
-  double volume = 0;          // of the part's closed mesh, mm^3
+  std::string name;                   // "panel", "rim", "clip-0", "rail-0", ...
+  std::string kind;                   // panel | rim | clip | rail
+  bool deformable = false;            // clip geometry
+  double deformability = 0;           // nominal label in [0, 1]: thin clips 1, ds5's thick clips 0.35, rigid 0
+  double volume = 0;                  // of the part's closed mesh, mm^3
   std::vector<IndexRange> triangles;  // into D's triangles (file order = LoadMesh order)
   std::vector<IndexRange> vertices;   // into D's vertices as LoadMesh returns them
   // Clips: the world box where the barb overlaps S at the installed pose
@@ -84,7 +84,7 @@ struct ClipGroundTruth {
   // rails would overlap if D were lifted straight without sliding first.
   double clip_pull_overlap = 0;
   double rail_block_overlap = 0;
-  double slide = 0;  // length of the sideways motion (0 for ds5)
+  double slide = 0;       // length of the sideways motion (0 for ds5)
   double lift_clear = 0;  // lift that pulls the clips (and T-heads) clear of S
   bool friction = false;  // ds4: rigid rails overlap S until they leave their lips
   // The known path (scene convention) and the first waypoint at which no

@@ -34,7 +34,8 @@ int Run(VoxelizeStageOptions options, const std::string& parameters) {
   provenance.inputs.emplace_back("scene", HashFile(scene.file));
   for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
   provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
-  if (!options.force && ExistingProvenanceHash(options.output, kVoxelsSchema, kVoxelsSchemaVersion) == provenance.Hash()) {
+  if (!options.force &&
+      ExistingProvenanceHash(options.output, kVoxelsSchema, kVoxelsSchemaVersion) == provenance.Hash()) {
     LogInfo("%s is up to date (same inputs and options); use --force to voxelize again", options.output.c_str());
     return kExitOk;
   }
@@ -77,8 +78,7 @@ int main(int argc, char** argv) {
         app.add_option("--voxel-size", options.voxelize.voxel_size,
                        "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)")
             ->capture_default_str();
-        app.add_option("--voxel-budget", options.voxelize.voxel_budget,
-                       "automatic voxel size: voxels in D's AABB")
+        app.add_option("--voxel-budget", options.voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB")
             ->capture_default_str();
         app.add_option("--shrink", options.voxelize.shrink,
                        "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none")
@@ -88,5 +88,7 @@ int main(int argc, char** argv) {
         app.add_option("--threads", options.threads, "OpenMP threads; 0 = all cores")->capture_default_str();
         app.add_flag("--force", options.force, "voxelize even when the output is up to date");
       },
-      [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "force", "threads"})); });
+      [&] {
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "force", "threads"}));
+      });
 }

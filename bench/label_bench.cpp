@@ -1,0 +1,138 @@
+// ausbau-label-bench: time of the deformability labeling (thesis 5.4.1) on a
+// generated panel with thin tongues (snap-fit clips) of about 6,500 triangles,
+// or on a mesh file. Prints the medial-sphere time, the labeling time with
+// one thread and with all threads, the time per load case, and (generated
+// panel) how well the labels separate the tongues (ROC AUC).
+//
+//   build/bin/ausbau-label-bench [--mesh FILE] [--cells N] [--threads N] [--skip-single]
+#include <omp.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "labeling/medial_spheres.h"
+#include "labeling/mesh_topology.h"
+#include "labeling/pbd_label.h"
+#include "scene/mesh_io.h"
+
+namespace {
+
+using namespace ausbau;
+
+std::vector<double> Steps(double from, double to, int count) {
+  std::vector<double> out;
+  for (int i = 0; i <= count; ++i) out.push_back(from + (to - from) * i / count);
+  return out;
+}
+
+std::vector<double> Lines(std::vector<std::vector<double>> parts) {
+  std::vector<double> out;
+  for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }),
+            out.end());
+  return out;
+}
+
+// A 1.0 x 0.6 x 0.03 panel with four tongues 0.006 thick, 0.05 wide and 0.2
+// long sticking out of its +x edge. `cells`: grid cells along the panel's x.
+struct Part {
+  TriangleMesh mesh;
+  std::vector<std::uint8_t> tongue;
+};
+
+Part MakePanel(int cells) {
+  const double tz0 = 0.012, tz1 = 0.018;
+  std::vector<std::vector<double>> ylines = {Steps(0, 0.6, cells * 6 / 10)};
+  for (int k = 0; k < 4; ++k) ylines.push_back({0.1 + 0.13 * k, 0.15 + 0.13 * k});
+  const auto xs = Lines({Steps(0, 1, cells), Steps(1, 1.2, std::max(2, cells / 5))});
+  const auto ys = Lines(ylines);
+  const auto zs = Lines({{0, 0.03, tz0, tz1}});
+  const auto centre = [](const std::vector<double>& lines, int i) { return 0.5 * (lines[i] + lines[i + 1]); };
+  Part part;
+  part.mesh = MakeGridSolidMesh(xs, ys, zs, [&](int i, int j, int k) {
+    const double x = centre(xs, i), y = centre(ys, j), z = centre(zs, k);
+    if (x < 1) return true;
+    for (int t = 0; t < 4; ++t) {
+      if (y > 0.1 + 0.13 * t && y < 0.15 + 0.13 * t && z > tz0 && z < tz1) return true;
+    }
+    return false;
+  });
+  for (const auto& v : part.mesh.vertices) part.tongue.push_back(v.x() > 1 + 1e-9 ? 1 : 0);
+  return part;
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Times the deformability labeling (medial spheres + PBD load cases).", "ausbau-label-bench");
+  std::string mesh_file;
+  int cells = 42;
+  int threads = 0;
+  bool skip_single = false;
+  app.add_option("--mesh", mesh_file, "label this mesh instead of the generated panel");
+  app.add_option("--cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
+      ->capture_default_str();
+  app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str();
+  app.add_flag("--skip-single", skip_single, "skip the single-thread run");
+  CLI11_PARSE(app, argc, argv);
+  if (threads <= 0) threads = omp_get_max_threads();
+
+  Part part;
+  if (mesh_file.empty()) {
+    part = MakePanel(cells);
+  } else {
+    part.mesh = LoadMesh(mesh_file);
+  }
+  auto started = std::chrono::steady_clock::now();
+  const MeshTopology topology = BuildMeshTopology(part.mesh);
+  const double topology_s = Seconds(started);
+  std::printf("D: %s, %zu triangles, %zu vertices -> %d welded, %d components, %zu edges\n",
+              mesh_file.empty() ? "generated panel with 4 tongues" : mesh_file.c_str(), part.mesh.triangles.size(),
+              part.mesh.vertices.size(), topology.VertexCount(), topology.stats.components, topology.edges.size());
+  std::printf("topology (weld, orient, normals): %.3f s\n", topology_s);
+
+  MedialSphereOptions sphere_options;
+  sphere_options.threads = threads;
+  const MedialSpheres spheres = ComputeMedialSpheres(topology, sphere_options);
+  std::printf("medial spheres (%d threads): %.3f s, %lld nearest-point queries (%.2f us each), r %.4g .. %.4g\n",
+              threads, spheres.seconds, static_cast<long long>(spheres.nearest_queries),
+              1e6 * spheres.seconds * threads / std::max<std::int64_t>(1, spheres.nearest_queries),
+              spheres.MinRadius(), spheres.MaxRadius());
+
+  std::vector<std::pair<int, PbdLabels>> runs;
+  std::vector<int> thread_counts;
+  if (!skip_single) thread_counts.push_back(1);
+  if (threads != 1 || skip_single) thread_counts.push_back(threads);
+  for (int t : thread_counts) {
+    PbdLabelOptions options;
+    options.threads = t;
+    const PbdLabels labels = ComputePbdLabels(topology, spheres, options);
+    std::printf("PBD labels (%d thread%s): %.3f s for %lld load cases on %lld vertices, %lld constraints; "
+                "%.3f ms per load case (thread time / load cases), rho %.4g, sigma %.4g\n",
+                t, t == 1 ? "" : "s", labels.seconds, static_cast<long long>(labels.load_cases),
+                static_cast<long long>(labels.simulated_vertices), static_cast<long long>(labels.constraints),
+                1e3 * labels.SecondsPerLoadCase(), labels.density, labels.sigma);
+    runs.emplace_back(t, labels);
+  }
+  if (runs.size() == 2) {
+    std::printf("same labels with 1 and %d threads: %s; speed-up %.2f\n", runs[1].first,
+                runs[0].second.deformability == runs[1].second.deformability ? "yes" : "NO",
+                runs[0].second.seconds / runs[1].second.seconds);
+  }
+  std::printf("whole labeling (topology + spheres + labels, %d threads): %.3f s\n", runs.back().first,
+              topology_s + spheres.seconds + runs.back().second.seconds);
+  if (mesh_file.empty()) {
+    std::vector<double> d(part.mesh.vertices.size());
+    for (std::size_t i = 0; i < d.size(); ++i) d[i] = runs.back().second.deformability[topology.welded_of_original[i]];
+    std::printf("tongue vertices vs panel vertices: ROC AUC %.4f\n", RocAuc(d, part.tongue));
+  }
+  return 0;
+}

@@ -1,0 +1,148 @@
+// ausbau-pbd-label: phase II of the deformability labeling (thesis 5.4.1,
+// algorithm 10): a position based dynamics simulation of D per load case
+// (one per vertex) gives each vertex of D a deformability in [0, 1]. See
+// README.md.
+#include <omp.h>
+
+#include <filesystem>
+#include <string>
+
+#include "cli/stage_main.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "labeling/medial_spheres.h"
+#include "labeling/mesh_topology.h"
+#include "labeling/pbd_label.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+struct LabelStageOptions {
+  std::string scene;
+  std::string spheres;
+  std::string output = "labels.h5";
+  std::string csv;
+  std::string ply;
+  bool force = false;
+  double weld_tolerance = MeshTopologyOptions{}.weld_tolerance;
+  PbdLabelOptions labels;
+};
+
+void WriteExtras(const LabelStageOptions& options, const Scene& scene, const LabelsArtifact& labels) {
+  if (!options.csv.empty()) {
+    WriteLabelsCsv(options.csv, scene.dynamic_mesh.vertices, labels.deformability);
+    LogInfo("wrote %s", options.csv.c_str());
+  }
+  if (!options.ply.empty()) {
+    WriteColoredPly(options.ply, scene.dynamic_mesh, labels.deformability, "deformability",
+                    ColorRamp::kRigidToDeformable, 0.0, 1.0,
+                    "ausbau-pbd-label: D coloured by deformability, blue rigid to red deformable");
+    LogInfo("wrote %s", options.ply.c_str());
+  }
+}
+
+int Run(const LabelStageOptions& options, const std::string& parameters) {
+  options.labels.Check();
+  if (!(options.weld_tolerance >= 0 && options.weld_tolerance < 1)) {
+    throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
+  }
+  const Scene scene = LoadScene(options.scene);
+  const std::string dynamic_hash = HashFile(scene.dynamic_file);
+  // The spheres must belong to this D: their inputs hold D's content hash.
+  SpheresArtifact spheres = ReadSpheresArtifact(options.spheres);
+  std::string spheres_provenance;
+  {
+    const ArtifactReader reader(options.spheres, kSpheresSchema, kSpheresSchemaVersion);
+    spheres_provenance = reader.provenance_hash();
+    if (reader.ReadStringAttribute("", "inputs").find(dynamic_hash) == std::string::npos) {
+      throw InputErrorAt(options.spheres, "computed for another part D (" + scene.dynamic_file.string() +
+                                              " has different content); run ausbau-medial-spheres on this scene");
+    }
+  }
+  const Provenance provenance{"ausbau-pbd-label", AUSBAU_VERSION, parameters,
+                              {{"dynamic", dynamic_hash}, {"spheres", spheres_provenance}}};
+  if (!options.force &&
+      ExistingProvenanceHash(options.output, kLabelsSchema, kLabelsSchemaVersion) == provenance.Hash()) {
+    LogInfo("%s is up to date (same D, spheres and options); use --force to label again", options.output.c_str());
+    WriteExtras(options, scene, ReadLabelsArtifact(options.output));
+    return kExitOk;
+  }
+
+  MeshTopologyOptions topology_options;
+  topology_options.weld_tolerance = options.weld_tolerance;
+  const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
+  std::vector<double> radii;
+  std::vector<std::uint8_t> contact;
+  SpheresPerWeldedVertex(topology, spheres, options.spheres, &radii, &contact);
+
+  PbdLabelOptions label_options = options.labels;
+  Progress progress("load cases", topology.VertexCount() - topology.stats.unreferenced_vertices);
+  label_options.progress = [&progress](std::int64_t done, std::int64_t) { progress.Update(done); };
+  const PbdLabels labels = ComputePbdLabels(topology, radii, contact, label_options);
+  progress.Finish();
+  const int threads = options.labels.threads > 0 ? options.labels.threads : omp_get_max_threads();
+  LogInfo("%lld load cases on %lld vertices (%d simulated components, %lld constraints, %lld glue pairs) in %.2f s "
+          "with %d threads: %.3f ms per load case; %d steps, k' = %.7g, r_min %.6g and sigma %.6g (scaled mesh), "
+          "rho %.6g",
+          static_cast<long long>(labels.load_cases), static_cast<long long>(labels.simulated_vertices),
+          labels.components, static_cast<long long>(labels.constraints),
+          static_cast<long long>(labels.glue_constraints), labels.seconds, threads, 1e3 * labels.SecondsPerLoadCase(),
+          labels.steps, labels.solver_stiffness, labels.r_min, labels.sigma, labels.density);
+
+  const LabelsArtifact artifact = ToLabelsArtifact(topology, labels, options.labels.measure);
+  WriteLabelsArtifact(options.output, artifact, provenance);
+  LogInfo("wrote %s (%zu vertices of D)", options.output.c_str(), artifact.deformability.size());
+  WriteExtras(options, scene, artifact);
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace ausbau
+
+int main(int argc, char** argv) {
+  using namespace ausbau;
+  LabelStageOptions options;
+  CLI::App* app_ptr = nullptr;
+  return RunStage(
+      {"ausbau-pbd-label",
+       "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II)."},
+      argc, argv,
+      [&](CLI::App& app) {
+        app_ptr = &app;
+        PbdLabelOptions& l = options.labels;
+        app.add_option("--scene", options.scene, "scene.yaml (only its part D is used)")->required();
+        app.add_option("--spheres", options.spheres, "spheres artifact of D (ausbau-medial-spheres)")->required();
+        app.add_option("-o,--output", options.output, "labels artifact (HDF5)")->capture_default_str();
+        app.add_option("--csv", options.csv, "also write x,y,z,deformability per vertex of D");
+        app.add_option("--ply", options.ply, "also write D as PLY coloured by deformability (blue rigid, red deformable)");
+        app.add_option("--threads", l.threads, "0 = all cores")->capture_default_str();
+        app.add_option("--measure", l.measure, "sum (thesis: displacements summed over all load cases) | self")
+            ->capture_default_str();
+        app.add_option("--kappa", l.kappa, "load sigma = kappa x r_min")->capture_default_str();
+        app.add_option("--density", l.density, "rho in the scaled mesh; 0 = automatic (resolution-independent)")
+            ->capture_default_str();
+        app.add_option("--time-step", l.time_step, "seconds")->capture_default_str();
+        app.add_option("--duration", l.duration, "simulated seconds per load case")->capture_default_str();
+        app.add_option("--iterations", l.solver_iterations, "solver iterations N per step")->capture_default_str();
+        app.add_option("--stiffness", l.stiffness, "k")->capture_default_str();
+        app.add_option("--stiffness-formula", l.stiffness_formula,
+                       "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)")
+            ->capture_default_str();
+        app.add_option("--damping", l.damping, "velocity factor per step")->capture_default_str();
+        app.add_flag("!--no-bending", l.bending, "no bending constraints");
+        app.add_flag("!--no-thickness", l.thickness, "masses without the sphere diameters (mean diameter)");
+        app.add_flag("!--no-glue", l.glue, "do not tie separate components that touch or overlap");
+        app.add_option("--glue-tolerance", l.glue_tolerance, "touching: closer than this fraction of D's diagonal")
+            ->capture_default_str();
+        app.add_option("--refine", l.refine, "split edges longer than this many local diameters; 0 = off")
+            ->capture_default_str();
+        app.add_option("--weld-tolerance", options.weld_tolerance,
+                       "weld vertices closer than this fraction of D's AABB diagonal")
+            ->capture_default_str();
+        app.add_flag("--force", options.force, "label even when the output is up to date");
+      },
+      [&] {
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "spheres", "output", "csv", "ply", "force", "threads"}));
+      });
+}
