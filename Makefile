@@ -79,8 +79,9 @@ clean:
 
 # FARR against plain FCL (thesis 4.3: sample sets, detection rate, collision
 # time, whole planning with the distance-field build) on alpha-1.2, alpha-1.5,
-# Twistycool and the generated flange scenes; about 15-30 min with the
-# defaults on 2 cores. Needs only the default build (no OMPL).
+# Twistycool, the generated flange scenes and the Parasol flange; about
+# 10-15 min with the defaults on 2 cores. Needs only the default build (no
+# OMPL).
 BENCH_FARR_OUT ?= out/bench-farr
 BENCH_FARR_ARGS ?=
 

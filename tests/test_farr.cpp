@@ -350,6 +350,19 @@ TEST(DistanceField, ArtifactRoundTripAndCache) {
   const std::string saved_value = saved ? saved : "";
   unsetenv("AUSBAU_CACHE_DIR");
   EXPECT_EQ(DefaultDistanceFieldCacheDir("/a/b/scene.yaml"), std::filesystem::path("/a/b/.ausbau-cache"));
+  // A read-only scene folder (shared benchmark data) is left alone.
+  const auto readonly = dir / "readonly";
+  std::filesystem::create_directories(readonly);
+  std::filesystem::permissions(readonly, std::filesystem::perms::owner_write | std::filesystem::perms::group_write |
+                                             std::filesystem::perms::others_write,
+                               std::filesystem::perm_options::remove);
+  const char* saved_xdg = std::getenv("XDG_CACHE_HOME");
+  const std::string saved_xdg_value = saved_xdg ? saved_xdg : "";
+  setenv("XDG_CACHE_HOME", (dir / "xdg").c_str(), 1);
+  EXPECT_EQ(DefaultDistanceFieldCacheDir(readonly / "scene.yaml"), dir / "xdg" / "ausbau");
+  if (saved_xdg) setenv("XDG_CACHE_HOME", saved_xdg_value.c_str(), 1);
+  else unsetenv("XDG_CACHE_HOME");
+  std::filesystem::permissions(readonly, std::filesystem::perms::owner_write, std::filesystem::perm_options::add);
   setenv("AUSBAU_CACHE_DIR", "/tmp/x-cache", 1);
   EXPECT_EQ(DefaultDistanceFieldCacheDir("/a/b/scene.yaml"), std::filesystem::path("/tmp/x-cache"));
   if (saved) setenv("AUSBAU_CACHE_DIR", saved_value.c_str(), 1);

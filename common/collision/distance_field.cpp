@@ -263,8 +263,9 @@ std::int64_t DistanceField::Locate(const Eigen::Vector3d& p) const {
 std::array<int, 3> DistanceField::LocateCell(const Eigen::Vector3d& p) const {
   std::array<int, 3> c{};
   for (int k = 0; k < 3; ++k) {
-    const double f = std::floor((p[k] - origin_[k]) / spacing_);
-    c[k] = static_cast<int>(std::clamp(f, 0.0, static_cast<double>(dims_[k] - 1)));
+    double f = std::floor((p[k] - origin_[k]) / spacing_);
+    if (!(f >= 0)) f = 0;  // also NaN
+    c[k] = static_cast<int>(std::min(f, static_cast<double>(dims_[k] - 1)));
   }
   return c;
 }
@@ -1000,6 +1001,17 @@ std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& 
   if (env != nullptr && env[0] != '\0') return std::filesystem::path(env);
   std::filesystem::path dir = scene_file.parent_path();
   if (dir.empty()) dir = ".";
+  // A scene folder marked read-only (no owner write bit, e.g. shared
+  // benchmark data) is left alone, even for root: the user's cache instead.
+  std::error_code error;
+  const auto permissions = std::filesystem::status(dir, error).permissions();
+  if (!error && (permissions & std::filesystem::perms::owner_write) == std::filesystem::perms::none) {
+    const char* xdg = std::getenv("XDG_CACHE_HOME");
+    const char* home = std::getenv("HOME");
+    if (xdg != nullptr && xdg[0] != '\0') return std::filesystem::path(xdg) / "ausbau";
+    if (home != nullptr && home[0] != '\0') return std::filesystem::path(home) / ".cache" / "ausbau";
+    return std::filesystem::temp_directory_path() / "ausbau-cache";
+  }
   return dir / ".ausbau-cache";
 }
 

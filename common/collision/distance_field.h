@@ -190,7 +190,9 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
 // The cache: <cache_dir>/distfield-<first 16 hex digits of the mesh hash>-r<resolution>.h5.
 std::filesystem::path DistanceFieldCachePath(const std::filesystem::path& cache_dir, const std::string& mesh_hash,
                                              int resolution);
-// $AUSBAU_CACHE_DIR when set and not empty, else <folder of scene_file>/.ausbau-cache.
+// $AUSBAU_CACHE_DIR when set and not empty, else <folder of scene_file>/.ausbau-cache,
+// except for a scene folder marked read-only (no owner write bit, as the
+// shared benchmark data): then $XDG_CACHE_HOME/ausbau or ~/.cache/ausbau.
 std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& scene_file);
 
 struct CachedFieldInfo {

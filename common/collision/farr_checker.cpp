@@ -390,6 +390,7 @@ bool FarrCollisionChecker::PatchWitness(QueryFrame& frame, int robot_triangle, i
 }
 
 bool FarrCollisionChecker::Skip(const Pose& pose) const {
+  if (!pose.t.allFinite()) return true;
   // D's bounding sphere (about its reference point) clear of S by the
   // field's estimate: no ray can end on a crossing. Only a shortcut to FCL.
   const FieldView& s = *environment_view_;
@@ -405,6 +406,7 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
   ProbeResult result;
   const int k = std::min(rays, kMax);
   if (k <= 0 || start_vertices_.empty()) return result;
+  if (!pose.t.allFinite() || !pose.q.coeffs().allFinite()) return result;  // no look-ups: FCL decides
   QueryFrame frame;
   frame.R = pose.q.toRotationMatrix();
   frame.t = pose.t;

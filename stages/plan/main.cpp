@@ -179,7 +179,7 @@ int main(int argc, char** argv) {
         app.add_option("--sigma", options.planner.sampler_sigma,
                        "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)")
             ->capture_default_str();
-        app.add_option("--threads", options.planner.threads, "prm edge verification threads; 0 = all cores")
+        app.add_option("--threads", options.planner.threads, "prm edge verification (and farr distance-field) threads; 0 = all cores")
             ->capture_default_str();
         app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str();
         app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str();
