@@ -710,30 +710,13 @@ TEST(FlangeScene, ClosedMeshesAndAFreeStartInThreeClearances) {
 // ---------------------------------------------------------------------------
 // The executables: ausbau-distfield-build and ausbau-plan --collision farr.
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Outcome = testing::CommandOutcome;
 
 Outcome RunStage(const std::string& environment, const std::string& stage, const std::string& arguments) {
-  const std::string command =
-      environment + " " + (testing::BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
-  Outcome outcome;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return outcome;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
-  const int status = pclose(pipe);
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return outcome;
+  return testing::RunStageCommand(stage, arguments, environment);
 }
 
-std::string ReadText(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string ReadText(const std::filesystem::path& path) { return testing::ReadTextFile(path); }
 
 TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
   if (!std::filesystem::exists(testing::BinDir() / "ausbau-distfield-build") ||

@@ -613,29 +613,13 @@ TEST(ClipScenes, DeterministicForAnyThreadCount) {
 
 // ------------------------------------------------------------ stages
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;
-};
+using Outcome = testing::CommandOutcome;
 
 Outcome RunStage(const std::string& stage, const std::string& arguments) {
-  const std::string command = (testing::BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
-  Outcome outcome;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return outcome;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
-  const int status = pclose(pipe);
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return outcome;
+  return testing::RunStageCommand(stage, arguments);
 }
 
-std::string ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string ReadFile(const std::filesystem::path& path) { return testing::ReadTextFile(path); }
 
 // A scene whose D is the tongue part, given as a triangle soup with random
 // orientations (as CAD exports come), S a box beside it.

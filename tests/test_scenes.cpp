@@ -1,9 +1,13 @@
 #include "test_scenes.h"
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 #include "scene/generators.h"
 
@@ -30,6 +34,26 @@ std::filesystem::path SourceDir() {
 std::filesystem::path BinDir() {
   const char* dir = std::getenv("AUSBAU_BIN_DIR");
   return dir ? std::filesystem::path(dir) : std::filesystem::current_path();
+}
+
+CommandOutcome RunStageCommand(const std::string& stage, const std::string& arguments, const std::string& environment) {
+  const std::string command = (environment.empty() ? "" : environment + " ") +
+                              (BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
+  CommandOutcome outcome;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+std::string ReadTextFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 std::filesystem::path OmplScene(const std::string& name) {

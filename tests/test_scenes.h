@@ -17,6 +17,18 @@ std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_
 // executables' folder (AUSBAU_BIN_DIR).
 std::filesystem::path SourceDir();
 std::filesystem::path BinDir();
+// The exit code and the output (stdout and stderr together) of a command.
+struct CommandOutcome {
+  int exit_code = -1;
+  std::string output;
+};
+// Runs `ausbau-<stage> <arguments>` from BinDir(), with `environment`
+// ("NAME=value ...", may be empty) in front.
+CommandOutcome RunStageCommand(const std::string& stage, const std::string& arguments,
+                               const std::string& environment = "");
+// A whole file as a string (empty when it cannot be read).
+std::string ReadTextFile(const std::filesystem::path& path);
+
 // ../shared/benchmarks/ompl/<name>.yaml next to the repository, or empty.
 std::filesystem::path OmplScene(const std::string& name);
 
