@@ -4,7 +4,6 @@
 // containment counted separately and confirmed by an independent test.
 #include <gtest/gtest.h>
 #include <stdlib.h>
-#include <sys/wait.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>

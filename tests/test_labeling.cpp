@@ -2,7 +2,6 @@
 // normals, medial spheres (algorithm 9), PBD labels (algorithm 10), and the
 // two stages end to end.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,6 @@
 // End-to-end: the real executables on generated scenes. Exit codes, one-line
 // messages, outputs, caching and determinism.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
