@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <exception>
 
+#include "core/hash.h"
 #include "core/log.h"
+#include "scene/scene.h"
 
 namespace ausbau {
 
@@ -39,6 +41,12 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
     std::fprintf(stderr, "%s: internal error: unknown exception\n", info.name.c_str());
     return kExitInternal;
   }
+}
+
+void AddSceneInputs(const Scene& scene, Provenance* provenance) {
+  provenance->inputs.emplace_back("scene", HashFile(scene.file));
+  for (const auto& file : scene.static_files) provenance->inputs.emplace_back("static", HashFile(file));
+  provenance->inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
 }
 
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded) {

@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+#include "artifact/artifact.h"
 #include "core/error.h"
 
 namespace ausbau {
@@ -25,5 +26,12 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded = {});
+
+struct Scene;
+
+// Adds the scene's inputs to a provenance, in this order: the scene.yaml,
+// each static mesh file, the dynamic mesh file (content hashes), so that a
+// change to any of them invalidates the stage's cached output.
+void AddSceneInputs(const Scene& scene, Provenance* provenance);
 
 }  // namespace ausbau

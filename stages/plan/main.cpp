@@ -74,9 +74,7 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanStageOptions& options, const
 
 Provenance MakeProvenance(const Scene& scene, const std::string& parameters, const PlanStageOptions& options) {
   Provenance provenance{"ausbau-plan", AUSBAU_VERSION, parameters, {}};
-  provenance.inputs.emplace_back("scene", HashFile(scene.file));
-  for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
-  provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+  AddSceneInputs(scene, &provenance);
   const std::vector<std::string> distfield = DistfieldPaths(options);
   if (!distfield.empty()) {
     provenance.inputs.emplace_back("distfield-static", HashFile(distfield[0]));

@@ -29,9 +29,7 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
     throw InputErrorAt(options.path, "holds no path (the planner did not succeed)");
   }
   Provenance provenance{"ausbau-smooth", AUSBAU_VERSION, parameters, {}};
-  provenance.inputs.emplace_back("scene", HashFile(scene.file));
-  for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
-  provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+  AddSceneInputs(scene, &provenance);
   provenance.inputs.emplace_back("path", HashFile(options.path));
   if (!options.force &&
       ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {

@@ -31,9 +31,7 @@ int Run(VoxelizeStageOptions options, const std::string& parameters) {
 
   const Scene scene = LoadScene(options.scene);
   Provenance provenance{"ausbau-voxelize", AUSBAU_VERSION, parameters, {}};
-  provenance.inputs.emplace_back("scene", HashFile(scene.file));
-  for (const auto& file : scene.static_files) provenance.inputs.emplace_back("static", HashFile(file));
-  provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+  AddSceneInputs(scene, &provenance);
   if (!options.force &&
       ExistingProvenanceHash(options.output, kVoxelsSchema, kVoxelsSchemaVersion) == provenance.Hash()) {
     LogInfo("%s is up to date (same inputs and options); use --force to voxelize again", options.output.c_str());
