@@ -135,7 +135,7 @@ TEST(Voxelize, BoxWithAMissingFaceIsFilledUpToTheOpening) {
 TEST(Voxelize, HierarchicalWindingNumberMatchesExact) {
   TriangleMesh mesh = MakePlateWithHole(5.0, 2.0, -0.5, 0.5);
   mesh.triangles.resize(mesh.triangles.size() - 3);  // open it up
-  const TriangleBvh bvh(mesh);
+  const WindingBvh bvh(mesh);
   Random random(3);
   for (int n = 0; n < 500; ++n) {
     const Vec3 p(random.Uniform(-7, 7), random.Uniform(-7, 7), random.Uniform(-2, 2));
@@ -436,7 +436,7 @@ TEST_P(ClipFamily, MlivAtTheBarbsAndZeroOnceClear) {
   // overlap box). At the start pose D's mesh coordinates are world
   // coordinates.
   const VoxelGridGeometry& gd = data.voxels.dynamic_grid.geometry;
-  const TriangleBvh surface(data.scene.dynamic_mesh);
+  const WindingBvh surface(data.scene.dynamic_mesh);
   const std::vector<bool> clip_mask = truth.ClipTriangleMask();
   auto at_clip_or_fit = [&](const Eigen::Vector3i& c, bool clips_only) {
     const Vec3 p = gd.Center(c.x(), c.y(), c.z());

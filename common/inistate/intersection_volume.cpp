@@ -360,11 +360,23 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
   return value;
 }
 
-LabeledMlivValidity::LabeledMlivValidity(const IntersectionVolume& volume, double tau)
-    : prototype_(&volume), tau_(tau) {}
-LabeledMlivValidity::~LabeledMlivValidity() = default;
+double IntersectionVolume::Measure(VolumeMeasure measure, const Pose& pose, double tau, VolumeQuery* query) {
+  switch (measure) {
+    case VolumeMeasure::kIv:
+      return Iv(pose, query);
+    case VolumeMeasure::kMliv:
+      return Mliv(pose, query);
+    case VolumeMeasure::kLabeledMliv:
+      return LabeledMliv(pose, tau, query);
+  }
+  return LabeledMliv(pose, tau, query);
+}
 
-bool LabeledMlivValidity::CheckValid(const Pose& pose) const {
+VolumeValidity::VolumeValidity(const IntersectionVolume& volume, VolumeMeasure measure, double tau)
+    : prototype_(&volume), measure_(measure), tau_(tau) {}
+VolumeValidity::~VolumeValidity() = default;
+
+bool VolumeValidity::CheckValid(const Pose& pose) const {
   std::unique_ptr<IntersectionVolume> volume;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -374,7 +386,7 @@ bool LabeledMlivValidity::CheckValid(const Pose& pose) const {
     }
   }
   if (!volume) volume = std::make_unique<IntersectionVolume>(prototype_->Clone());
-  const bool valid = volume->LabeledMliv(pose, tau_) <= tau_;
+  const bool valid = volume->Measure(measure_, pose, tau_) <= tau_;
   std::lock_guard<std::mutex> lock(mutex_);
   pool_.push_back(std::move(volume));
   return valid;

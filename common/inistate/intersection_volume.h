@@ -44,6 +44,9 @@
 
 namespace ausbau {
 
+// Which intersection volume a validity check thresholds.
+enum class VolumeMeasure { kIv, kMliv, kLabeledMliv };
+
 struct VolumeQuery {
   // In: also return the cells of the reported component (or of all
   // intersecting voxels for IV) in `cells`.
@@ -79,6 +82,9 @@ class IntersectionVolume {
   double Mliv(const Pose& pose, VolumeQuery* query = nullptr);
   double LabeledMliv(const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
                      VolumeQuery* query = nullptr);
+  // One of the three; tau is used by Labeled-MLIV's early out only.
+  double Measure(VolumeMeasure measure, const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
+                 VolumeQuery* query = nullptr);
 
   std::int64_t voxel_count() const;  // D's voxels
   double voxel_volume() const;       // of D's voxels
@@ -97,23 +103,33 @@ class IntersectionVolume {
   std::unique_ptr<Buffers> buffers_;
 };
 
-// The InIState validity test (5.4.4): a pose is valid when its Labeled-MLIV
-// is at most tau. Thread-safe: each check borrows a clone from a pool.
-// `volume` must outlive it.
-class LabeledMlivValidity : public PoseValidity {
+// The InIState validity test (5.4.4): a pose is valid when its volume
+// (IV, MLIV or Labeled-MLIV) is at most tau; Labeled-MLIV stops early once a
+// component exceeds tau (alg. 12). Thread-safe: each check borrows a clone
+// from a pool. `volume` must outlive it.
+class VolumeValidity : public PoseValidity {
  public:
-  LabeledMlivValidity(const IntersectionVolume& volume, double tau);
-  ~LabeledMlivValidity() override;
+  VolumeValidity(const IntersectionVolume& volume, VolumeMeasure measure, double tau);
+  ~VolumeValidity() override;
   double tau() const { return tau_; }
+  VolumeMeasure measure() const { return measure_; }
 
  protected:
   bool CheckValid(const Pose& pose) const override;
 
  private:
   const IntersectionVolume* prototype_;
+  VolumeMeasure measure_;
   double tau_;
   mutable std::mutex mutex_;
   mutable std::vector<std::unique_ptr<IntersectionVolume>> pool_;
+};
+
+// Labeled-MLIV <= tau, the thesis's InIState validity.
+class LabeledMlivValidity : public VolumeValidity {
+ public:
+  LabeledMlivValidity(const IntersectionVolume& volume, double tau)
+      : VolumeValidity(volume, VolumeMeasure::kLabeledMliv, tau) {}
 };
 
 }  // namespace ausbau

@@ -271,7 +271,7 @@ std::int64_t VoxelGrid::Count(VoxelState state) const {
 
 // ---------------------------------------------------------------- BVH
 
-TriangleBvh::TriangleBvh(const TriangleMesh& mesh, const std::vector<int>* triangles, const std::vector<bool>* flip) {
+WindingBvh::WindingBvh(const TriangleMesh& mesh, const std::vector<int>* triangles, const std::vector<bool>* flip) {
   std::vector<int> ids;
   if (triangles != nullptr) {
     ids = *triangles;
@@ -340,7 +340,7 @@ TriangleBvh::TriangleBvh(const TriangleMesh& mesh, const std::vector<int>* trian
   }
 }
 
-double TriangleBvh::WindingNumber(const Vec3& p, double beta) const {
+double WindingBvh::WindingNumber(const Vec3& p, double beta) const {
   if (tris_.empty()) return 0.0;
   double omega = 0;
   int stack[128];
@@ -365,13 +365,13 @@ double TriangleBvh::WindingNumber(const Vec3& p, double beta) const {
   return omega / (4.0 * M_PI);
 }
 
-double TriangleBvh::WindingNumberExact(const Vec3& p) const {
+double WindingBvh::WindingNumberExact(const Vec3& p) const {
   double omega = 0;
   for (const Tri& tri : tris_) omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
   return omega / (4.0 * M_PI);
 }
 
-TriangleBvh::Closest TriangleBvh::ClosestPoint(const Vec3& p) const {
+WindingBvh::Closest WindingBvh::ClosestPoint(const Vec3& p) const {
   Closest best;
   if (tris_.empty()) return best;
   double best_d2 = std::numeric_limits<double>::infinity();
@@ -523,8 +523,8 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
   const Topology topology = AnalyzeTopology(mesh);
   stats.closed_triangles = static_cast<std::int64_t>(topology.closed.size());
   stats.open_triangles = static_cast<std::int64_t>(topology.open.size());
-  const TriangleBvh closed(mesh, &topology.closed, &topology.flip);
-  const TriangleBvh open(mesh, &topology.open, &topology.flip);
+  const WindingBvh closed(mesh, &topology.closed, &topology.flip);
+  const WindingBvh open(mesh, &topology.open, &topology.flip);
 
   // 3. 6-connected regions of non-surface voxels.
   std::vector<std::int32_t> region(static_cast<size_t>(count), -1);
@@ -675,13 +675,13 @@ std::vector<float> ColorValues(const VoxelGrid& grid, const TriangleMesh& mesh,
     throw InputError("labels: " + std::to_string(deformability.size()) + " values for " +
                      std::to_string(mesh.vertices.size()) + " vertices of D");
   }
-  const TriangleBvh bvh(mesh);
+  const WindingBvh bvh(mesh);
   const std::int64_t count = grid.geometry.Count();
   std::vector<float> out(static_cast<size_t>(count), 0.0f);
 #pragma omp parallel for schedule(dynamic, 4096)
   for (std::int64_t v = 0; v < count; ++v) {
     if (grid.cells[v] == kVoxelEmpty) continue;
-    const TriangleBvh::Closest c = bvh.ClosestPoint(grid.geometry.Center(v));
+    const WindingBvh::Closest c = bvh.ClosestPoint(grid.geometry.Center(v));
     if (c.triangle < 0) continue;
     const auto& tri = mesh.triangles[c.triangle];
     const double d = c.barycentric.x() * deformability[tri[0]] + c.barycentric.y() * deformability[tri[1]] +

@@ -95,11 +95,11 @@ struct VoxelGrid {
 
 // A bounding volume hierarchy over (some of) a mesh's triangles: the
 // generalized winding number and closest points.
-class TriangleBvh {
+class WindingBvh {
  public:
   // All triangles of `mesh`, or those listed; `flip[t]` (optional, per
   // triangle of the mesh) reverses a triangle's orientation.
-  explicit TriangleBvh(const TriangleMesh& mesh, const std::vector<int>* triangles = nullptr,
+  explicit WindingBvh(const TriangleMesh& mesh, const std::vector<int>* triangles = nullptr,
                        const std::vector<bool>* flip = nullptr);
 
   bool empty() const { return tris_.empty(); }

@@ -38,6 +38,20 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.WriteDoubles("stats/length_rotation", {path.length_rotation}, {});
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
+  writer.SetAttribute("", "validity", path.validity);
+  if (path.validity != "collision") {
+    const std::size_t n = path.waypoints.size();
+    if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n) {
+      throw std::logic_error("WritePathArtifact: per-waypoint volumes do not match the waypoints");
+    }
+    writer.WriteDoubles("inistate/tau", {path.tau}, {});
+    writer.WriteDoubles("inistate/psi", {path.psi}, {});
+    writer.WriteInts("inistate/inter_index", {path.inter_index}, {});
+    writer.WriteDoubles("inistate/volume", path.waypoint_volume, {n});
+    writer.WriteInts("inistate/part", std::vector<std::int64_t>(path.waypoint_part.begin(), path.waypoint_part.end()),
+                     {n});
+    writer.WriteDoubles("inistate/deformability", path.waypoint_deformability, {n});
+  }
   writer.Commit();
 }
 
@@ -94,6 +108,20 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.length_normalized = ReadScalar(reader, "stats/length");
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
+  if (reader.Has("inistate/volume")) {
+    path.validity = reader.ReadStringAttribute("", "validity");
+    path.tau = ReadScalar(reader, "inistate/tau");
+    path.psi = ReadScalar(reader, "inistate/psi");
+    path.inter_index = static_cast<int>(ReadIntScalar(reader, "inistate/inter_index"));
+    path.waypoint_volume = reader.ReadDoubles("inistate/volume", 1).data;
+    for (std::int64_t part : reader.ReadInts("inistate/part", 1).data) path.waypoint_part.push_back(static_cast<int>(part));
+    path.waypoint_deformability = reader.ReadDoubles("inistate/deformability", 1).data;
+    const std::size_t n = path.waypoints.size();
+    if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n ||
+        path.inter_index < -1 || path.inter_index >= static_cast<int>(n)) {
+      throw InputErrorAt(file.string(), "inistate datasets do not match the waypoints");
+    }
+  }
   return path;
 }
 

@@ -25,6 +25,17 @@ struct PathArtifact {
   double length_normalized = 0;
   double length_translation = 0;
   double length_rotation = 0;
+
+  // InIState planning (optional datasets, group `inistate`; absent for
+  // rigid planning): the validity mode and threshold, psi, the index of
+  // c_inter (end of sigma_1), and per waypoint the mode's volume, the part
+  // of D it belongs to and that component's mean deformability.
+  std::string validity = "collision";
+  double tau = 0, psi = 0;
+  int inter_index = -1;
+  std::vector<double> waypoint_volume;
+  std::vector<int> waypoint_part;
+  std::vector<double> waypoint_deformability;
 };
 
 // Makes consecutive quaternions lie in the same hemisphere (q and -q are one

@@ -8,6 +8,7 @@
 // from its mesh origin. Conversions happen only at the boundary.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -68,8 +69,16 @@ struct PlanningProblem {
   // World AABB of D at `pose`, conservative: the box around the 8 transformed
   // corners of D's local AABB.
   Aabb RobotBoxAt(const Pose& pose) const;
-  // Disassembly goal: D's AABB (conservative) separated from S's.
-  bool InGoalRegion(const Pose& pose) const { return RobotBoxAt(pose).SeparatedFrom(environment_box); }
+  // Optional goal region replacing the disassembly region (the InIState
+  // planner's distance(S, D) > psi, inistate/inistate_planner.h). Must be
+  // thread-safe. Planners that sample the goal region (RRT-Connect's goal
+  // tree, PRM) draw AABB-separated poses and keep those it accepts.
+  std::function<bool(const Pose&)> goal_test;
+  // Disassembly goal: D's AABB (conservative) separated from S's, or
+  // goal_test when set.
+  bool InGoalRegion(const Pose& pose) const {
+    return goal_test ? goal_test(pose) : RobotBoxAt(pose).SeparatedFrom(environment_box);
+  }
 
   Pose SampleUniform(Random& random) const;
 };

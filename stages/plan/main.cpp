@@ -4,10 +4,13 @@
 #include <memory>
 
 #include "cli/stage_main.h"
+#include "cli/volume_inputs.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "inistate/inistate_planner.h"
+#include "inistate/tau_estimate.h"
 #include "planning/dense_check.h"
 #include "planning/path_io.h"
 #include "planning/planner.h"
@@ -27,6 +30,13 @@ struct PlanStageOptions {
   PlannerOptions planner;
   std::string collision = "fcl";  // fcl | farr
   std::string distfield;          // "S.h5,D.h5" (farr); empty: build or reuse through the cache
+  // InIState planning (README "Invalid initial states").
+  std::string validity = "collision";  // collision | shrink | iv | mliv | labeled-mliv
+  double tau = -1;                     // < 0: from --tau-file, else estimated here (shrink: 0)
+  std::string tau_file;                // ausbau-tau-estimate artifact
+  double psi = 0;                      // 0: from --tau-file, else from the labels
+  VolumeInputs volume;
+  std::string rigid_planner = "cr-rrtc";
 };
 
 // The two files of --distfield, or none.
@@ -75,6 +85,8 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanStageOptions& options, const
 Provenance MakeProvenance(const Scene& scene, const std::string& parameters, const PlanStageOptions& options) {
   Provenance provenance{"ausbau-plan", AUSBAU_VERSION, parameters, {}};
   AddSceneInputs(scene, &provenance);
+  AddVolumeInputs(options.volume, &provenance);
+  if (!options.tau_file.empty()) provenance.inputs.emplace_back("tau", HashFile(options.tau_file));
   const std::vector<std::string> distfield = DistfieldPaths(options);
   if (!distfield.empty()) {
     provenance.inputs.emplace_back("distfield-static", HashFile(distfield[0]));
@@ -83,8 +95,122 @@ Provenance MakeProvenance(const Scene& scene, const std::string& parameters, con
   return provenance;
 }
 
-int Run(const PlanStageOptions& options, const std::string& parameters) {
-  options.planner.Check();
+// The planner of sigma_1 (volume modes) or of the whole path: "auto" picks
+// EST near an invalid start (thesis 5.4.4) and CR-RRTC otherwise.
+PlannerOptions ResolvedPlanner(const PlanStageOptions& options, bool volume_mode) {
+  PlannerOptions planner = options.planner;
+  if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
+  return planner;
+}
+
+void LogResult(const char* what, const PlanStats& stats, bool solved) {
+  LogInfo("%s %s after %.3f s: %lld iterations, %lld nodes, %lld validity checks (%.1f%% invalid)", what,
+          solved ? "solved" : "no path", stats.time_s, static_cast<long long>(stats.iterations),
+          static_cast<long long>(stats.nodes), static_cast<long long>(stats.collision_checks),
+          stats.collision_checks > 0 ? 100.0 * stats.invalid_checks / stats.collision_checks : 0.0);
+}
+
+// Fills the waypoints (scene convention) and lengths of an artifact.
+void FillPath(const PlanningProblem& problem, const std::vector<Pose>& path, PathArtifact* artifact) {
+  for (const Pose& pose : path) artifact->waypoints.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&artifact->waypoints);
+  const PathLength length = MeasurePath(problem, path);
+  artifact->length_normalized = length.normalized;
+  artifact->length_translation = length.translation;
+  artifact->length_rotation = length.rotation;
+}
+
+// Re-checks the rigid part of a path (waypoints from `first` on) with the
+// independent dense check; throws when it fails (a bug, not bad input).
+void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
+  const std::vector<Pose> rigid(artifact.waypoints.begin() + first, artifact.waypoints.end());
+  const DenseCheckReport report = DenseCheckPath(scene, artifact.reference_point, rigid, 0.01);
+  if (!report.valid) {
+    throw std::runtime_error("planned path fails the dense re-check: segment " +
+                             std::to_string(first + report.first_bad_segment) + " " + report.reason);
+  }
+  LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(report.poses_checked));
+}
+
+// Volume modes: sigma_1 under the volume validity out of the fasteners'
+// reach, sigma_2 rigid (thesis 5.4.4).
+PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene, const PlanningProblem& problem,
+                            const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
+  const ValidityMode mode = ParseValidityMode(options.validity);
+  const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
+  double tau = options.tau, psi = options.psi;
+  if (!options.tau_file.empty()) {
+    const TauArtifact stored = ReadTauArtifact(options.tau_file);
+    if (stored.validity != options.validity) {
+      throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + stored.validity + ", not " +
+                                               options.validity);
+    }
+    if (tau < 0) tau = stored.estimate.tau;
+    if (psi <= 0) psi = stored.estimate.psi;
+  }
+  if (psi <= 0) psi = model->EstimatePsi();
+  const double start_volume = model->Measure(problem.start);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  auto colliding = [&fcl](const Pose& pose) { return fcl.InCollision(pose); };
+  auto distance = [&fcl](const Pose& pose) { return fcl.Distance(pose); };
+  if (tau < 0) {
+    if (mode == ValidityMode::kShrink) {
+      tau = 0;
+    } else {
+      LogInfo("no --tau or --tau-file: estimating tau here (ausbau-tau-estimate caches it)");
+      PlanningProblem local = problem;
+      local.goal.reset();
+      local.goal_test = ClearOfFasteners(local, colliding, distance, psi);
+      TauEstimateOptions tau_options;
+      tau_options.planner = ResolvedPlanner(options, true);
+      tau = EstimateTau(local, model->volume(), model->measure(), psi, tau_options).tau;
+    }
+  }
+  LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
+          start_volume, psi, scene.units.c_str());
+  if (start_volume > tau) {
+    throw InputError("--tau " + std::to_string(tau) + " is below the start's volume " + std::to_string(start_volume) +
+                     " under --validity " + options.validity + ": the start would be invalid");
+  }
+  const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
+  InIStateOptions inistate;
+  inistate.local = ResolvedPlanner(options, true);
+  inistate.rigid = options.planner;
+  inistate.rigid.planner = options.rigid_planner;
+  inistate.psi = psi;
+  const InIStateResult result =
+      PlanInIState(problem, volume_validity, rigid_checker, colliding, distance, inistate);
+  *stats = result.Stats();
+  *solved = result.solved();
+
+  PathArtifact artifact;
+  artifact.planner = inistate.local.planner + "+" + inistate.rigid.planner;
+  artifact.validity = options.validity;
+  artifact.tau = tau;
+  artifact.psi = psi;
+  if (!result.solved()) return artifact;
+  FillPath(problem, result.path, &artifact);
+  artifact.inter_index = result.inter_index;
+  for (const Pose& pose : result.path) {
+    const VolumeReport report = model->Describe(pose);
+    artifact.waypoint_volume.push_back(report.value);
+    artifact.waypoint_part.push_back(report.value > 0 ? report.part : -1);
+    artifact.waypoint_deformability.push_back(report.deformability);
+  }
+  return artifact;
+}
+
+int Run(PlanStageOptions options, const std::string& parameters) {
+  const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
+  if (!volume_mode && (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0)) {
+    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv)");
+  }
+  if (!(options.tau < 0 || std::isfinite(options.tau))) throw InputError("--tau: must be a finite number");
+  if (!(options.psi >= 0) || !std::isfinite(options.psi)) throw InputError("--psi: must be >= 0");
+  ResolvedPlanner(options, volume_mode).Check();
+  PlannerOptions rigid = options.planner;
+  rigid.planner = options.rigid_planner;
+  rigid.Check();
   const Scene scene = LoadScene(options.scene);
   const Provenance provenance = MakeProvenance(scene, parameters, options);
 
@@ -98,62 +224,56 @@ int Run(const PlanStageOptions& options, const std::string& parameters) {
   }
 
   const PlanningProblem problem = MakePlanningProblem(scene);
-  LogInfo("scene %s: S %zu triangles, D %zu triangles, planner %s, seed %llu, time limit %.1f s",
+  const PlannerOptions planner = ResolvedPlanner(options, volume_mode);
+  LogInfo("scene %s: S %zu triangles, D %zu triangles, validity %s, planner %s, seed %llu, time limit %.1f s",
           scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
-          options.planner.planner.c_str(), static_cast<unsigned long long>(options.planner.seed),
-          options.planner.time_limit_s);
+          options.validity.c_str(), planner.planner.c_str(), static_cast<unsigned long long>(planner.seed),
+          planner.time_limit_s);
   const std::unique_ptr<PoseValidity> checker_owner = MakeChecker(options, scene, problem);
   const PoseValidity& checker = *checker_owner;
-  CheckEndpoints(problem, checker, scene.file.string());
 
-  const PlanResult result = Plan(problem, checker, options.planner);
+  PathArtifact artifact;
+  PlanStats stats;
+  bool solved = false;
+  PlanStatus status = PlanStatus::kTimeLimit;
+  if (volume_mode) {
+    artifact = PlanVolumeMode(options, scene, problem, checker, &stats, &solved);
+  } else {
+    CheckEndpoints(problem, checker, scene.file.string());
+    const PlanResult result = Plan(problem, checker, planner);
+    artifact.planner = planner.planner;
+    stats = result.stats;
+    solved = result.solved();
+    status = result.status;
+    if (solved) FillPath(problem, result.path, &artifact);
+  }
   if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
-    const FarrStats stats = farr->stats();
+    const FarrStats farr_stats = farr->stats();
     LogInfo("FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
             "%d rays per query at the end",
-            static_cast<long long>(stats.queries), static_cast<long long>(stats.witnesses),
-            static_cast<long long>(stats.fcl_calls), static_cast<long long>(stats.fcl_collisions), stats.rays_now);
+            static_cast<long long>(farr_stats.queries), static_cast<long long>(farr_stats.witnesses),
+            static_cast<long long>(farr_stats.fcl_calls), static_cast<long long>(farr_stats.fcl_collisions),
+            farr_stats.rays_now);
   }
-  PathArtifact artifact;
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
-  artifact.planner = options.planner.planner;
   artifact.scene = scene.name;
-  artifact.success = result.solved();
-  artifact.stats = result.stats;
-  for (const Pose& pose : result.path) artifact.waypoints.push_back(problem.PlanningToScene(pose));
-  AlignQuaternionSigns(&artifact.waypoints);
-  const PathLength length = MeasurePath(problem, result.path);
-  artifact.length_normalized = length.normalized;
-  artifact.length_translation = length.translation;
-  artifact.length_rotation = length.rotation;
-
-  LogInfo("%s after %.3f s: %lld iterations, %lld nodes, %lld collision checks (%.1f%% invalid)",
-          result.solved() ? "solved" : "no path", result.stats.time_s,
-          static_cast<long long>(result.stats.iterations), static_cast<long long>(result.stats.nodes),
-          static_cast<long long>(result.stats.collision_checks),
-          result.stats.collision_checks > 0
-              ? 100.0 * result.stats.invalid_checks / result.stats.collision_checks
-              : 0.0);
-  if (result.solved() && options.verify) {
-    const DenseCheckReport report = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
-    if (!report.valid) {
-      throw std::runtime_error("planned path fails the dense re-check: segment " +
-                               std::to_string(report.first_bad_segment) + " " + report.reason);
-    }
-    LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)",
-            static_cast<long long>(report.poses_checked));
-  }
+  artifact.success = solved;
+  artifact.stats = stats;
+  LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
+  if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
   WritePathArtifact(options.output, artifact, provenance);
-  if (result.solved() && !options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
-  if (result.solved() && !options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
-  if (!result.solved()) {
-    LogError("no path within the budget (%s)",
-             result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+  if (solved && !options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
+  if (solved && !options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
+  if (!solved) {
+    LogError("no path within the budget%s", volume_mode ? ""
+                                             : status == PlanStatus::kTimeLimit ? " (time limit)"
+                                                                                  : " (iteration limit)");
     return kExitNoPath;
   }
   LogInfo("path: %zu waypoints, length %.4f (normalized), written to %s%s%s", artifact.waypoints.size(),
-          length.normalized, options.output.c_str(), options.csv.empty() ? "" : " and ", options.csv.c_str());
+          artifact.length_normalized, options.output.c_str(), options.csv.empty() ? "" : " and ",
+          options.csv.c_str());
   return kExitOk;
 }
 
@@ -170,7 +290,9 @@ int main(int argc, char** argv) {
       [&](CLI::App& app) {
         app_ptr = &app;
         app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--planner", options.planner.planner, "rrt | rrtc | cr-rrtc | est | prm")
+        options.planner.planner = "auto";
+        app.add_option("--planner", options.planner.planner,
+                       "rrt | rrtc | cr-rrtc | est | prm; auto = cr-rrtc, or est for sigma_1 in volume modes")
             ->capture_default_str();
         app.add_option("--sampler", options.planner.sampler, "uniform | gaussian | bridge | mixed")
             ->capture_default_str();
@@ -198,11 +320,27 @@ int main(int argc, char** argv) {
                        "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")")
             ->check(CLI::IsMember({"fcl", "farr"}))
             ->capture_default_str();
+        app.add_option("--validity", options.validity,
+                       "collision | shrink | iv | mliv | labeled-mliv (the last four: the start may collide; "
+                       "README \"Invalid initial states\")")
+            ->check(CLI::IsMember(ValidityModeNames()))
+            ->capture_default_str();
+        app.add_option("--tau", options.tau,
+                       "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)");
+        app.add_option("--tau-file", options.tau_file, "tau and psi from ausbau-tau-estimate (HDF5)");
+        app.add_option("--psi", options.psi,
+                       "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+        app.add_option("--voxels", options.volume.voxels,
+                       "voxels of S and D (ausbau-voxelize); default: voxelized here");
+        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by labeled-mliv");
+        app.add_option("--rigid-planner", options.rigid_planner,
+                       "planner of sigma_2 (volume modes), collision-checked")
+            ->capture_default_str();
         app.add_option("--distfield", options.distfield,
                        "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused "
                        "through the cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)");
       },
       [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads", "distfield"}));
+        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads", "distfield", "voxels", "labels", "tau-file"}));
       });
 }

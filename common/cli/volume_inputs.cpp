@@ -1,0 +1,55 @@
+#include "cli/volume_inputs.h"
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "core/log.h"
+#include "labeling/pbd_label.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+bool Covers(const Aabb& outer, const Aabb& inner, double tolerance) {
+  return (outer.min.array() <= inner.min.array() + tolerance).all() &&
+         (inner.max.array() <= outer.max.array() + tolerance).all();
+}
+
+}  // namespace
+
+std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningProblem& problem, ValidityMode mode,
+                                             const VolumeInputs& inputs) {
+  SceneVoxels voxels;
+  if (inputs.voxels.empty()) {
+    LogInfo("no --voxels given: voxelizing S and D with the defaults (ausbau-voxelize caches this)");
+    voxels = VoxelizeScene(scene, VoxelizeOptions{});
+  } else {
+    voxels = ReadVoxelArtifact(inputs.voxels);
+    const double h = voxels.dynamic_grid.geometry.spacing;
+    if (!Covers(voxels.dynamic_grid.geometry.Bounds(), scene.dynamic_mesh.Bounds(), 1e-6 * h) ||
+        !Covers(voxels.static_grid.geometry.Bounds(), scene.static_mesh.Bounds(), 1e-6 * h)) {
+      throw InputErrorAt(inputs.voxels, "the voxel grids do not cover this scene's D and S (voxels of another scene?)");
+    }
+    if (voxels.shrink > 0) {
+      throw InputErrorAt(inputs.voxels, "D's voxels are eroded (--shrink); volume modes need the unshrunk voxels");
+    }
+  }
+  std::vector<double> deformability;
+  if (!inputs.labels.empty()) {
+    deformability = ReadLabelsArtifact(inputs.labels).deformability;
+    if (deformability.size() != scene.dynamic_mesh.vertices.size()) {
+      throw InputErrorAt(inputs.labels, "labels for " + std::to_string(deformability.size()) + " vertices, but D has " +
+                                            std::to_string(scene.dynamic_mesh.vertices.size()) +
+                                            " (labels of another part?)");
+    }
+  } else if (mode == ValidityMode::kLabeledMliv) {
+    throw InputError("--validity labeled-mliv needs --labels (ausbau-medial-spheres, then ausbau-pbd-label)");
+  }
+  return std::make_unique<VolumeModel>(problem, scene.dynamic_mesh, std::move(voxels), deformability, mode);
+}
+
+void AddVolumeInputs(const VolumeInputs& inputs, Provenance* provenance) {
+  if (!inputs.voxels.empty()) provenance->inputs.emplace_back("voxels", HashFile(inputs.voxels));
+  if (!inputs.labels.empty()) provenance->inputs.emplace_back("labels", HashFile(inputs.labels));
+}
+
+}  // namespace ausbau

@@ -1,0 +1,30 @@
+// What the volume validity modes (--validity shrink|iv|mliv|labeled-mliv)
+// need from files, shared by ausbau-plan, ausbau-tau-estimate and
+// ausbau-smooth: D's and S's voxels (an ausbau-voxelize artifact, or
+// voxelized here with the defaults) and D's labels (ausbau-pbd-label).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "artifact/artifact.h"
+#include "inistate/volume_model.h"
+
+namespace ausbau {
+
+struct Scene;
+
+struct VolumeInputs {
+  std::string voxels;  // ausbau-voxels artifact; empty = voxelize now (defaults)
+  std::string labels;  // ausbau-labels artifact; required for labeled-mliv
+};
+
+// Throws InputError naming the file: missing, wrong schema, made for another
+// scene (grids that do not cover D's or S's box), labels of another D.
+std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningProblem& problem, ValidityMode mode,
+                                             const VolumeInputs& inputs);
+
+// Adds the files' content hashes to a provenance (roles "voxels", "labels").
+void AddVolumeInputs(const VolumeInputs& inputs, Provenance* provenance);
+
+}  // namespace ausbau

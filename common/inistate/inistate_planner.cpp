@@ -1,0 +1,82 @@
+#include "inistate/inistate_planner.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace ausbau {
+
+PlanStats InIStateResult::Stats() const {
+  PlanStats stats = local.stats;
+  stats.time_s += rigid.stats.time_s;
+  stats.iterations += rigid.stats.iterations;
+  stats.nodes += rigid.stats.nodes;
+  stats.collision_checks += rigid.stats.collision_checks;
+  stats.invalid_checks += rigid.stats.invalid_checks;
+  return stats;
+}
+
+namespace {
+
+// Gap between two boxes (0 when they overlap or touch).
+double BoxGap(const Aabb& a, const Aabb& b) {
+  const Eigen::Vector3d gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(Eigen::Vector3d::Zero());
+  return gap.norm();
+}
+
+}  // namespace
+
+std::function<bool(const Pose&)> ClearOfFasteners(const PlanningProblem& problem,
+                                                  std::function<bool(const Pose&)> colliding,
+                                                  std::function<double(const Pose&)> distance, double psi) {
+  return [&problem, colliding = std::move(colliding), distance = std::move(distance), psi](const Pose& pose) {
+    if (BoxGap(problem.RobotBoxAt(pose), problem.environment_box) > psi) return true;
+    if (colliding(pose)) return false;
+    return distance(pose) > psi;
+  };
+}
+
+InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
+                            const PoseValidity& rigid_validity, const std::function<bool(const Pose&)>& colliding,
+                            const std::function<double(const Pose&)>& distance, const InIStateOptions& options) {
+  if (!(options.psi > 0)) throw InputError("psi must be > 0");
+  if (!volume_validity.IsValid(problem.start)) {
+    throw InputError("the start pose exceeds tau: tau must be at least the start's intersection volume");
+  }
+  InIStateResult result;
+
+  // sigma_1: out of the clips.
+  PlanningProblem local_problem = problem;
+  local_problem.goal.reset();
+  local_problem.goal_test = ClearOfFasteners(local_problem, colliding, distance, options.psi);
+  result.local = Plan(local_problem, volume_validity, options.local);
+  LogInfo("InIState part 1 (%s, volume validity): %s after %.2f s, %lld nodes, %lld checks",
+          options.local.planner.c_str(), result.local.solved() ? "clear of the fasteners" : "no path",
+          result.local.stats.time_s, static_cast<long long>(result.local.stats.nodes),
+          static_cast<long long>(result.local.stats.collision_checks));
+  if (!result.local.solved()) {
+    result.status = result.local.status;
+    return result;
+  }
+
+  // sigma_2: rigid, from c_inter out (or to the goal).
+  PlanningProblem rigid_problem = problem;
+  rigid_problem.start = result.local.path.back();
+  result.rigid = Plan(rigid_problem, rigid_validity, options.rigid);
+  LogInfo("InIState part 2 (%s, collision): %s after %.2f s, %lld nodes, %lld checks",
+          options.rigid.planner.c_str(), result.rigid.solved() ? "solved" : "no path", result.rigid.stats.time_s,
+          static_cast<long long>(result.rigid.stats.nodes),
+          static_cast<long long>(result.rigid.stats.collision_checks));
+  if (!result.rigid.solved()) {
+    result.status = result.rigid.status;
+    return result;
+  }
+  result.path = result.local.path;
+  result.inter_index = static_cast<int>(result.path.size()) - 1;
+  result.path.insert(result.path.end(), result.rigid.path.begin() + 1, result.rigid.path.end());
+  result.status = PlanStatus::kSolved;
+  return result;
+}
+
+}  // namespace ausbau

@@ -1,0 +1,52 @@
+// The InIState motion planner (thesis 5.4.4): D starts in collision with S
+// (relaxed clips). Two parts:
+//   sigma_1  from the installed pose under a volume validity (Labeled-MLIV
+//            <= tau, or another mode) with the goal distance(S, D) > psi,
+//            psi the extent of the largest fastening element: once D is that
+//            far from S the clips no longer matter. The default planner is
+//            EST, which samples locally around its tree and so finds the
+//            narrow passage near the start (other planners selectable);
+//   sigma_2  from that intermediate pose c_inter, a rigid planner (CR-RRTC by
+//            default) under collision detection (FCL or FARR) into the
+//            disassembly region (or to the goal pose).
+// The joined path is sigma_1 followed by sigma_2 without c_inter's repeat.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "planning/planner.h"
+
+namespace ausbau {
+
+struct InIStateOptions {
+  PlannerOptions local;   // sigma_1; planner "est" by default
+  PlannerOptions rigid;   // sigma_2; planner "cr-rrtc" by default
+  double psi = 0;         // scene units; > 0
+  InIStateOptions() { local.planner = "est"; }
+};
+
+struct InIStateResult {
+  PlanStatus status = PlanStatus::kTimeLimit;
+  std::vector<Pose> path;  // planning convention; empty unless solved
+  int inter_index = -1;    // index of c_inter in path
+  PlanResult local, rigid;
+  bool solved() const { return status == PlanStatus::kSolved; }
+  PlanStats Stats() const;  // both parts together
+};
+
+// `volume_validity` checks sigma_1 (the start must be valid under it),
+// `rigid_validity` sigma_2; `distance` returns distance(S, D) at a pose (0 in
+// collision) and `colliding` tells whether D touches S (cheap pre-test of
+// the goal). Deterministic for a seed unless a time limit ends a part.
+InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
+                            const PoseValidity& rigid_validity, const std::function<bool(const Pose&)>& colliding,
+                            const std::function<double(const Pose&)>& distance, const InIStateOptions& options);
+
+// The goal of sigma_1: D's AABB more than psi away from S's, or D free of S
+// and more than psi from it.
+std::function<bool(const Pose&)> ClearOfFasteners(const PlanningProblem& problem,
+                                                  std::function<bool(const Pose&)> colliding,
+                                                  std::function<double(const Pose&)> distance, double psi);
+
+}  // namespace ausbau

@@ -1,0 +1,277 @@
+#include "inistate/tau_estimate.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/log.h"
+
+namespace ausbau {
+
+void TauEstimateOptions::Check() const {
+  if (!(initial_speed > 0) || !std::isfinite(initial_speed)) throw InputError("--initial-speed: must be > 0");
+  if (!(speed_step >= 0) || !std::isfinite(speed_step)) throw InputError("--speed-step: must be >= 0");
+  if (max_rounds < 1 || max_rounds > 100) throw InputError("--rounds: must lie in [1, 100]");
+  if (probe_attempts < 10 || probe_attempts > 1000000) throw InputError("--probe-attempts: must lie in [10, 10^6]");
+  if (bisection_steps < 0 || bisection_steps > 30) throw InputError("--bisection-steps: must lie in [0, 30]");
+  if (!(max_tau >= 0) || !std::isfinite(max_tau)) throw InputError("--max-tau: must be >= 0");
+  if (threads < 0) throw InputError("--threads: must be >= 0");
+  planner.Check();
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point begin) { return std::chrono::duration<double>(Clock::now() - begin).count(); }
+
+TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
+                  double tau, const TauEstimateOptions& options) {
+  const auto begin = Clock::now();
+  const VolumeValidity validity(volume, measure, tau);
+  PlannerOptions probe = options.planner;
+  probe.max_iterations = options.probe_attempts;
+  probe.time_limit_s = 1e6;  // the attempt budget ends a probe, never the clock (determinism)
+  const PlanResult result = Plan(problem, validity, probe);
+  TauProbe out;
+  out.tau = tau;
+  out.nodes = result.stats.nodes;
+  out.attempts = result.stats.iterations;
+  out.checks = result.stats.collision_checks;
+  if (result.solved()) {
+    out.speed = std::numeric_limits<double>::infinity();
+  } else {
+    const double reference_seconds = std::max<double>(1, out.checks) / kChecksPerReferenceSecond;
+    out.speed = static_cast<double>(std::max<std::int64_t>(0, out.nodes - 1)) / reference_seconds;
+  }
+  out.seconds = Seconds(begin);
+  return out;
+}
+
+std::string Describe(const TauProbe& p) {
+  char line[200];
+  std::snprintf(line, sizeof line, "tau %.6g: %lld nodes in %lld attempts, %lld checks -> %s nodes/s", p.tau,
+                static_cast<long long>(p.nodes), static_cast<long long>(p.attempts),
+                static_cast<long long>(p.checks),
+                std::isinf(p.speed) ? "goal reached" : std::to_string(p.speed).c_str());
+  return line;
+}
+
+}  // namespace
+
+TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
+                        double psi, const TauEstimateOptions& options) {
+  options.Check();
+  const auto begin = Clock::now();
+  auto say = [&](const std::string& line) {
+    LogInfo("%s", line.c_str());
+    if (options.progress) options.progress(line);
+  };
+  TauEstimate estimate;
+  estimate.psi = psi;
+  {
+    IntersectionVolume start_volume = volume.Clone();
+    estimate.tau_lowest = start_volume.Measure(measure, problem.start);
+  }
+  const double delta = volume.voxel_volume();
+  const double max_tau = options.max_tau > 0 ? options.max_tau : volume.voxel_count() * volume.voxel_volume();
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  auto candidate = [&](int k) { return estimate.tau_lowest + delta * (std::ldexp(1.0, k) - 1.0); };
+  say("tau search: start volume " + std::to_string(estimate.tau_lowest) + ", step " + std::to_string(delta) +
+      ", at most " + std::to_string(max_tau));
+
+  int k_pass = 0;  // candidates below this index are known to be too slow for the previous target
+  double tau = estimate.tau_lowest;
+  double lower = -1;  // largest tau known too slow for the current target
+  for (int round = 0; round < options.max_rounds; ++round) {
+    const double target = options.initial_speed + round * options.speed_step;
+    estimate.speed_target = target;
+    // Doubling: probe candidates k_pass, k_pass + 1, ... in parallel batches.
+    int found = -1;
+    for (int k0 = k_pass; found < 0; k0 += threads) {
+      if (candidate(k0) > max_tau) break;
+      std::vector<TauProbe> batch(threads);
+      std::vector<std::uint8_t> valid(threads, 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+      for (int i = 0; i < threads; ++i) {
+        const double t = candidate(k0 + i);
+        if (t > max_tau) continue;
+        batch[i] = RunProbe(problem, volume, measure, t, options);
+        valid[i] = 1;
+      }
+      for (int i = 0; i < threads && found < 0; ++i) {
+        if (!valid[i]) continue;
+        batch[i].round = round;
+        batch[i].target_speed = target;
+        estimate.trace.push_back(batch[i]);
+        say(Describe(batch[i]));
+        if (batch[i].speed >= target) {
+          found = k0 + i;
+        } else {
+          lower = batch[i].tau;
+        }
+      }
+    }
+    if (found < 0) {
+      say("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) + " nodes/s");
+      break;
+    }
+    k_pass = found;
+    double upper = candidate(found);
+    if (lower < estimate.tau_lowest || lower >= upper) lower = found > 0 ? candidate(found - 1) : -1;
+    // Bisection between the last too-slow and the first fast-enough candidate.
+    for (int step = 0; step < options.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta; ++step) {
+      const double middle = 0.5 * (lower + upper);
+      TauProbe probe = RunProbe(problem, volume, measure, middle, options);
+      probe.round = round;
+      probe.target_speed = target;
+      estimate.trace.push_back(probe);
+      say(Describe(probe));
+      (probe.speed >= target ? upper : lower) = middle;
+    }
+    tau = upper;
+
+    // The planning round.
+    const auto round_begin = Clock::now();
+    const VolumeValidity validity(volume, measure, tau);
+    const PlanResult result = Plan(problem, validity, options.planner);
+    TauProbe planning;
+    planning.round = round;
+    planning.target_speed = target;
+    planning.tau = tau;
+    planning.nodes = result.stats.nodes;
+    planning.attempts = result.stats.iterations;
+    planning.checks = result.stats.collision_checks;
+    planning.planning_round = true;
+    planning.solved = result.solved();
+    planning.seconds = Seconds(round_begin);
+    estimate.trace.push_back(planning);
+    estimate.rounds = round + 1;
+    estimate.tau = tau;
+    say("round " + std::to_string(round + 1) + ": tau " + std::to_string(tau) + " (target " +
+        std::to_string(target) + " nodes/s): " + (result.solved() ? "sigma_1 found" : "no path") + " in " +
+        std::to_string(planning.seconds) + " s");
+    if (result.solved()) {
+      estimate.solved = true;
+      estimate.local_path = result.path;
+      break;
+    }
+    lower = tau;  // the next target needs at least this tau
+  }
+  if (estimate.rounds == 0) estimate.tau = tau;
+  estimate.seconds = Seconds(begin);
+  return estimate;
+}
+
+// ---------------------------------------------------------------- artifact
+
+void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau, const Provenance& provenance) {
+  const TauEstimate& e = tau.estimate;
+  ArtifactWriter w(file, kTauSchema, kTauSchemaVersion, provenance);
+  w.WriteDoubles("tau", {e.tau}, {});
+  w.SetAttribute("tau", "units", tau.units + "^3");
+  w.WriteDoubles("psi", {e.psi}, {});
+  w.SetAttribute("psi", "units", tau.units);
+  w.WriteDoubles("tau_lowest", {e.tau_lowest}, {});
+  w.WriteDoubles("speed_target", {e.speed_target}, {});
+  w.WriteInts("rounds", {e.rounds}, {});
+  w.WriteInts("solved", {e.solved ? 1 : 0}, {});
+  w.WriteDoubles("seconds", {e.seconds}, {});
+  w.SetAttribute("", "validity", tau.validity);
+  w.SetAttribute("", "units", tau.units);
+  const std::size_t n = e.trace.size();
+  std::vector<double> taus, speeds, seconds, targets;
+  std::vector<std::int64_t> rounds, nodes, attempts, checks, planning, solved;
+  for (const TauProbe& p : e.trace) {
+    rounds.push_back(p.round);
+    targets.push_back(p.target_speed);
+    taus.push_back(p.tau);
+    speeds.push_back(std::isinf(p.speed) ? -1.0 : p.speed);
+    nodes.push_back(p.nodes);
+    attempts.push_back(p.attempts);
+    checks.push_back(p.checks);
+    planning.push_back(p.planning_round ? 1 : 0);
+    solved.push_back(p.solved ? 1 : 0);
+    seconds.push_back(p.seconds);
+  }
+  w.WriteInts("trace/round", rounds, {n});
+  w.WriteDoubles("trace/target_speed", targets, {n});
+  w.WriteDoubles("trace/tau", taus, {n});
+  w.WriteDoubles("trace/speed", speeds, {n});
+  w.SetAttribute("trace/speed", "note", "nodes per reference second; -1 = the probe reached the goal");
+  w.WriteInts("trace/nodes", nodes, {n});
+  w.WriteInts("trace/attempts", attempts, {n});
+  w.WriteInts("trace/checks", checks, {n});
+  w.WriteInts("trace/planning_round", planning, {n});
+  w.WriteInts("trace/solved", solved, {n});
+  w.WriteDoubles("trace/seconds", seconds, {n});
+  w.Commit();
+}
+
+TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
+  ArtifactReader r(file, kTauSchema, kTauSchemaVersion);
+  TauArtifact out;
+  TauEstimate& e = out.estimate;
+  auto scalar = [&](const char* name) {
+    const Array<double> a = r.ReadDoubles(name);
+    if (a.data.size() != 1) throw InputErrorAt(file.string(), std::string("dataset '") + name + "' must be a scalar");
+    return a.data[0];
+  };
+  e.tau = scalar("tau");
+  e.psi = scalar("psi");
+  e.tau_lowest = scalar("tau_lowest");
+  e.speed_target = scalar("speed_target");
+  e.seconds = scalar("seconds");
+  e.rounds = static_cast<int>(r.ReadInts("rounds").data.at(0));
+  e.solved = r.ReadInts("solved").data.at(0) != 0;
+  out.validity = r.ReadStringAttribute("", "validity");
+  out.units = r.ReadStringAttribute("", "units");
+  if (!(e.tau >= 0) || !std::isfinite(e.tau) || !(e.psi > 0) || !std::isfinite(e.psi)) {
+    throw InputErrorAt(file.string(), "tau must be >= 0 and psi > 0");
+  }
+  const Array<double> taus = r.ReadDoubles("trace/tau", 1), speeds = r.ReadDoubles("trace/speed", 1),
+                      targets = r.ReadDoubles("trace/target_speed", 1), seconds = r.ReadDoubles("trace/seconds", 1);
+  const Array<std::int64_t> rounds = r.ReadInts("trace/round", 1), nodes = r.ReadInts("trace/nodes", 1),
+                            attempts = r.ReadInts("trace/attempts", 1), checks = r.ReadInts("trace/checks", 1),
+                            planning = r.ReadInts("trace/planning_round", 1), solved = r.ReadInts("trace/solved", 1);
+  const std::size_t n = taus.data.size();
+  for (const std::size_t size : {speeds.data.size(), targets.data.size(), seconds.data.size(), rounds.data.size(),
+                                 nodes.data.size(), attempts.data.size(), checks.data.size(), planning.data.size(),
+                                 solved.data.size()}) {
+    if (size != n) throw InputErrorAt(file.string(), "trace datasets differ in length");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    TauProbe p;
+    p.round = static_cast<int>(rounds.data[i]);
+    p.target_speed = targets.data[i];
+    p.tau = taus.data[i];
+    p.speed = speeds.data[i] < 0 ? std::numeric_limits<double>::infinity() : speeds.data[i];
+    p.nodes = nodes.data[i];
+    p.attempts = attempts.data[i];
+    p.checks = checks.data[i];
+    p.planning_round = planning.data[i] != 0;
+    p.solved = solved.data[i] != 0;
+    p.seconds = seconds.data[i];
+    e.trace.push_back(p);
+  }
+  return out;
+}
+
+void WriteTauTraceCsv(const std::filesystem::path& file, const TauEstimate& estimate) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "round,target_speed,tau,speed,nodes,attempts,checks,planning_round,solved,seconds\n";
+  for (const TauProbe& p : estimate.trace) {
+    out << p.round << ',' << p.target_speed << ',' << p.tau << ',' << (std::isinf(p.speed) ? -1.0 : p.speed) << ','
+        << p.nodes << ',' << p.attempts << ',' << p.checks << ',' << (p.planning_round ? 1 : 0) << ','
+        << (p.solved ? 1 : 0) << ',' << p.seconds << '\n';
+  }
+  WriteTextFileAtomically(file, out.str());
+}
+
+}  // namespace ausbau

@@ -1,0 +1,95 @@
+// Automatic threshold tau for InIState planning (thesis 5.4.5).
+//
+// tau starts at tau_lowest, the volume of the installed pose (below it the
+// start itself is invalid), and is raised until the local planner's tree
+// grows at the target expansion speed s (s_init = 4 nodes per second). Then
+// a planning round (sigma_1 only) runs with that tau; if it fails, the
+// target speed rises by delta_2 = 5 nodes/s and tau is raised again.
+//
+// Expansion speed, made deterministic: the thesis counts nodes per second of
+// wall-clock time, which would make tau (and so the path) depend on the
+// machine and its load. We count time in validity checks instead: one
+// reference second is kChecksPerReferenceSecond checks (about what the
+// thesis's 4-core machine did per second with its Labeled-MLIV; ours does
+// 10-20k per second per core on the clip scenes), so s = nodes added per
+// 1000 checks x (kChecksPerReferenceSecond / 1000). A probe grows the tree
+// from the start for a fixed number of expansion attempts.
+//
+// The search: candidates tau_lowest + delta (2^k - 1), delta = one voxel of
+// D, k = 0, 1, ..., probed `threads` at a time in parallel (probes are
+// independent and seeded alike, so the result does not depend on the thread
+// count); the first candidate whose speed reaches the target is refined by
+// bisection against the one before (the speed grows with tau).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "artifact/artifact.h"
+#include "inistate/intersection_volume.h"
+#include "planning/planner.h"
+
+namespace ausbau {
+
+inline constexpr double kChecksPerReferenceSecond = 2000.0;
+
+struct TauEstimateOptions {
+  double initial_speed = 4.0;   // s_init, nodes per reference second
+  double speed_step = 5.0;      // delta_2
+  int max_rounds = 4;           // planning rounds
+  std::int64_t probe_attempts = 300;  // expansion attempts per probe
+  int bisection_steps = 4;
+  double max_tau = 0;           // 0 = D's whole volume (IV of all of D)
+  PlannerOptions planner;       // local planner (est), seed, time limit per planning round
+  int threads = 0;              // parallel probes; 0 = all cores
+  std::function<void(const std::string&)> progress;  // one line per step, optional
+  TauEstimateOptions() { planner.planner = "est"; planner.time_limit_s = 20.0; }
+  void Check() const;  // throws InputError
+};
+
+struct TauProbe {
+  int round = 0;              // planning round this probe belongs to (0-based)
+  double target_speed = 0;    // nodes per reference second
+  double tau = 0;
+  double speed = 0;           // measured; infinite when the probe reached the goal
+  std::int64_t nodes = 0, attempts = 0, checks = 0;
+  bool planning_round = false;  // a full planning round rather than a probe
+  bool solved = false;          // planning round: sigma_1 found
+  double seconds = 0;
+};
+
+struct TauEstimate {
+  double tau = 0;          // the estimate (the last round's tau)
+  double tau_lowest = 0;   // volume at the installed pose
+  double psi = 0;
+  double speed_target = 0; // of the last round
+  int rounds = 0;
+  bool solved = false;     // the last planning round found sigma_1
+  std::vector<TauProbe> trace;
+  double seconds = 0;
+  std::vector<Pose> local_path;  // sigma_1 of the successful round (planning convention)
+};
+
+// `problem` must carry the goal test of sigma_1 (ClearOfFasteners);
+// `volume` is the mode's intersection volume (measure as given).
+TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
+                        double psi, const TauEstimateOptions& options);
+
+// ---- the `ausbau-tau` artifact (schemas/tau.md)
+inline constexpr char kTauSchema[] = "ausbau-tau";
+inline constexpr int kTauSchemaVersion = 1;
+
+struct TauArtifact {
+  TauEstimate estimate;
+  std::string validity;  // the mode the estimate is for (iv, mliv, labeled-mliv, shrink)
+  std::string units;
+};
+void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau, const Provenance& provenance);
+TauArtifact ReadTauArtifact(const std::filesystem::path& file);
+// The trace as CSV (round,target_speed,tau,speed,nodes,attempts,checks,planning_round,solved,seconds).
+void WriteTauTraceCsv(const std::filesystem::path& file, const TauEstimate& estimate);
+
+}  // namespace ausbau

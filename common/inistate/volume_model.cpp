@@ -1,0 +1,196 @@
+#include "inistate/volume_model.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+
+#include "core/error.h"
+#include "core/log.h"
+
+namespace ausbau {
+
+const std::vector<std::string>& ValidityModeNames() {
+  static const std::vector<std::string> names = {"collision", "shrink", "iv", "mliv", "labeled-mliv"};
+  return names;
+}
+
+ValidityMode ParseValidityMode(const std::string& name) {
+  const auto& names = ValidityModeNames();
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) {
+    throw InputError("--validity: unknown mode '" + name + "' (expected collision, shrink, iv, mliv or labeled-mliv)");
+  }
+  return static_cast<ValidityMode>(it - names.begin());
+}
+
+std::string ValidityModeName(ValidityMode mode) { return ValidityModeNames()[static_cast<int>(mode)]; }
+
+VolumeMeasure MeasureOf(ValidityMode mode) {
+  switch (mode) {
+    case ValidityMode::kMliv:
+      return VolumeMeasure::kMliv;
+    case ValidityMode::kLabeledMliv:
+      return VolumeMeasure::kLabeledMliv;
+    default:
+      return VolumeMeasure::kIv;
+  }
+}
+
+namespace {
+
+int FindRoot(std::vector<int>& parent, int x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+// Connected components of D's triangles over shared vertex positions (CAD
+// exports often duplicate vertices along seams), numbered by first triangle.
+std::vector<int> TriangleParts(const TriangleMesh& mesh, int* count) {
+  std::map<std::array<double, 3>, int> welded;
+  std::vector<int> vertex_id(mesh.vertices.size());
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Eigen::Vector3d& p = mesh.vertices[v];
+    vertex_id[v] = welded.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int>(welded.size()))
+                       .first->second;
+  }
+  std::vector<int> parent(welded.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& t : mesh.triangles) {
+    const int a = FindRoot(parent, vertex_id[t[0]]);
+    for (int k = 1; k < 3; ++k) {
+      const int b = FindRoot(parent, vertex_id[t[k]]);
+      if (a != b) parent[b] = a;
+    }
+  }
+  std::vector<int> number(welded.size(), -1);
+  std::vector<int> part(mesh.triangles.size());
+  *count = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const int root = FindRoot(parent, vertex_id[mesh.triangles[t][0]]);
+    if (number[root] < 0) number[root] = (*count)++;
+    part[t] = number[root];
+  }
+  return part;
+}
+
+}  // namespace
+
+VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
+                         const std::vector<double>& deformability, ValidityMode mode)
+    : mode_(mode), voxels_(std::move(voxels)) {
+  if (mode == ValidityMode::kCollision) throw std::logic_error("VolumeModel: collision is not a volume mode");
+  if (mode == ValidityMode::kLabeledMliv && deformability.empty()) {
+    throw InputError("--validity labeled-mliv needs D's labels (ausbau-pbd-label, --labels)");
+  }
+  if (!deformability.empty()) colors_ = ColorValues(voxels_.dynamic_grid, dynamic_mesh, deformability);
+
+  if (mode == ValidityMode::kShrink) {
+    // The smallest erosion (whole voxels) that frees the start pose.
+    const Aabb box = dynamic_mesh.Bounds();
+    const double limit = 0.25 * (box.max - box.min).minCoeff();
+    const VoxelGrid original = voxels_.dynamic_grid;
+    const double h = voxel_size();
+    for (int k = 1;; ++k) {
+      if (k * h > limit) {
+        throw InputError("--validity shrink: eroding D by a quarter of its smallest extent (" + std::to_string(limit) +
+                         ") does not free the start pose; D is not merely slightly too large");
+      }
+      voxels_.dynamic_grid = ErodeVoxels(original, k * h);
+      IntersectionVolume probe(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point);
+      if (probe.Iv(problem.start) == 0) {
+        shrink_ = k * h;
+        break;
+      }
+    }
+    voxels_.shrink = shrink_;
+    if (!colors_.empty()) {
+      for (std::size_t v = 0; v < colors_.size(); ++v) {
+        if (voxels_.dynamic_grid.cells[v] == kVoxelEmpty) colors_[v] = 0.0f;
+      }
+    }
+    LogInfo("shrink: D's voxels eroded by %g (%d voxels) to free the start", shrink_,
+            static_cast<int>(std::lround(shrink_ / h)));
+  }
+  volume_ = std::make_unique<IntersectionVolume>(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point,
+                                                 mode == ValidityMode::kLabeledMliv ? colors_ : std::vector<float>{});
+  triangle_part_ = TriangleParts(dynamic_mesh, &part_count_);
+  bvh_ = std::make_unique<WindingBvh>(dynamic_mesh);
+}
+
+VolumeModel::~VolumeModel() = default;
+
+double VolumeModel::Measure(const Pose& pose) { return volume_->Measure(measure(), pose); }
+
+VolumeReport VolumeModel::Describe(const Pose& pose) {
+  VolumeQuery query;
+  query.record_cells = true;
+  VolumeReport report;
+  report.value = volume_->Measure(measure(), pose, std::numeric_limits<double>::infinity(), &query);
+  report.voxels = query.voxels;
+  if (query.cells.empty()) return report;
+  const VoxelGridGeometry& g = voxels_.dynamic_grid.geometry;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double deformability = 0;
+  for (const Eigen::Vector3i& c : query.cells) {
+    sum += g.Center(c.x(), c.y(), c.z());
+    if (!colors_.empty()) deformability += 1.0 - colors_[g.Index(c.x(), c.y(), c.z())];
+  }
+  report.centre = sum / static_cast<double>(query.cells.size());
+  report.deformability = deformability / static_cast<double>(query.cells.size());
+  // The part: that of the triangle nearest the component's voxel nearest its
+  // centre (the centre of a bent component may lie outside it).
+  Eigen::Vector3d anchor = g.Center(query.cells[0].x(), query.cells[0].y(), query.cells[0].z());
+  for (const Eigen::Vector3i& c : query.cells) {
+    const Eigen::Vector3d p = g.Center(c.x(), c.y(), c.z());
+    if ((p - report.centre).squaredNorm() < (anchor - report.centre).squaredNorm()) anchor = p;
+  }
+  const WindingBvh::Closest closest = bvh_->ClosestPoint(anchor);
+  if (closest.triangle >= 0) report.part = triangle_part_[closest.triangle];
+  return report;
+}
+
+double VolumeModel::EstimatePsi() const {
+  const VoxelGrid& grid = voxels_.dynamic_grid;
+  const VoxelGridGeometry& g = grid.geometry;
+  const double margin = 2.0 * g.spacing;
+  if (colors_.empty()) return margin;
+  const std::int64_t n = g.Count();
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(n), 0);
+  std::vector<std::int64_t> stack;
+  std::int64_t best_count = 0;
+  double best_extent = 0;
+  auto deformable = [&](std::int64_t v) { return grid.cells[v] != kVoxelEmpty && colors_[v] < kDeformableColor; };
+  for (std::int64_t start = 0; start < n; ++start) {
+    if (seen[start] || !deformable(start)) continue;
+    seen[start] = 1;
+    stack.assign(1, start);
+    std::int64_t count = 0;
+    Eigen::Vector3i lo(g.dims[0], g.dims[1], g.dims[2]), hi(-1, -1, -1);
+    while (!stack.empty()) {
+      const std::int64_t v = stack.back();
+      stack.pop_back();
+      ++count;
+      const int i = static_cast<int>(v % g.dims[0]);
+      const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
+      const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
+      lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
+      hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+      const int neighbours[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+      for (const auto& d : neighbours) {
+        const int a = i + d[0], b = j + d[1], c = k + d[2];
+        if (!g.Contains(a, b, c)) continue;
+        const std::int64_t w = g.Index(a, b, c);
+        if (seen[w] || !deformable(w)) continue;
+        seen[w] = 1;
+        stack.push_back(w);
+      }
+    }
+    if (count > best_count) {
+      best_count = count;
+      best_extent = ((hi - lo).array() + 1).maxCoeff() * g.spacing;
+    }
+  }
+  return best_extent + margin;
+}
+
+}  // namespace ausbau

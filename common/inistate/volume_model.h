@@ -1,0 +1,93 @@
+// The validity modes of InIState planning (thesis 5.3-5.4) and the scene
+// data behind them: D's and S's voxels, D's colour values from the labels,
+// and D's parts (to say which part of D an intersection belongs to).
+//
+//   collision     FCL, no intersection at all (rigid planning, ch. 3)
+//   shrink        D's voxels eroded until the start is free, then IV <= tau
+//                 (tau 0 by default: the shrunk D must not touch S; the
+//                 "shrink" baseline of 5.3, as Ma and Wan 2001)
+//   iv            IV <= tau            (5.3, def. 5)
+//   mliv          MLIV <= tau          (alg. 11)
+//   labeled-mliv  Labeled-MLIV <= tau  (alg. 12, the thesis's InIState check)
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "inistate/intersection_volume.h"
+#include "inistate/voxel_grid.h"
+#include "planning/state_space.h"
+
+namespace ausbau {
+
+enum class ValidityMode { kCollision, kShrink, kIv, kMliv, kLabeledMliv };
+
+const std::vector<std::string>& ValidityModeNames();  // collision, shrink, iv, mliv, labeled-mliv
+ValidityMode ParseValidityMode(const std::string& name);  // throws InputError naming --validity
+std::string ValidityModeName(ValidityMode mode);
+VolumeMeasure MeasureOf(ValidityMode mode);  // shrink and iv: IV
+
+// One intersection of D with S at a pose, described for a user.
+struct VolumeReport {
+  double value = 0;            // the mode's volume (Labeled-MLIV weighted), scene units^3
+  std::int64_t voxels = 0;     // voxels of the reported component (IV: all intersecting)
+  int part = -1;               // D's part (connected mesh component) nearest the component's centre; -1 none
+  double deformability = 0;    // mean deformability (1 - colorValue) over the component's voxels
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // component's centre, D's mesh coordinates
+};
+
+class VolumeModel {
+ public:
+  // `dynamic_mesh`: D in its mesh coordinates (as the scene loads it);
+  // `deformability`: per vertex of it (the labels artifact), required for
+  // labeled-mliv and used for the reports of the other modes when given
+  // (empty: all rigid). Shrink erodes D's voxels by the smallest multiple of
+  // the voxel size that frees the start (InputError when even a quarter of
+  // D's smallest extent does not). `mode` must not be collision.
+  VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
+              const std::vector<double>& deformability, ValidityMode mode);
+  ~VolumeModel();
+  VolumeModel(const VolumeModel&) = delete;
+  VolumeModel& operator=(const VolumeModel&) = delete;
+
+  ValidityMode mode() const { return mode_; }
+  VolumeMeasure measure() const { return MeasureOf(mode_); }
+  const IntersectionVolume& volume() const { return *volume_; }
+  double voxel_size() const { return voxels_.dynamic_grid.geometry.spacing; }
+  double shrink() const { return shrink_; }  // erosion distance (shrink mode), scene units
+  const std::vector<float>& color_values() const { return colors_; }
+  const SceneVoxels& voxels() const { return voxels_; }
+  int part_count() const { return part_count_; }
+
+  // The mode's volume at a planning-convention pose (no early out). Not
+  // thread-safe (uses the model's own query buffers).
+  double Measure(const Pose& pose);
+  // The same, with the part and deformability of the reported component.
+  VolumeReport Describe(const Pose& pose);
+
+  // psi of 5.4.4: the largest extent of the largest 6-connected component of
+  // deformable voxels (colorValue < kDeformableColor) plus two voxels (the
+  // voxels' surface margin); two voxels when D has no deformable voxel.
+  // psi only decides where sigma_1 hands over to the rigid planner (c_inter
+  // is collision-free whatever psi > 0 is), so a rough value is enough.
+  // The threshold: on the clip scenes the labels put clips at 0.75-1 and
+  // rims, rails and panel edges at up to ~0.65 (median 0.15-0.5), so 0.5
+  // would join a whole rim into one "fastener".
+  static constexpr float kDeformableColor = 0.25f;
+  double EstimatePsi() const;
+
+ private:
+  ValidityMode mode_;
+  SceneVoxels voxels_;
+  std::vector<float> colors_;
+  std::unique_ptr<IntersectionVolume> volume_;
+  double shrink_ = 0;
+  // D's parts: per triangle of D its connected component; a BVH to find the
+  // triangle nearest a point.
+  std::vector<int> triangle_part_;
+  int part_count_ = 0;
+  std::unique_ptr<WindingBvh> bvh_;
+};
+
+}  // namespace ausbau
