@@ -3,8 +3,14 @@
 // or on a mesh file. Prints the medial-sphere time, the labeling time with
 // one thread and with all threads, the time per load case, and (generated
 // panel) how well the labels separate the tongues (ROC AUC).
+// With --family: the generated clip scenes (scene/clip_scenes.h) instead,
+// labelled once per --max-load-cases budget with --threads, printing the time
+// and the ROC AUC of clip vertices against rigid ones (over the exposed
+// vertices, as tests/test_labeling.cpp measures it, and over all).
 //
 //   build/bin/ausbau-label-bench [--mesh FILE] [--cells N] [--threads N] [--skip-single]
+//   build/bin/ausbau-label-bench --family clips-ds1 [--family ...|all] [--triangles N]
+//                                [--max-load-cases N ...] [--threads N]
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
@@ -12,11 +18,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
+#include "scene/clip_scenes.h"
 #include "scene/mesh_io.h"
+#include "scene/scene.h"
 
 namespace {
 
@@ -69,6 +78,76 @@ double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
+// Per vertex of D: 0 where it lies inside (or on) another component of D (a
+// clip's root embedded in the panel); the same rule as ExposedVertices in
+// tests/test_labeling.cpp.
+std::vector<std::uint8_t> ExposedVertices(const MeshTopology& topo) {
+  const TriangleBvh bvh(topo.vertices, topo.triangles);
+  std::vector<int> component(topo.triangles.size());
+  for (std::size_t t = 0; t < component.size(); ++t) component[t] = topo.component[topo.triangles[t][0]];
+  const Eigen::Vector3d directions[3] = {Eigen::Vector3d(0.577, 0.591, 0.563).normalized(),
+                                         Eigen::Vector3d(-0.707, 0.311, 0.634).normalized(),
+                                         Eigen::Vector3d(0.135, -0.812, 0.567).normalized()};
+  std::vector<std::uint8_t> exposed(topo.OriginalVertexCount(), 1);
+  for (int i = 0; i < topo.OriginalVertexCount(); ++i) {
+    const int w = topo.welded_of_original[i];
+    const int own = topo.component[w];
+    const auto others = [&](int t) { return component[t] == own; };
+    const auto near = bvh.NearestPoint(topo.vertices[w], others);
+    if (near.triangle >= 0 && near.distance_squared < 1e-4 * topo.diagonal * topo.diagonal * 1e-4) {
+      exposed[i] = 0;
+      continue;
+    }
+    int odd = 0;
+    for (const auto& direction : directions) odd += bvh.CountCrossings(topo.vertices[w], direction, 0, others) % 2;
+    if (odd >= 2) exposed[i] = 0;
+  }
+  return exposed;
+}
+
+// Labels one generated clip scene once per budget; prints time and AUCs.
+void BenchClipScene(const std::string& family, std::int64_t triangles, const std::vector<int>& budgets,
+                    int threads) {
+  ClipSceneOptions scene_options;
+  scene_options.triangles = triangles;
+  const auto dir = std::filesystem::temp_directory_path() / ("ausbau-label-bench-" + family);
+  const ClipSceneFiles files = GenerateClipScene(family, scene_options, dir);
+  const Scene scene = LoadScene(files.scene_yaml);
+  const ClipGroundTruth truth = LoadClipGroundTruth(files.ground_truth_yaml);
+  const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh);
+  MedialSphereOptions sphere_options;
+  sphere_options.threads = threads;
+  const MedialSpheres spheres = ComputeMedialSpheres(topology, sphere_options);
+  const std::vector<double> nominal = truth.VertexDeformability();
+  const std::vector<std::uint8_t> exposed = ExposedVertices(topology);
+  std::printf("%s: %zu triangles, %d welded vertices, %d components; medial spheres %.2f s (%d threads)\n",
+              family.c_str(), scene.dynamic_mesh.triangles.size(), topology.VertexCount(), topology.stats.components,
+              spheres.seconds, threads);
+  for (int budget : budgets) {
+    PbdLabelOptions options;
+    options.threads = threads;
+    options.max_load_cases = budget;
+    const PbdLabels labels = ComputePbdLabels(topology, spheres, options);
+    std::vector<double> all_score, exposed_score;
+    std::vector<std::uint8_t> all_clip, exposed_clip;
+    for (std::size_t i = 0; i < nominal.size(); ++i) {
+      const double d = labels.deformability[topology.welded_of_original[i]];
+      const std::uint8_t clip = nominal[i] > 0.2 ? 1 : 0;
+      all_score.push_back(d);
+      all_clip.push_back(clip);
+      if (!exposed[i]) continue;
+      exposed_score.push_back(d);
+      exposed_clip.push_back(clip);
+    }
+    std::printf("  budget %6d: %6lld load cases in %7.2f s (%.2f ms thread time each, %d glued components): "
+                "ROC AUC %.4f exposed, %.4f all\n",
+                budget, static_cast<long long>(labels.load_cases), labels.seconds, 1e3 * labels.SecondsPerLoadCase(),
+                labels.components, RocAuc(exposed_score, exposed_clip), RocAuc(all_score, all_clip));
+    std::fflush(stdout);
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,8 +161,21 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str();
   app.add_flag("--skip-single", skip_single, "skip the single-thread run");
+  std::vector<std::string> families;
+  std::int64_t triangles = 0;
+  std::vector<int> budgets;
+  app.add_option("--family", families, "clip scene family (clips-ds1 .. clips-ds5, or all); repeatable");
+  app.add_option("--triangles", triangles, "clip scenes: D's triangle target; 0 = the family's default")
+      ->capture_default_str();
+  app.add_option("--max-load-cases", budgets, "clip scenes: load-case budgets to run (0 = every vertex); repeatable");
   CLI11_PARSE(app, argc, argv);
   if (threads <= 0) threads = omp_get_max_threads();
+  if (!families.empty()) {
+    if (budgets.empty()) budgets.push_back(PbdLabelOptions{}.max_load_cases);
+    if (families.size() == 1 && families[0] == "all") families = ClipSceneFamilies();
+    for (const auto& family : families) BenchClipScene(family, triangles, budgets, threads);
+    return 0;
+  }
 
   Part part;
   if (mesh_file.empty()) {

@@ -409,8 +409,12 @@ TEST(PbdLabels, RestingPartDoesNotMoveAndSeparatePartsAreIndependent) {
   for (auto& v : shifted.vertices) v += Eigen::Vector3d(0, 0, 5);
   two.Append(shifted);
   MeshTopology topo_one, topo_two;
-  const PbdLabels a = LabelPart(one, {}, &topo_one);
-  const PbdLabels b = LabelPart(two, {}, &topo_two);
+  // Every vertex loaded: under a budget, float rounding of the copies'
+  // coordinates could place their samples differently.
+  PbdLabelOptions all;
+  all.max_load_cases = 0;
+  const PbdLabels a = LabelPart(one, all, &topo_one);
+  const PbdLabels b = LabelPart(two, all, &topo_two);
   // The scaled mesh differs (largest extent 5.3 instead of 1.6), so values
   // differ slightly; the ranking does not.
   const std::vector<double> da = PerOriginal(topo_one, a.deformability);
@@ -486,6 +490,135 @@ TEST(MedialSpheres, ContactVerticesAreFlaggedAndLeftOutOfRMin) {
   const PbdLabels labels = ComputePbdLabels(topo, spheres, {});
   EXPECT_NEAR(labels.r_min, expected_min * labels.scale, 1e-12);
   EXPECT_LT(labels.deformability[contact_vertex], 1.0);
+}
+
+// ------------------------------------------------------------ load-case budget
+
+// Mean deformability on the tongue over mean on the rest, and the ROC AUC.
+void ExpectTongueSeparated(const std::vector<double>& d, const std::vector<std::uint8_t>& tongue, double min_auc,
+                           const char* what) {
+  double on = 0, off = 0;
+  int on_count = 0, off_count = 0;
+  for (std::size_t i = 0; i < tongue.size(); ++i) {
+    (tongue[i] ? on : off) += d[i];
+    ++(tongue[i] ? on_count : off_count);
+  }
+  const std::vector<double> score(d.begin(), d.begin() + tongue.size());
+  const double auc = RocAuc(score, tongue);
+  std::printf("%s: AUC %.4f, mean deformability tongue %.3f, box %.3f\n", what, auc, on / on_count,
+              off / off_count);
+  EXPECT_GE(auc, min_auc) << what;
+  EXPECT_GT(on / on_count, 2 * off / off_count) << what;
+}
+
+TEST(PbdLabels, LoadCaseBudgetIsRespectedAndCoversEveryComponent) {
+  // The tongue part and, far from it, a small separate box (under 3% of the
+  // area): the box still gets a full batch of load cases.
+  const TonguePart part = MakeTonguePart();
+  TriangleMesh mesh = part.mesh;
+  mesh.Append(SubdividedBox({0, 0, 3}, {0.1, 0.1, 3.1}, 2));
+  const MeshTopology topo = BuildMeshTopology(mesh);
+  ASSERT_EQ(topo.stats.components, 2);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  PbdLabelOptions options;
+  options.max_load_cases = 64;
+  const PbdLabels labels = ComputePbdLabels(topo, spheres, options);
+  EXPECT_EQ(labels.load_cases, 64);
+  const int small = topo.component[topo.welded_of_original[part.mesh.vertices.size()]];
+  int loaded = 0, small_loaded = 0, referenced = 0;
+  double weight = 0;
+  for (int v = 0; v < topo.VertexCount(); ++v) {
+    if (!topo.referenced[v]) continue;
+    ++referenced;
+    weight += labels.load_weight[v];
+    if (labels.load_weight[v] > 0) {
+      ++loaded;
+      small_loaded += topo.component[v] == small ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(loaded, 64);
+  EXPECT_EQ(small_loaded, 8);
+  // The samples stand for all of D's area: weights add up to the vertex count.
+  EXPECT_NEAR(weight, referenced, 1e-9 * referenced);
+  ExpectTongueSeparated(PerOriginal(topo, labels.deformability), part.tongue, 0.9, "budget 64, with a small box");
+}
+
+TEST(PbdLabels, ThinTongueIsDeformableWithASmallBudget) {
+  // About a tenth of the part's area is the tongue: a handful of the load
+  // cases land on it, on both faces, and still separate it.
+  for (double thickness : {0.03, 0.01}) {
+    const TonguePart part = MakeTonguePart(thickness);
+    PbdLabelOptions options;
+    options.max_load_cases = 32;
+    MeshTopology topo;
+    const PbdLabels labels = LabelPart(part.mesh, options, &topo);
+    EXPECT_EQ(labels.load_cases, 32);
+    int on_tongue = 0;
+    for (int i = 0; i < topo.OriginalVertexCount(); ++i) {
+      if (part.tongue[i] && labels.load_weight[topo.welded_of_original[i]] > 0) ++on_tongue;
+    }
+    EXPECT_GE(on_tongue, 2) << thickness;
+    ExpectTongueSeparated(PerOriginal(topo, labels.deformability), part.tongue, 0.9,
+                          thickness > 0.02 ? "budget 32, tongue 0.03" : "budget 32, tongue 0.01");
+  }
+}
+
+TEST(PbdLabels, LoadCaseBudgetIsDeterministicForAnyThreadCount) {
+  const MeshTopology topo = BuildMeshTopology(MakeTonguePart().mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  PbdLabelOptions one, two, three;
+  one.max_load_cases = two.max_load_cases = three.max_load_cases = 40;
+  one.threads = 1;
+  two.threads = 2;
+  three.threads = 3;
+  const PbdLabels a = ComputePbdLabels(topo, spheres, one);
+  const PbdLabels b = ComputePbdLabels(topo, spheres, two);
+  const PbdLabels c = ComputePbdLabels(topo, spheres, three);
+  const PbdLabels again = ComputePbdLabels(topo, spheres, two);
+  EXPECT_EQ(a.load_weight, b.load_weight);
+  EXPECT_EQ(a.load_weight, c.load_weight);
+  EXPECT_EQ(a.displacement, b.displacement);
+  EXPECT_EQ(a.displacement, c.displacement);
+  EXPECT_EQ(b.displacement, again.displacement);
+  EXPECT_EQ(a.deformability, c.deformability);
+}
+
+TEST(PbdLabels, BudgetZeroOrAboveTheVertexCountLoadsEveryVertex) {
+  // 0, or a budget of at least the vertex count, is the full labeling (the
+  // same code path: one load case per vertex, weighted by its own area);
+  // "self" always loads every vertex.
+  const MeshTopology topo = BuildMeshTopology(MakeTonguePart().mesh);
+  const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
+  const int vertices = topo.VertexCount() - topo.stats.unreferenced_vertices;
+  for (const char* measure : {"sum", "self"}) {
+    PbdLabelOptions all, exact, above, small;
+    all.measure = exact.measure = above.measure = small.measure = measure;
+    all.max_load_cases = 0;
+    exact.max_load_cases = vertices;
+    above.max_load_cases = 1000000;
+    small.max_load_cases = 16;
+    const PbdLabels a = ComputePbdLabels(topo, spheres, all);
+    EXPECT_EQ(a.load_cases, vertices) << measure;
+    for (int v = 0; v < topo.VertexCount(); ++v) {
+      if (topo.referenced[v]) {
+        EXPECT_GT(a.load_weight[v], 0) << measure;
+      }
+    }
+    for (const PbdLabelOptions* options : {&exact, &above}) {
+      const PbdLabels b = ComputePbdLabels(topo, spheres, *options);
+      EXPECT_EQ(a.load_cases, b.load_cases) << measure;
+      EXPECT_EQ(a.displacement, b.displacement) << measure;
+      EXPECT_EQ(a.deformability, b.deformability) << measure;
+    }
+    if (std::string(measure) == "self") {
+      EXPECT_EQ(ComputePbdLabels(topo, spheres, small).displacement, a.displacement);
+    } else {
+      EXPECT_EQ(ComputePbdLabels(topo, spheres, small).load_cases, 16);
+    }
+  }
+  PbdLabelOptions negative;
+  negative.max_load_cases = -1;
+  EXPECT_THROW(ComputePbdLabels(topo, spheres, negative), InputError);
 }
 
 TEST(PbdLabels, RefinementKeepsOneValuePerVertexOfD) {

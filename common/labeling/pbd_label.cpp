@@ -32,6 +32,7 @@ void PbdLabelOptions::Check() const {
   if (!(density >= 0)) throw InputError("--density: must be positive (or 0: automatic)");
   if (measure != "self" && measure != "sum") throw InputError("--measure: expected self or sum, got '" + measure + "'");
   if (threads < 0) throw InputError("--threads: must be at least 0");
+  if (max_load_cases < 0) throw InputError("--max-load-cases: must be at least 0 (0: every vertex)");
   if (!(refine >= 0)) throw InputError("--refine: must be at least 0 (0: off)");
   if (refine > 0 && !(refine_min_length > 0 && refine_min_length < 1)) {
     throw InputError("refine_min_length: must lie in (0, 1) (a fraction of D's AABB diagonal)");
@@ -563,6 +564,171 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   return model;
 }
 
+// Load cases under a budget ("sum" only, see pbd_label.h). `loadable`: per
+// simulation vertex (not: vertices inserted by refinement); `area`: the area
+// it stands for as a load vertex. Sets `loaded` to the chosen load vertices
+// and `cell` to the sample whose cell each simulation vertex lies in, and
+// returns the samples' weights (the area they represent; 0 elsewhere).
+//
+// Quotas: every simulated component gets load cases in proportion to its
+// loadable area, but at least kMinLoadCases (a SIMD batch costs the same
+// for 1 or 8 lanes), or all its vertices when it has fewer; a component that
+// got none would get no values at all (the load of one component does not
+// reach another). Within a component: farthest-point sampling in graph
+// distance over the constraints (edges, bending pairs and glue: geodesic on
+// the surface, so both faces of a thin tongue and small parts glued on get
+// samples as their area asks, whatever the mesh density), starting from the
+// vertex farthest from the component's first one. Each sample represents its
+// cell, the loadable vertices nearer to it than to any other sample.
+// Everything is in a fixed order with ties to the lower index: deterministic.
+constexpr int kMinLoadCases = kLanes;
+
+std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::uint8_t>& loadable,
+                                    const std::vector<double>& area, std::int64_t budget,
+                                    std::vector<std::uint8_t>* loaded, std::vector<int>* cell) {
+  const int n = model.n;
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
+  // Graph over the constraints, compressed rows.
+  std::vector<int> offset(n + 1, 0), target;
+  std::vector<float> length;
+  for (const Constraint& c : model.constraints) {
+    ++offset[c.i + 1];
+    ++offset[c.j + 1];
+  }
+  for (int i = 0; i < n; ++i) offset[i + 1] += offset[i];
+  target.resize(offset[n]);
+  length.resize(offset[n]);
+  {
+    std::vector<int> fill(offset.begin(), offset.end() - 1);
+    for (const Constraint& c : model.constraints) {
+      target[fill[c.i]] = c.j;
+      length[fill[c.i]++] = c.rest;
+      target[fill[c.j]] = c.i;
+      length[fill[c.j]++] = c.rest;
+    }
+  }
+  // Quotas: q_c(lambda) = min(count_c, max(minimum_c, floor(lambda area_c)))
+  // grows with lambda; take the largest lambda within the budget, then hand
+  // the rest out one by one, largest remainder first.
+  std::vector<std::int64_t> count(components, 0), minimum(components), quota(components);
+  std::vector<double> component_area(components, 0.0);
+  for (int c = 0; c < components; ++c) {
+    for (int i = model.vertex_begin[c]; i < model.vertex_begin[c + 1]; ++i) {
+      if (loadable[i]) {
+        ++count[c];
+        component_area[c] += area[i];
+      }
+    }
+  }
+  std::int64_t minimum_sum = 0;
+  for (int c = 0; c < components; ++c) minimum_sum += minimum[c] = std::min<std::int64_t>(count[c], kMinLoadCases);
+  if (minimum_sum > budget) {
+    for (int c = 0; c < components; ++c) minimum[c] = std::min<std::int64_t>(count[c], 1);
+  }
+  const auto quotas = [&](double lambda, std::vector<std::int64_t>* out) {
+    std::int64_t total = 0;
+    for (int c = 0; c < components; ++c) {
+      const double share = std::floor(std::min(lambda * component_area[c], 4e18));
+      (*out)[c] = std::min(count[c], std::max(minimum[c], static_cast<std::int64_t>(share)));
+      total += (*out)[c];
+    }
+    return total;
+  };
+  double lo = 0.0, hi = 1.0;
+  while (quotas(hi, &quota) <= budget && hi < 1e300) hi *= 2;
+  for (int k = 0; k < 200 && lo < hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    if (mid <= lo || mid >= hi) break;
+    (quotas(mid, &quota) <= budget ? lo : hi) = mid;
+  }
+  std::int64_t left = budget - quotas(lo, &quota);
+  while (left > 0) {
+    int best = -1;
+    double best_remainder = -1.0;
+    for (int c = 0; c < components; ++c) {
+      const double remainder = lo * component_area[c] - static_cast<double>(quota[c]);
+      if (quota[c] < count[c] && remainder > best_remainder) {
+        best = c;
+        best_remainder = remainder;
+      }
+    }
+    if (best < 0) break;
+    ++quota[best];
+    --left;
+  }
+
+  // Farthest-point sampling, one component at a time; dist and owner are
+  // updated incrementally (a Dijkstra from each new sample only visits the
+  // vertices it is nearer to).
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  std::vector<int> owner(n, -1);
+  std::vector<double> weight(n, 0.0);
+  loaded->assign(n, 0);
+  cell->assign(n, -1);
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  const auto grow = [&](int source, int label) {
+    dist[source] = 0.0;
+    owner[source] = label;
+    queue.push({0.0, source});
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > dist[v]) continue;
+      for (int e = offset[v]; e < offset[v + 1]; ++e) {
+        const double candidate = d + length[e];
+        if (candidate < dist[target[e]]) {
+          dist[target[e]] = candidate;
+          owner[target[e]] = label;
+          queue.push({candidate, target[e]});
+        }
+      }
+    }
+  };
+  const auto farthest = [&](int begin, int end) {  // loadable, not yet a sample; -1 if none
+    int best = -1;
+    for (int i = begin; i < end; ++i) {
+      if (loadable[i] && dist[i] > 0 && (best < 0 || dist[i] > dist[best])) best = i;
+    }
+    return best;
+  };
+  for (int c = 0; c < components; ++c) {
+    const int begin = model.vertex_begin[c], end = model.vertex_begin[c + 1];
+    if (quota[c] == 0) continue;
+    std::vector<int> samples;
+    if (quota[c] >= count[c]) {
+      for (int i = begin; i < end; ++i) {
+        if (loadable[i]) samples.push_back(i);
+      }
+      for (int i : samples) {
+        weight[i] = area[i];
+        (*loaded)[i] = 1;
+        (*cell)[i] = i;
+      }
+      continue;
+    }
+    int next = -1;
+    for (int i = begin; i < end && next < 0; ++i) {
+      if (loadable[i]) next = i;
+    }
+    grow(next, 0);
+    next = farthest(begin, end);
+    std::fill(dist.begin() + begin, dist.begin() + end, std::numeric_limits<double>::infinity());
+    while (next >= 0 && static_cast<std::int64_t>(samples.size()) < quota[c]) {
+      grow(next, static_cast<int>(samples.size()));
+      samples.push_back(next);
+      next = farthest(begin, end);
+    }
+    for (int i = begin; i < end; ++i) {
+      if (owner[i] < 0) continue;
+      (*cell)[i] = samples[owner[i]];
+      if (loadable[i]) weight[samples[owner[i]]] += area[i];
+    }
+    for (int i : samples) (*loaded)[i] = 1;
+  }
+  return weight;
+}
+
 }  // namespace
 
 PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& given_radii,
@@ -627,6 +793,8 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   // relative to the mean (1 on a uniform mesh), so that the sum approximates
   // an integral over where the load is applied, whatever the sampling.
   std::vector<double> load_weight(n, 0.0);
+  std::vector<double> represented;  // under a budget: area each vertex stands for
+  std::vector<int> cell;            // under a budget: the load case whose cell a vertex is in
   {
     double area = 0.0;
     int count = 0;
@@ -636,9 +804,22 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
         ++count;
       }
     }
-    for (int w = 0; w < topology.VertexCount(); ++w) {
-      if (sim_of_vertex[w] >= 0) {
-        load_weight[sim_of_vertex[w]] = options.area_weighted ? topology.vertex_areas[w] * count / area : 1.0;
+    if (options.measure == "sum" && options.max_load_cases > 0 && options.max_load_cases < count) {
+      // Under a budget: a sample's weight is the area of its cell, in the
+      // same units, so the sum stays an estimate of the full sum.
+      represented.assign(n, 0.0);
+      for (int w = 0; w < topology.VertexCount(); ++w) {
+        if (sim_of_vertex[w] >= 0) {
+          represented[sim_of_vertex[w]] = options.area_weighted ? topology.vertex_areas[w] * count / area : 1.0;
+        }
+      }
+      const std::vector<std::uint8_t> loadable = loaded;
+      load_weight = SampleLoadCases(model, loadable, represented, options.max_load_cases, &loaded, &cell);
+    } else {
+      for (int w = 0; w < topology.VertexCount(); ++w) {
+        if (sim_of_vertex[w] >= 0) {
+          load_weight[sim_of_vertex[w]] = options.area_weighted ? topology.vertex_areas[w] * count / area : 1.0;
+        }
       }
     }
   }
@@ -724,9 +905,27 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
         RigidResiduals(model, begin, end, x.data(), l, residual.data());
         const int g = batch.load[l];
         self[g] = residual[g - begin];
-        if (sum) {
+        if (sum && cell.empty()) {
           for (int local = 0; local < count; ++local) {
             const double term = std::min(load_weight[g] * residual[local] * kFixed, kTermLimit);
+            local_sum[begin + local] += static_cast<std::int64_t>(std::llround(term));
+          }
+        } else if (sum) {
+          // Under a budget, the load case stands for the loads on every
+          // vertex of its cell. Far from the cell that is its response times
+          // the cell's area; inside the cell, its response peaks at the load
+          // vertex, where loads on the other vertices of the cell would not
+          // (each would peak at its own vertex). So the cell gets the total
+          // of the response over the cell, sum_k area_k r_k, spread evenly:
+          // the cell's share of the sum is kept, without a spike at every
+          // sample.
+          double near = 0.0;
+          for (int local = 0; local < count; ++local) {
+            if (cell[begin + local] == g) near += represented[begin + local] * residual[local];
+          }
+          for (int local = 0; local < count; ++local) {
+            const double value = cell[begin + local] == g ? near : load_weight[g] * residual[local];
+            const double term = std::min(value * kFixed, kTermLimit);
             local_sum[begin + local] += static_cast<std::int64_t>(std::llround(term));
           }
         }
@@ -747,6 +946,10 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   // Values at D's vertices, normalized over them.
   labels.displacement.assign(topology.VertexCount(), 0.0);
   labels.deformability.assign(topology.VertexCount(), 0.0);
+  labels.load_weight.assign(topology.VertexCount(), 0.0);
+  for (int w = 0; w < topology.VertexCount(); ++w) {
+    if (sim_of_vertex[w] >= 0 && loaded[sim_of_vertex[w]]) labels.load_weight[w] = load_weight[sim_of_vertex[w]];
+  }
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (int w = 0; w < topology.VertexCount(); ++w) {
     const int i = sim_of_vertex[w];

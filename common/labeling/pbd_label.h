@@ -1,6 +1,7 @@
 // Phase II of the deformability labeling (thesis 5.4.1, algorithm 10): a
 // position based dynamics simulation (Mueller et al. 2007) of D's surface,
-// one load case per vertex, gives every vertex a deformation value.
+// one load case per vertex (or per vertex of a well-spread subset: the
+// load-case budget below), gives every vertex a deformation value.
 //
 // Model (the thesis's values):
 //  - D's welded mesh is scaled to an axis-aligned box of largest extent 1
@@ -66,6 +67,23 @@
 //    (a driving-point compliance). Measured: on the clip scenes as good as
 //    "sum" (ROC AUC 0.98-1.0), on the thick-tongue test worse (0.85-0.92 for
 //    tongues a third as thick as the box, against 0.96-1.0).
+// Load-case budget (`max_load_cases`, "sum" only): a load case costs a
+// simulation of the whole component, so loading every vertex is quadratic in
+// the mesh size (clips-ds1, 34k vertices: 442 s with 2 threads). Under a
+// budget, loads are applied at most at max_load_cases vertices and every
+// vertex is still simulated and valued. The sum over load cases is an
+// integral over where the load is applied, so a subset estimates it: every
+// simulated component gets load cases in proportion to its area (at least
+// 8, a SIMD batch, or all its vertices when it has fewer), placed by
+// farthest-point sampling in distance along the constraints (geodesic: both
+// faces of a thin tongue count), and each sample is weighted by the area of
+// its cell (the vertices nearer to it than to any other sample). Inside its
+// own cell a load case's response peaks at the load vertex, as the loads it
+// stands for would not; there the cell's total response is spread evenly
+// over the cell instead. Measured (bench/label_bench.cpp --family all, ROC
+// AUC over exposed vertices, default triangle counts): see
+// stages/pbd-label/README.md. 0, or a budget of at least the vertex count,
+// loads every vertex (bit-identical to no budget); "self" always does.
 // Normalization: deformability = (d - d_min) / (d_max - d_min) over D's
 // vertices, so the stiffest vertex is 0 and the most deformable 1 (all 0 when
 // every value is equal); the raw values are kept too.
@@ -80,6 +98,7 @@
 // parallel over OpenMP threads, each thread with its own buffers (the inner
 // loop allocates nothing). Lanes never interact and "sum" accumulates in
 // fixed point (integers), so results are identical for any thread count.
+// The budget's sampling runs before, on one thread, in a fixed order.
 #pragma once
 
 #include <Eigen/Core>
@@ -107,6 +126,9 @@ struct PbdLabelOptions {
   bool bending = true;      // bending constraints (thesis figure 42: needed)
   bool thickness = true;    // masses from the sphere diameters (false: a constant height, the mean diameter)
   std::string measure = "sum";  // sum | self
+  // "sum": load only a well-spread subset of at most this many vertices, each
+  // weighted by the area it stands for (see above); 0 = every vertex.
+  int max_load_cases = 1024;
   double refine = 0.0;            // split edges longer than refine x local diameter; 0 = off
   double refine_min_length = 0.02;  // never split below this fraction of D's AABB diagonal
   bool area_weighted = true;       // "sum": weight load cases by their vertex's area
@@ -125,6 +147,9 @@ struct PbdLabels {
   // Per welded vertex of the topology; vertices in no triangle get 0.
   std::vector<double> deformability;  // [0, 1], higher = more deformable
   std::vector<double> displacement;   // raw deformation value, in the scaled mesh (largest extent 1)
+  // "sum": the weight of the load case on each vertex (the area it stands
+  // for, 1 = the mean vertex area); 0 where no load was applied.
+  std::vector<double> load_weight;
   double scale = 1.0;                 // mesh units -> scaled mesh
   double r_min = 0.0;                 // smallest medial-sphere radius, scaled mesh
   double sigma = 0.0;                 // kappa x r_min

@@ -1,10 +1,11 @@
 // ausbau-pbd-label: phase II of the deformability labeling (thesis 5.4.1,
 // algorithm 10): a position based dynamics simulation of D per load case
-// (one per vertex) gives each vertex of D a deformability in [0, 1]. See
-// README.md.
+// (one per vertex, or a budget of them) gives each vertex of D a
+// deformability in [0, 1]. See README.md.
 #include <omp.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "cli/stage_main.h"
@@ -77,10 +78,15 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
   SpheresPerWeldedVertex(topology, spheres, options.spheres, &radii, &contact);
 
   PbdLabelOptions label_options = options.labels;
-  Progress progress("load cases", topology.VertexCount() - topology.stats.unreferenced_vertices);
-  label_options.progress = [&progress](std::int64_t done, std::int64_t) { progress.Update(done); };
+  // Made at the first report: only the labeling knows how many load cases
+  // the budget leaves.
+  std::optional<Progress> progress;
+  label_options.progress = [&progress](std::int64_t done, std::int64_t total) {
+    if (!progress) progress.emplace("load cases", total);
+    progress->Update(done);
+  };
   const PbdLabels labels = ComputePbdLabels(topology, radii, contact, label_options);
-  progress.Finish();
+  if (progress) progress->Finish();
   const int threads = options.labels.threads > 0 ? options.labels.threads : omp_get_max_threads();
   LogInfo("%lld load cases on %lld vertices (%d simulated components, %lld constraints, %lld glue pairs) in %.2f s "
           "with %d threads: %.3f ms per load case; %d steps, k' = %.7g, r_min %.6g and sigma %.6g (scaled mesh), "
@@ -118,6 +124,10 @@ int main(int argc, char** argv) {
         app.add_option("--ply", options.ply, "also write D as PLY coloured by deformability (blue rigid, red deformable)");
         app.add_option("--threads", l.threads, "0 = all cores")->capture_default_str();
         app.add_option("--measure", l.measure, "sum (thesis: displacements summed over all load cases) | self")
+            ->capture_default_str();
+        app.add_option("--max-load-cases", l.max_load_cases,
+                       "sum: load at most this many well-spread vertices, weighted by the area each stands for; "
+                       "0 = every vertex")
             ->capture_default_str();
         app.add_option("--kappa", l.kappa, "load sigma = kappa x r_min")->capture_default_str();
         app.add_option("--density", l.density, "rho in the scaled mesh; 0 = automatic (resolution-independent)")
