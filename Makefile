@@ -1,12 +1,19 @@
 # Ausbau: the two commands a new user needs.
-#   make demo   installs what is missing (Debian packages), builds, and plans a
-#               disassembly path on a generated scene
+#   make demo   installs what is missing (Debian packages), builds, and runs
+#               the InIState pipeline on a shipped clip scene: is the part
+#               removable, along which path (prints the verdict)
 #   make test   the same set-up, then the whole test suite
+# And for your own scenes (README "Running the InIState pipeline"):
+#   make run SCENE=path/to/scene.yaml OUT=dir     one scene (pipelines/inistate.mk)
+#   make batch SCENES=dir OUT=dir [-j N]          every dir/*/scene.yaml, then a table
+#   make demo-rigid                               the rigid planning demo (pipelines/plan.mk)
 # Everything builds into build/; stage executables land in build/bin/.
 
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= out/demo
+DEMO_SCENE ?= scenes/clips-ds1/scene.yaml
+DEMO_RIGID_OUT ?= out/demo-rigid
 SEED ?= 1
 
 # Benchmarks (need OMPL: `scripts/install-deps.sh bench` adds libompl-dev).
@@ -26,7 +33,7 @@ STUDY_SCENES ?= alpha-1.5,Easy
 STUDY_OUT ?= out/study
 STUDY_ARGS ?=
 
-.PHONY: all deps configure build demo test clean bench-deps bench-build bench study
+.PHONY: all deps configure build demo demo-rigid run batch test clean bench-deps bench-build bench study
 .DELETE_ON_ERROR:
 
 all: build
@@ -40,11 +47,39 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
+# The InIState pipeline on the shipped clip scene (scenes/clips-ds1, written
+# by `ausbau-scene-gen --family clips-ds1 --triangles 2000 --seed 1`), then
+# the smoothed path checked against the generator's ground truth.
 demo: build
-	@$(MAKE) --no-print-directory -f pipelines/plan.mk \
-	  SCENE=$(DEMO_OUT)/scene/scene.yaml OUT=$(DEMO_OUT) BIN=$(BUILD)/bin SEED=$(SEED) generate-demo-scene all
-	@echo "demo: path written to $(DEMO_OUT)/path.csv (smoothed: $(DEMO_OUT)/path-smooth.csv)"
+	@$(MAKE) --no-print-directory -f pipelines/inistate.mk SCENE=$(DEMO_SCENE) OUT=$(DEMO_OUT) BIN=$(BUILD)/bin SEED=$(SEED)
+	@if [ -x $(BUILD)/bin/ausbau-check-path ] && [ -f $(dir $(DEMO_SCENE))ground_truth.yaml ]; then \
+	  printf 'demo: against the ground truth: '; $(BUILD)/bin/ausbau-check-path --scene $(DEMO_SCENE) \
+	    --ground-truth $(dir $(DEMO_SCENE))ground_truth.yaml --path $(DEMO_OUT)/path-smooth.h5 2>/dev/null; fi
+	@echo "demo: verdict $(DEMO_OUT)/verdict.json (printed above); path $(DEMO_OUT)/path.csv (smoothed, x,y,z,qw,qx,qy,qz)"
 	@echo "demo: report: $(DEMO_OUT)/report.html (one self-contained HTML file: open it in a browser)"
+
+# The rigid planning demo: a rod in a cage, plan -> smooth -> report.
+demo-rigid: build
+	@$(MAKE) --no-print-directory -f pipelines/plan.mk \
+	  SCENE=$(DEMO_RIGID_OUT)/scene/scene.yaml OUT=$(DEMO_RIGID_OUT) BIN=$(BUILD)/bin SEED=$(SEED) generate-demo-scene all
+	@echo "demo-rigid: path written to $(DEMO_RIGID_OUT)/path.csv (smoothed: $(DEMO_RIGID_OUT)/path-smooth.csv)"
+	@echo "demo-rigid: report: $(DEMO_RIGID_OUT)/report.html (one self-contained HTML file: open it in a browser)"
+
+# One scene through the InIState pipeline; any pipeline variable (SEED,
+# TIME_LIMIT, VALIDITY, PLAN_FLAGS, PLAN=..., see pipelines/inistate.mk) can
+# be given on the command line. OUT defaults to out/run/<scene folder>.
+run: build
+	@test -n "$(SCENE)" || { echo "make run: SCENE=path/to/scene.yaml is required" >&2; exit 2; }
+	@$(MAKE) --no-print-directory -f pipelines/inistate.mk SCENE=$(SCENE) BIN=$(BUILD)/bin \
+	  OUT=$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))
+
+# Every SCENES/*/scene.yaml, one OUT/<scene>/ each; parallel with -j N (give
+# THREADS=1 then, so that the stages do not each take all cores). Prints a
+# table of the verdicts; fails when any scene is not removable or failed.
+batch: build
+	@test -n "$(SCENES)" || { echo "make batch: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
+	@$(MAKE) --no-print-directory -f pipelines/batch.mk SCENES=$(SCENES) BIN=$(abspath $(BUILD)/bin) \
+	  OUT=$(or $(OUT),out/batch)
 
 test: build deps-browser
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

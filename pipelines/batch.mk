@@ -1,0 +1,37 @@
+# The InIState pipeline (pipelines/inistate.mk) on every SCENES/*/scene.yaml,
+# one sub-folder of OUT per scene, in parallel with make -j; then a table of
+# the verdicts. Fails when any scene is not removable or its pipeline failed.
+#
+#   make -f pipelines/batch.mk SCENES=dir OUT=dir [-j N] [any inistate.mk variable]
+#
+# Each scene's output goes to OUT/<scene>/pipeline.log (not interleaved on
+# the terminal) and its exit status to OUT/<scene>/pipeline.exit.
+
+BATCH_MK_DIR := $(dir $(lastword $(MAKEFILE_LIST)))
+
+ifndef SCENES
+$(error SCENES=folder/with/one/sub-folder/per/scene is required)
+endif
+ifndef OUT
+$(error OUT=output/folder is required)
+endif
+
+SCENE_FILES := $(sort $(wildcard $(SCENES)/*/scene.yaml))
+NAMES := $(patsubst $(SCENES)/%/scene.yaml,%,$(SCENE_FILES))
+ifeq ($(strip $(NAMES)),)
+$(error no $(SCENES)/*/scene.yaml found)
+endif
+
+.PHONY: all $(addprefix scene-,$(NAMES))
+.DEFAULT_GOAL := all
+
+all: $(addprefix scene-,$(NAMES))
+	@$(BATCH_MK_DIR)../scripts/verdict-table.sh $(OUT) $(NAMES)
+
+# The sub-make's failure is recorded, not propagated: the table decides.
+$(addprefix scene-,$(NAMES)): scene-%:
+	@mkdir -p $(OUT)/$*
+	@echo "batch: $* ..."
+	@rc=0; $(MAKE) --no-print-directory -f $(BATCH_MK_DIR)inistate.mk SCENE=$(SCENES)/$*/scene.yaml OUT=$(OUT)/$* \
+	  > $(OUT)/$*/pipeline.log 2>&1 || rc=$$?; echo $$rc > $(OUT)/$*/pipeline.exit; \
+	echo "batch: $* done (exit $$rc)"

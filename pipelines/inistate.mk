@@ -1,0 +1,160 @@
+# The InIState pipeline for one scene (thesis ch. 5): is D removable, and how?
+#
+#   make -f pipelines/inistate.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [TIME_LIMIT=60] ...
+#
+#   voxelize ----------------------------\
+#   medial-spheres -> pbd-label ----------> tau-estimate -> plan -> smooth -> verdict [-> report]
+#   distfield-build ---------------------------------------/
+#
+# Outputs in OUT: voxels.h5, spheres.h5, labels.h5, distfield-static.h5,
+# distfield-dynamic.h5, tau.h5, tau-trace.csv, path.h5 (planned),
+# path-smooth.h5 + path-smooth.csv (smoothed), path.csv (the final path: a
+# copy of path-smooth.csv), profile.csv, verdict.json, report.html, and
+# times/<stage>.seconds (wall time of each stage in this run).
+#
+# Caching: every stage skips work whose existing output has the same
+# provenance (inputs' contents + options) and leaves that output untouched,
+# so make always calls every stage; outputs are written atomically, so an
+# interrupted run resumes where it stopped.
+#
+# Exit status: 0 when the verdict says removable. When no path is found,
+# verdict.json is still written (status "not-removable"), path.csv and the
+# smoothed files are removed, and make fails (the last step exits 3).
+#
+# Every stage's executable is a variable (VOXELIZE, MEDIAL_SPHERES, PBD_LABEL,
+# DISTFIELD_BUILD, TAU_ESTIMATE, PLAN, SMOOTH, VERDICT, REPORT), so a stage
+# can be swapped: make -f pipelines/inistate.mk ... PLAN=/path/to/my-planner
+
+INISTATE_MK_DIR := $(dir $(lastword $(MAKEFILE_LIST)))
+
+BIN ?= build/bin
+VOXELIZE ?= $(BIN)/ausbau-voxelize
+MEDIAL_SPHERES ?= $(BIN)/ausbau-medial-spheres
+PBD_LABEL ?= $(BIN)/ausbau-pbd-label
+DISTFIELD_BUILD ?= $(BIN)/ausbau-distfield-build
+TAU_ESTIMATE ?= $(BIN)/ausbau-tau-estimate
+PLAN ?= $(BIN)/ausbau-plan
+SMOOTH ?= $(BIN)/ausbau-smooth
+VERDICT ?= $(BIN)/ausbau-verdict
+REPORT ?= $(BIN)/ausbau-report
+TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
+
+SEED ?= 1
+TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
+TAU_TIME_LIMIT ?= 20      # ausbau-tau-estimate, seconds per planning round
+VALIDITY ?= labeled-mliv  # shrink | iv | mliv | labeled-mliv (or collision: rigid planning only)
+PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
+COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
+THREADS ?= 0              # --threads of the parallel stages; 0 = all cores
+BUDGET ?=                 # seconds; the verdict then records within_budget
+WITH_REPORT ?= 1          # 0: no report.html
+VOXELIZE_FLAGS ?=
+SPHERES_FLAGS ?=
+LABEL_FLAGS ?=
+DISTFIELD_FLAGS ?=
+TAU_FLAGS ?=
+PLAN_FLAGS ?=
+SMOOTH_FLAGS ?=
+VERDICT_FLAGS ?=
+REPORT_FLAGS ?=
+
+ifndef SCENE
+$(error SCENE=path/to/scene.yaml is required)
+endif
+ifndef OUT
+$(error OUT=output/folder is required)
+endif
+
+# Make's `?=` keeps the spaces before a comment: strip them.
+SEED := $(strip $(SEED))
+TIME_LIMIT := $(strip $(TIME_LIMIT))
+TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
+VALIDITY := $(strip $(VALIDITY))
+PLANNER := $(strip $(PLANNER))
+COLLISION := $(strip $(COLLISION))
+THREADS := $(strip $(THREADS))
+BUDGET := $(strip $(BUDGET))
+WITH_REPORT := $(strip $(WITH_REPORT))
+
+TIMES := $(OUT)/times
+VOLUME_MODE := $(filter-out collision,$(VALIDITY))
+
+# Stages that only sigma_1's volume validity needs, and FARR's fields.
+GEOMETRY_STAGES := $(if $(VOLUME_MODE),voxelize medial-spheres pbd-label) $(if $(filter farr,$(COLLISION)),distfield-build)
+VOLUME_INPUTS := --voxels $(OUT)/voxels.h5 --labels $(OUT)/labels.h5
+PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))
+COMMA := ,
+PLAN_COLLISION := --collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(OUT)/distfield-static.h5$(COMMA)$(OUT)/distfield-dynamic.h5)
+
+.PHONY: all start voxelize medial-spheres pbd-label distfield-build tau-estimate plan smooth verdict report
+.DELETE_ON_ERROR:
+.DEFAULT_GOAL := all
+
+all: verdict $(if $(filter 1,$(WITH_REPORT)),report)
+	@grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' $(OUT)/verdict.json || \
+	  { echo "inistate: $(SCENE): not removable (see $(OUT)/verdict.json)" >&2; exit 3; }
+
+# This run's timings only: stale ones would be summed by the verdict.
+start:
+	@mkdir -p $(TIMES)
+	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path
+
+voxelize: start
+	$(TIMED) voxelize $(TIMES) $(VOXELIZE) --scene $(SCENE) --threads $(THREADS) -o $(OUT)/voxels.h5 $(VOXELIZE_FLAGS)
+
+medial-spheres: start
+	$(TIMED) medial-spheres $(TIMES) $(MEDIAL_SPHERES) --scene $(SCENE) --threads $(THREADS) \
+	  -o $(OUT)/spheres.h5 $(SPHERES_FLAGS)
+
+pbd-label: medial-spheres
+	$(TIMED) pbd-label $(TIMES) $(PBD_LABEL) --scene $(SCENE) --spheres $(OUT)/spheres.h5 --threads $(THREADS) \
+	  -o $(OUT)/labels.h5 $(LABEL_FLAGS)
+
+distfield-build: start
+	$(TIMED) distfield-build $(TIMES) $(DISTFIELD_BUILD) --scene $(SCENE) --threads $(THREADS) \
+	  -o $(OUT) $(DISTFIELD_FLAGS) > /dev/null
+
+# Exit 3 (no round found sigma_1) still writes tau.h5 with the last tau
+# tried; the planner gets its chance with it.
+TAU_CMD = $(TAU_ESTIMATE) --scene $(SCENE) --validity $(VALIDITY) $(VOLUME_INPUTS) --seed $(SEED) \
+  --time-limit $(TAU_TIME_LIMIT) --threads $(THREADS) -o $(OUT)/tau.h5 --csv $(OUT)/tau-trace.csv $(TAU_FLAGS)
+tau-estimate: start $(if $(VOLUME_MODE),voxelize pbd-label)
+ifneq ($(VOLUME_MODE),)
+	@echo '$(TAU_CMD)'; rc=0; $(TIMED) tau-estimate $(TIMES) $(TAU_CMD) || rc=$$?; \
+	if [ $$rc -eq 3 ]; then echo "inistate: tau-estimate found no sigma_1; planning with its last tau" >&2; \
+	elif [ $$rc -ne 0 ]; then exit $$rc; fi
+else
+	@rm -f $(OUT)/tau.h5 $(OUT)/tau-trace.csv
+endif
+
+# Exit 3 (no path within the budget) writes path.h5 with success = 0: then
+# the smoothed files and path.csv are removed, smoothing is skipped
+# (times/no-path marks it) and the verdict reads path.h5.
+PLAN_CMD = $(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
+  --threads $(THREADS) $(PLAN_COLLISION) $(PLAN_VOLUME) -o $(OUT)/path.h5 $(PLAN_FLAGS)
+plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
+	@echo '$(PLAN_CMD)'; rc=0; $(TIMED) plan $(TIMES) $(PLAN_CMD) || rc=$$?; \
+	if [ $$rc -eq 3 ]; then \
+	  echo "inistate: no path found; the verdict will say not removable" >&2; touch $(TIMES)/no-path; \
+	  rm -f $(OUT)/path.csv $(OUT)/path-smooth.h5 $(OUT)/path-smooth.csv $(OUT)/profile.csv; \
+	elif [ $$rc -ne 0 ]; then exit $$rc; fi
+
+SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
+  --profile $(OUT)/profile.csv -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+smooth: plan
+	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \
+	echo '$(SMOOTH_CMD)'; $(TIMED) smooth $(TIMES) $(SMOOTH_CMD) && \
+	cp $(OUT)/path-smooth.csv $(OUT)/.path.csv.tmp && mv -f $(OUT)/.path.csv.tmp $(OUT)/path.csv
+
+# Exit 3 (not removable) still writes verdict.json; `all` fails afterwards,
+# so that the report is written for a failed scene too.
+VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau $(OUT)/tau.h5) --times $(TIMES) \
+  $(if $(BUDGET),--budget $(BUDGET)) -o $(OUT)/verdict.json $(VERDICT_FLAGS)
+verdict: smooth
+	@if [ -f $(TIMES)/no-path ]; then set -- --path $(OUT)/path.h5; \
+	else set -- --path $(OUT)/path-smooth.h5 --csv-name $(OUT)/path.csv; fi; \
+	echo "$(VERDICT) $$* $(VERDICT_ARGS)"; rc=0; $(VERDICT) "$$@" $(VERDICT_ARGS) || rc=$$?; \
+	if [ $$rc -ne 0 ] && [ $$rc -ne 3 ]; then exit $$rc; fi
+
+report: verdict
+	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html $(REPORT_FLAGS)

@@ -1,0 +1,248 @@
+// End-to-end: the InIState pipeline (pipelines/inistate.mk) through make with
+// the real executables on a small generated clip scene, and ausbau-verdict's
+// input errors. One pipeline run is shared by the tests (the suite's
+// set-up); a test that changes something works on its own copy of the scene
+// and of that run's folder, so that the stages' caches see the same contents.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "planning/path_io.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+using Outcome = testing::CommandOutcome;
+
+// Runs a shell command, stdout and stderr together.
+Outcome Shell(const std::string& command) {
+  Outcome outcome;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return outcome;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
+  const int status = pclose(pipe);
+  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return outcome;
+}
+
+// The pipeline on `scene` into `out`, with settings that keep it fast (one
+// thread, coarse distance fields, fewer labeling load cases, no report).
+Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "") {
+  const std::string command = "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
+                              " BIN=" + testing::BinDir().string() + " SCENE=" + scene.string() + " OUT=" + out.string() +
+                              " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--resolution 64' "
+                              "LABEL_FLAGS='--max-load-cases 300' " + variables;
+  return Shell(command);
+}
+
+fs::file_time_type MTime(const fs::path& file) { return fs::last_write_time(file); }
+
+bool UpToDate(const Outcome& outcome, const std::string& file) {
+  return outcome.output.find(file + " is up to date") != std::string::npos;
+}
+
+// A member's line of verdict.json ("removable": true) - the file has one key
+// per line.
+bool HasLine(const std::string& json, const std::string& line) { return json.find(line) != std::string::npos; }
+
+class PipelineTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const auto start = std::chrono::steady_clock::now();
+    root_ = new fs::path(testing::MakeTempDir("pipeline"));
+    const Outcome gen = testing::RunStageCommand(
+        "scene-gen", "--family clips-ds4 --triangles 2000 --seed 1 -o " + (*root_ / "scene").string());
+    ASSERT_EQ(gen.exit_code, 0) << gen.output;
+    first_ = new Outcome(RunPipeline(*root_ / "scene/scene.yaml", *root_ / "out"));
+    first_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  static void TearDownTestSuite() {
+    std::error_code ignored;
+    if (root_) fs::remove_all(*root_, ignored);
+    delete root_;
+    delete first_;
+    root_ = nullptr;
+    first_ = nullptr;
+  }
+  void SetUp() override { ASSERT_EQ(first_->exit_code, 0) << "the first pipeline run failed:\n" << first_->output; }
+
+  // A copy of the scene and of the first run's folder under `name`.
+  static fs::path Copy(const std::string& name) {
+    const fs::path dir = *root_ / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::copy(*root_ / "scene", dir / "scene", fs::copy_options::recursive);
+    fs::copy(*root_ / "out", dir / "out", fs::copy_options::recursive);
+    return dir;
+  }
+  static fs::path Out() { return *root_ / "out"; }
+
+  static fs::path* root_;
+  static Outcome* first_;
+  static double first_seconds_;
+};
+fs::path* PipelineTest::root_ = nullptr;
+Outcome* PipelineTest::first_ = nullptr;
+double PipelineTest::first_seconds_ = 0;
+
+TEST_F(PipelineTest, WritesTheSmoothedPathAsPathCsvAndARemovableVerdict) {
+  std::printf("first pipeline run: %.1f s\n", first_seconds_);
+  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "distfield-static.h5", "distfield-dynamic.h5",
+                           "tau.h5", "tau-trace.csv", "path.h5", "path-smooth.h5", "path-smooth.csv", "profile.csv",
+                           "path.csv", "verdict.json"}) {
+    EXPECT_TRUE(fs::exists(Out() / name)) << name;
+  }
+  const std::string csv = testing::ReadTextFile(Out() / "path.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "x,y,z,qw,qx,qy,qz");
+  EXPECT_EQ(csv, testing::ReadTextFile(Out() / "path-smooth.csv")) << "path.csv must be the smoothed path";
+  const PathArtifact smoothed = ReadPathArtifact(Out() / "path-smooth.h5");
+  EXPECT_EQ(static_cast<std::size_t>(std::count(csv.begin(), csv.end(), '\n')), smoothed.waypoints.size() + 1);
+
+  const std::string json = testing::ReadTextFile(Out() / "verdict.json");
+  EXPECT_TRUE(HasLine(json, "\"schema\": \"ausbau-verdict\"")) << json;
+  EXPECT_TRUE(HasLine(json, "\"version\": 1")) << json;
+  EXPECT_TRUE(HasLine(json, "\"removable\": true")) << json;
+  EXPECT_TRUE(HasLine(json, "\"status\": \"removable\"")) << json;
+  EXPECT_TRUE(HasLine(json, "\"validity\": \"labeled-mliv\"")) << json;
+  EXPECT_TRUE(HasLine(json, "\"max_labeled_mliv\": {")) << json;
+  EXPECT_TRUE(HasLine(json, "\"csv\": \"" + (Out() / "path.csv").string() + "\"")) << json;
+  EXPECT_TRUE(HasLine(json, "\"waypoints\": " + std::to_string(smoothed.waypoints.size()))) << json;
+  for (const char* stage : {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "tau-estimate", "plan", "smooth"}) {
+    EXPECT_TRUE(HasLine(json, std::string("\"") + stage + "\": ")) << stage << " missing in " << json;
+  }
+  EXPECT_NE(first_->output.find("REMOVABLE"), std::string::npos) << first_->output;
+}
+
+TEST_F(PipelineTest, ANewSeedReRunsOnlyThePlanningStages) {
+  const fs::path dir = Copy("seed");
+  std::map<std::string, fs::file_time_type> before;
+  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "distfield-static.h5", "distfield-dynamic.h5"}) {
+    before[name] = MTime(dir / "out" / name);
+  }
+  const Outcome again = RunPipeline(dir / "scene/scene.yaml", dir / "out", "SEED=2 TIME_LIMIT=29");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  for (const auto& [name, time] : before) {
+    EXPECT_TRUE(UpToDate(again, (dir / "out" / name).string())) << name << " was redone:\n" << again.output;
+    EXPECT_EQ(MTime(dir / "out" / name), time) << name << " was rewritten";
+  }
+  for (const char* name : {"tau.h5", "path.h5", "path-smooth.h5"}) {
+    EXPECT_FALSE(UpToDate(again, (dir / "out" / name).string())) << name << " was not redone:\n" << again.output;
+  }
+  EXPECT_TRUE(HasLine(testing::ReadTextFile(dir / "out/verdict.json"), "\"removable\": true"));
+  // And a run with nothing changed redoes nothing.
+  const Outcome same = RunPipeline(dir / "scene/scene.yaml", dir / "out", "SEED=2 TIME_LIMIT=29");
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  for (const char* name : {"voxels.h5", "labels.h5", "tau.h5", "path.h5", "path-smooth.h5"}) {
+    EXPECT_TRUE(UpToDate(same, (dir / "out" / name).string())) << name << ":\n" << same.output;
+  }
+}
+
+TEST_F(PipelineTest, ChangingDsMeshReRunsEverythingThatDependsOnD) {
+  const fs::path dir = Copy("mesh");
+  // Move one vertex of D by a hair (0.1% of a millimetre).
+  const fs::path obj = dir / "scene/part.obj";
+  std::istringstream in(testing::ReadTextFile(obj));
+  std::ostringstream edited;
+  std::string line;
+  bool done = false;
+  while (std::getline(in, line)) {
+    if (!done && line.rfind("v ", 0) == 0) {
+      double x, y, z;
+      ASSERT_EQ(std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z), 3) << line;
+      char buffer[128];
+      std::snprintf(buffer, sizeof buffer, "v %.17g %.17g %.17g", x + 1e-3, y, z);
+      line = buffer;
+      done = true;
+    }
+    edited << line << "\n";
+  }
+  std::ofstream(obj) << edited.str();
+  const Outcome again = RunPipeline(dir / "scene/scene.yaml", dir / "out");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "distfield-dynamic.h5", "tau.h5", "path.h5",
+                           "path-smooth.h5"}) {
+    EXPECT_FALSE(UpToDate(again, (dir / "out" / name).string())) << name << " was not redone:\n" << again.output;
+  }
+  // S did not change: its distance field is reused.
+  EXPECT_TRUE(UpToDate(again, (dir / "out/distfield-static.h5").string())) << again.output;
+}
+
+TEST_F(PipelineTest, AStageCanBeSwappedByItsVariable) {
+  const fs::path dir = Copy("swap");
+  const fs::path wrapper = dir / "my-verdict.sh";
+  std::ofstream(wrapper) << "#!/bin/sh\necho swapped > \"" << (dir / "swapped").string() << "\"\nexec "
+                         << (testing::BinDir() / "ausbau-verdict").string() << " \"$@\"\n";
+  fs::permissions(wrapper, fs::perms::owner_all, fs::perm_options::add);
+  const Outcome run = RunPipeline(dir / "scene/scene.yaml", dir / "out", "VERDICT=" + wrapper.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(dir / "swapped")) << run.output;
+  EXPECT_TRUE(HasLine(testing::ReadTextFile(dir / "out/verdict.json"), "\"removable\": true"));
+}
+
+TEST_F(PipelineTest, NoPathStillWritesAVerdictAndMakeFails) {
+  const fs::path dir = Copy("nopath");
+  const Outcome run = RunPipeline(dir / "scene/scene.yaml", dir / "out", "PLAN_FLAGS='--max-iterations 1'");
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  const std::string json = testing::ReadTextFile(dir / "out/verdict.json");
+  EXPECT_TRUE(HasLine(json, "\"removable\": false")) << json << run.output;
+  EXPECT_TRUE(HasLine(json, "\"status\": \"not-removable\"")) << json;
+  EXPECT_FALSE(fs::exists(dir / "out/path.csv")) << "a stale path.csv survived";
+  EXPECT_FALSE(fs::exists(dir / "out/path-smooth.h5"));
+  EXPECT_NE(run.output.find("not removable"), std::string::npos) << run.output;
+}
+
+// ---- ausbau-verdict on its own
+
+void ExpectOneLineError(const Outcome& outcome, const std::string& fragment) {
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
+  const std::string prefix = "ausbau-verdict: error: ";
+  const auto at = outcome.output.find(prefix);
+  ASSERT_NE(at, std::string::npos) << outcome.output;
+  const std::string line = outcome.output.substr(at);
+  EXPECT_EQ(line.find('\n'), line.size() - 1) << "more than one line: " << line;
+  EXPECT_NE(line.find(fragment), std::string::npos) << "expected '" << fragment << "' in: " << line;
+}
+
+TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
+  const std::string scene = "--scene " + (*root_ / "scene/scene.yaml").string();
+  const fs::path out = testing::MakeTempDir("verdict");
+  const std::string o = " -o " + (out / "v.json").string();
+  // Removable: 0; a path artifact without a path: 3.
+  const Outcome ok = testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path-smooth.h5").string() +
+                                                             " --tau " + (Out() / "tau.h5").string() + " --budget 1e6" + o);
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string json = testing::ReadTextFile(out / "v.json");
+  EXPECT_TRUE(HasLine(json, "\"within_budget\": true")) << json;
+  EXPECT_TRUE(HasLine(json, "\"csv\": null")) << json;
+
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (out / "missing.h5").string() + o),
+                     "missing.h5");
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "labels.h5").string() + o),
+                     "schema");
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --tau " +
+                                                             (Out() / "path.h5").string() + o),
+                     "schema");
+  std::ofstream(out / "not-hdf5.h5") << "not an artifact\n";
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (out / "not-hdf5.h5").string() + o),
+                     "not-hdf5.h5");
+  fs::create_directories(out / "times");
+  std::ofstream(out / "times/plan.seconds") << "fast\n";
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --times " +
+                                                             (out / "times").string() + o),
+                     "plan.seconds");
+  EXPECT_EQ(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --budget -1" + o)
+                .exit_code,
+            2);
+}
+
+}  // namespace
+}  // namespace ausbau
