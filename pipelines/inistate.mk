@@ -94,10 +94,11 @@ all: verdict $(if $(filter 1,$(WITH_REPORT)),report)
 	@grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' $(OUT)/verdict.json || \
 	  { echo "inistate: $(SCENE): not removable (see $(OUT)/verdict.json)" >&2; exit 3; }
 
-# This run's timings only: stale ones would be summed by the verdict.
+# This run's timings only (stale ones would be summed by the verdict), and
+# no verdict of an earlier run when this one fails before its verdict.
 start:
 	@mkdir -p $(TIMES)
-	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path
+	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path $(OUT)/verdict.json
 
 voxelize: start
 	$(TIMED) voxelize $(TIMES) $(VOXELIZE) --scene $(SCENE) --threads $(THREADS) -o $(OUT)/voxels.h5 $(VOXELIZE_FLAGS)
