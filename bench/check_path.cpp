@@ -51,16 +51,19 @@ int main(int argc, char** argv) {
           const std::vector<float> colors =
               ColorValues(voxels.dynamic_grid, scene.dynamic_mesh, ReadLabelsArtifact(labels_file).deformability);
           IntersectionVolume volume(voxels.static_grid, voxels.dynamic_grid, scene.dynamic_origin, colors);
-          double worst = 0;
+          double worst = 0, worst_raw = 0, worst_iv = 0;
           std::size_t at = 0;
           for (std::size_t i = 0; i + 1 < path.waypoints.size(); ++i) {
             for (int s = 0; s < 50; ++s) {
-              const double v = volume.LabeledMliv(Interpolate(path.waypoints[i], path.waypoints[i + 1], s / 50.0));
+              const Pose pose = Interpolate(path.waypoints[i], path.waypoints[i + 1], s / 50.0);
+              const double v = volume.LabeledMliv(pose);
               if (v > worst) worst = v, at = i;
+              worst_raw = std::max(worst_raw, volume.Mliv(pose));
+              worst_iv = std::max(worst_iv, volume.Iv(pose));
             }
           }
-          std::printf("largest Labeled-MLIV along the path (labels): %.4g on segment %zu (start %.4g)\n", worst, at,
-                      volume.LabeledMliv(path.waypoints.front()));
+          std::printf("largest along the path: Labeled-MLIV %.4g on segment %zu (start %.4g), MLIV %.4g, IV %.4g\n",
+                      worst, at, volume.LabeledMliv(path.waypoints.front()), worst_raw, worst_iv);
         }
         return check.correct ? kExitOk : kExitNoPath;
       });

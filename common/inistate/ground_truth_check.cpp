@@ -1,7 +1,9 @@
 #include "inistate/ground_truth_check.h"
 
 #include <cmath>
+#include <limits>
 
+#include "collision/fcl_checker.h"
 #include "inistate/intersection_volume.h"
 #include "scene/scene.h"
 
@@ -49,12 +51,25 @@ GroundTruthCheck CheckPathAgainstGroundTruth(const Scene& scene, const ClipGroun
   };
   out.start_rigid_volume = volume.LabeledMliv(waypoints.front());
   out.max_rigid_volume = out.start_rigid_volume;
+  Pose worst_pose = waypoints.front();
+  // D's rigid triangles for the exact test, about the dynamic origin (so
+  // scene-convention poses apply as they are).
+  TriangleMesh rigid;
+  rigid.vertices = scene.dynamic_mesh.vertices;
+  for (Eigen::Vector3d& v : rigid.vertices) v -= scene.dynamic_origin;
+  const std::vector<bool> clip_triangle = truth.ClipTriangleMask();
+  for (std::size_t t = 0; t < scene.dynamic_mesh.triangles.size(); ++t) {
+    if (t >= clip_triangle.size() || !clip_triangle[t]) rigid.triangles.push_back(scene.dynamic_mesh.triangles[t]);
+  }
+  const FclCollisionChecker exact(rigid, scene.static_mesh);
   auto check = [&](const Pose& pose, int segment) {
-    const double v = volume.LabeledMliv(pose);
     ++out.poses_checked;
+    if (!exact.InCollision(pose)) return;  // no rigid triangle touches S
+    const double v = volume.LabeledMliv(pose);
     if (v > out.max_rigid_volume) {
       out.max_rigid_volume = v;
       out.worst_segment = segment;
+      worst_pose = pose;
     }
   };
   for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
@@ -70,10 +85,33 @@ GroundTruthCheck CheckPathAgainstGroundTruth(const Scene& scene, const ClipGroun
   for (const Eigen::Vector3d& v : scene.dynamic_mesh.vertices) moved.Extend(last.q * (v - scene.dynamic_origin) + last.t);
   out.ends_disassembled = moved.SeparatedFrom(scene.static_mesh.Bounds());
   out.correct = out.rigid_ok && out.ends_disassembled;
+  if (out.worst_segment >= 0) {
+    // The part of the vertex nearest the worst component's first voxel.
+    VolumeQuery query;
+    query.record_cells = true;
+    volume.LabeledMliv(worst_pose, std::numeric_limits<double>::infinity(), &query);
+    if (!query.cells.empty()) {
+      const Eigen::Vector3d p =
+          voxels.dynamic_grid.geometry.Center(query.cells[0].x(), query.cells[0].y(), query.cells[0].z());
+      std::int64_t nearest = 0;
+      for (std::size_t v = 1; v < scene.dynamic_mesh.vertices.size(); ++v) {
+        if ((scene.dynamic_mesh.vertices[v] - p).squaredNorm() <
+            (scene.dynamic_mesh.vertices[nearest] - p).squaredNorm()) {
+          nearest = static_cast<std::int64_t>(v);
+        }
+      }
+      for (const ClipScenePart& part : truth.parts) {
+        for (const IndexRange& range : part.vertices) {
+          if (range.Contains(nearest)) out.worst_part = part.name;
+        }
+      }
+    }
+  }
   if (!out.rigid_ok) {
     char text[200];
-    std::snprintf(text, sizeof text, "rigid parts penetrate S: %.4g > %.4g (start) + %.4g on segment %d",
-                  out.max_rigid_volume, out.start_rigid_volume, tolerance, out.worst_segment);
+    std::snprintf(text, sizeof text, "rigid parts penetrate S: %.4g > %.4g (start) + %.4g on segment %d (%s)",
+                  out.max_rigid_volume, out.start_rigid_volume, tolerance, out.worst_segment,
+                  out.worst_part.c_str());
     out.reason = text;
   } else if (!out.ends_disassembled) {
     out.reason = "does not end in the disassembly region";

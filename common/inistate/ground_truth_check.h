@@ -31,6 +31,7 @@ struct GroundTruthCheck {
   double start_rigid_volume = 0;  // rigid MLIV at the installed pose
   double max_rigid_volume = 0;    // along the path
   int worst_segment = -1;         // where the maximum is
+  std::string worst_part;         // ground-truth part (e.g. "rail-0", "rim") nearest the worst component
   std::int64_t poses_checked = 0;
   std::string reason;             // empty when correct
 };

@@ -37,6 +37,11 @@ std::function<bool(const Pose&)> ClearOfFasteners(const PlanningProblem& problem
   };
 }
 
+PlannerOptions LocalPlannerOptions(const PlanningProblem& problem, double psi, PlannerOptions local) {
+  if (local.planner == "est" && local.est_range == 0) local.est_range = std::clamp(psi / problem.metric.nu, 1e-4, 0.05);
+  return local;
+}
+
 InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
                             const PoseValidity& rigid_validity, const std::function<bool(const Pose&)>& colliding,
                             const std::function<double(const Pose&)>& distance, const InIStateOptions& options) {
@@ -50,7 +55,7 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
   PlanningProblem local_problem = problem;
   local_problem.goal.reset();
   local_problem.goal_test = ClearOfFasteners(local_problem, colliding, distance, options.psi);
-  result.local = Plan(local_problem, volume_validity, options.local);
+  result.local = Plan(local_problem, volume_validity, LocalPlannerOptions(problem, options.psi, options.local));
   LogInfo("InIState part 1 (%s, volume validity): %s after %.2f s, %lld nodes, %lld checks",
           options.local.planner.c_str(), result.local.solved() ? "clear of the fasteners" : "no path",
           result.local.stats.time_s, static_cast<long long>(result.local.stats.nodes),

@@ -43,6 +43,16 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
                             const PoseValidity& rigid_validity, const std::function<bool(const Pose&)>& colliding,
                             const std::function<double(const Pose&)>& distance, const InIStateOptions& options);
 
+// The options of sigma_1's planner: EST's expansion radius, when automatic,
+// becomes psi / nu: the tree advances at most one fastener length (and turns
+// by at most 2 pi psi / nu) per step, so that it feels its way through the
+// narrow passage at the installed pose rather than jumping across it (the
+// thesis's "small sphere around the data structure"). Measured on the
+// clips-ds* scenes (seed 1): with the rigid planners' radius (a quarter of
+// D's diagonal) sigma_1 leaves in 2-3 giant steps and rigid parts clip S on
+// ds1-ds3; with psi / nu, ds1 becomes correct.
+PlannerOptions LocalPlannerOptions(const PlanningProblem& problem, double psi, PlannerOptions local);
+
 // The goal of sigma_1: D's AABB more than psi away from S's, or D free of S
 // and more than psi from it.
 std::function<bool(const Pose&)> ClearOfFasteners(const PlanningProblem& problem,

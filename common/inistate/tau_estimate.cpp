@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "inistate/inistate_planner.h"
 
 namespace ausbau {
 
@@ -31,10 +32,10 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point begin) { return std::chrono::duration<double>(Clock::now() - begin).count(); }
 
 TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
-                  double tau, const TauEstimateOptions& options) {
+                  double tau, double psi, const TauEstimateOptions& options) {
   const auto begin = Clock::now();
   const VolumeValidity validity(volume, measure, tau);
-  PlannerOptions probe = options.planner;
+  PlannerOptions probe = LocalPlannerOptions(problem, psi, options.planner);
   probe.max_iterations = options.probe_attempts;
   probe.time_limit_s = 1e6;  // the attempt budget ends a probe, never the clock (determinism)
   const PlanResult result = Plan(problem, validity, probe);
@@ -101,7 +102,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
       for (int i = 0; i < threads; ++i) {
         const double t = candidate(k0 + i);
         if (t > max_tau) continue;
-        batch[i] = RunProbe(problem, volume, measure, t, options);
+        batch[i] = RunProbe(problem, volume, measure, t, psi, options);
         valid[i] = 1;
       }
       for (int i = 0; i < threads && found < 0; ++i) {
@@ -127,7 +128,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     // Bisection between the last too-slow and the first fast-enough candidate.
     for (int step = 0; step < options.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta; ++step) {
       const double middle = 0.5 * (lower + upper);
-      TauProbe probe = RunProbe(problem, volume, measure, middle, options);
+      TauProbe probe = RunProbe(problem, volume, measure, middle, psi, options);
       probe.round = round;
       probe.target_speed = target;
       estimate.trace.push_back(probe);
@@ -139,7 +140,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     // The planning round.
     const auto round_begin = Clock::now();
     const VolumeValidity validity(volume, measure, tau);
-    const PlanResult result = Plan(problem, validity, options.planner);
+    const PlanResult result = Plan(problem, validity, LocalPlannerOptions(problem, psi, options.planner));
     TauProbe planning;
     planning.round = round;
     planning.target_speed = target;
@@ -161,7 +162,10 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
       estimate.local_path = result.path;
       break;
     }
-    lower = tau;  // the next target needs at least this tau
+    // The next round searches above the failed tau (its speed may already
+    // exceed the raised target; the same tau would fail again).
+    lower = tau;
+    while (candidate(k_pass) <= tau) ++k_pass;
   }
   if (estimate.rounds == 0) estimate.tau = tau;
   estimate.seconds = Seconds(begin);

@@ -32,6 +32,7 @@ void PlannerOptions::Check() const {
   if (max_iterations < 0) throw InputError("--max-iterations: must be >= 0");
   if (!(u > 0 && u < 1)) throw InputError("--u: must lie in (0, 1)");
   if (!(range_max > 0 && range_max <= 1)) throw InputError("--range-max: must lie in (0, 1]");
+  if (!(est_range >= 0 && est_range <= 1)) throw InputError("--est-range: must lie in [0, 1] (0 = automatic)");
   if (!(resolution > 0 && resolution <= 0.1)) {
     throw InputError("--resolution: must lie in (0, 0.1] (a fraction of D's diagonal)");
   }
@@ -48,7 +49,7 @@ namespace {
 
 PlanResult RunPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
   if (options.planner == "rrt") return RunRrt(problem, motion, options);
-  if (options.planner == "est") return RunEst(problem, motion, EstSettings{}, options);
+  if (options.planner == "est") return RunEst(problem, motion, EstSettings{options.est_range, options.est_range}, options);
   if (options.planner == "prm") {
     PrmSettings settings;
     settings.threads = options.threads;

@@ -25,6 +25,8 @@ struct PlannerOptions {
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;
+  // est: expansion radius r1 (range, eq. 3); 0 = automatic (single_tree_planners.h).
+  double est_range = 0.0;
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;
