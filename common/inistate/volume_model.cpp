@@ -85,17 +85,16 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
   if (!deformability.empty()) colors_ = ColorValues(voxels_.dynamic_grid, dynamic_mesh, deformability);
 
   if (mode == ValidityMode::kShrink) {
-    // The smallest erosion (whole voxels) that frees the start pose.
-    const Aabb box = dynamic_mesh.Bounds();
-    const double limit = 0.25 * (box.max - box.min).minCoeff();
+    // The smallest erosion (whole voxels) that frees the start pose, as long
+    // as something of D is left.
     const VoxelGrid original = voxels_.dynamic_grid;
     const double h = voxel_size();
     for (int k = 1;; ++k) {
-      if (k * h > limit) {
-        throw InputError("--validity shrink: eroding D by a quarter of its smallest extent (" + std::to_string(limit) +
-                         ") does not free the start pose; D is not merely slightly too large");
-      }
       voxels_.dynamic_grid = ErodeVoxels(original, k * h);
+      if (voxels_.dynamic_grid.CountOccupied() == 0) {
+        throw InputError("--validity shrink: D vanishes (eroded by " + std::to_string(k * h) +
+                         ") before its start pose is free; D is not merely slightly too large for its place");
+      }
       IntersectionVolume probe(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point);
       if (probe.Iv(problem.start) == 0) {
         shrink_ = k * h;

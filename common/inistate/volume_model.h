@@ -43,8 +43,7 @@ class VolumeModel {
   // `deformability`: per vertex of it (the labels artifact), required for
   // labeled-mliv and used for the reports of the other modes when given
   // (empty: all rigid). Shrink erodes D's voxels by the smallest multiple of
-  // the voxel size that frees the start (InputError when even a quarter of
-  // D's smallest extent does not). `mode` must not be collision.
+  // the voxel size that frees the start (InputError when D vanishes first). `mode` must not be collision.
   VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
               const std::vector<double>& deformability, ValidityMode mode);
   ~VolumeModel();

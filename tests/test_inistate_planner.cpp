@@ -1,0 +1,291 @@
+// InIState planning: validity modes, psi, shrink, the two-part planner, the
+// tau estimate, the ground-truth check and the path artifact's InIState
+// datasets. Planner cases use generated clip scenes with the generator's
+// ground-truth labels (clips deformable, the rest rigid), so they test the
+// planner, not the labeling.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "collision/fcl_checker.h"
+#include "core/error.h"
+#include "geometry/primitives.h"
+#include "inistate/ground_truth_check.h"
+#include "inistate/inistate_planner.h"
+#include "inistate/tau_estimate.h"
+#include "inistate/volume_model.h"
+#include "planning/path_io.h"
+#include "scene/clip_scenes.h"
+#include "scene/mesh_io.h"
+#include "scene/scene.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+// A scene from two meshes, written to a temporary folder and loaded back.
+Scene MakeScene(const std::string& name, const TriangleMesh& s, const TriangleMesh& d) {
+  const auto dir = testing::MakeTempDir(name);
+  SaveObj(s, dir / "s.obj");
+  SaveObj(d, dir / "d.obj");
+  Scene scene;
+  scene.name = name;
+  scene.units = "mm";
+  scene.static_files = {dir / "s.obj"};
+  scene.dynamic_file = dir / "d.obj";
+  SaveSceneYaml(scene, dir / "scene.yaml");
+  return LoadScene(dir / "scene.yaml");
+}
+
+TEST(ValidityModes, NamesRoundTripAndUnknownNamesAreRefused) {
+  for (const std::string& name : ValidityModeNames()) EXPECT_EQ(ValidityModeName(ParseValidityMode(name)), name);
+  EXPECT_EQ(MeasureOf(ValidityMode::kShrink), VolumeMeasure::kIv);
+  EXPECT_EQ(MeasureOf(ValidityMode::kLabeledMliv), VolumeMeasure::kLabeledMliv);
+  EXPECT_THROW(ParseValidityMode("labelled-mliv"), InputError);
+}
+
+// S: a 10 mm cube; D: a 10 x 10 x 4 slab overlapping its top by 1 mm at the
+// start (a 10 x 10 x 1 = 100 mm^3 overlap, plus the voxels' surface margin).
+TEST(VolumeModel, ModesMeasureTheOverlapAndShrinkFreesTheStart) {
+  const Scene scene = MakeScene("slab-on-cube", MakeBox({0, 0, 0}, {10, 10, 10}),
+                                MakeBox({0, 0, 9}, {10, 10, 13}));
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.25;
+  const SceneVoxels voxels = VoxelizeScene(scene, voxelize);
+  VolumeModel iv(problem, scene.dynamic_mesh, voxels, {}, ValidityMode::kIv);
+  const double start = iv.Measure(problem.start);
+  EXPECT_GT(start, 100.0);
+  EXPECT_LT(start, 100.0 + 2 * 100 * 0.5);  // at most ~2 voxel layers of margin
+  // Lifted clear, nothing.
+  Pose lifted = problem.start;
+  lifted.t.z() += 5;
+  EXPECT_EQ(iv.Measure(lifted), 0.0);
+  // The validity thresholds the same number.
+  const VolumeValidity tight(iv.volume(), VolumeMeasure::kIv, start - 1), loose(iv.volume(), VolumeMeasure::kIv, start);
+  EXPECT_FALSE(tight.IsValid(problem.start));
+  EXPECT_TRUE(loose.IsValid(problem.start));
+  // Labeled-MLIV needs labels.
+  EXPECT_THROW(VolumeModel(problem, scene.dynamic_mesh, voxels, {}, ValidityMode::kLabeledMliv), InputError);
+  // Shrink: the smallest whole-voxel erosion that frees the start is a bit
+  // more than the 1 mm overlap (plus the margin), far less than D's 4 mm.
+  VolumeModel shrink(problem, scene.dynamic_mesh, voxels, {}, ValidityMode::kShrink);
+  EXPECT_GE(shrink.shrink(), 1.0);
+  EXPECT_LE(shrink.shrink(), 1.0 + 3 * 0.25);
+  EXPECT_EQ(shrink.Measure(problem.start), 0.0);
+  // A D buried 3 mm deep in a 4 mm slab cannot be freed by shrinking.
+  const Scene buried = MakeScene("buried", MakeBox({0, 0, 0}, {10, 10, 10}),
+                                 MakeBox({0, 0, 7}, {10, 10, 11}));
+  EXPECT_THROW(VolumeModel(MakePlanningProblem(buried), buried.dynamic_mesh, VoxelizeScene(buried, voxelize), {},
+                           ValidityMode::kShrink),
+               InputError);
+}
+
+// D: a 20 x 20 x 2 plate with a 2 x 2 x 8 tongue below; the tongue's
+// vertices are labelled deformable. psi = the tongue's 8 mm + 2 voxels,
+// give or take the voxels at its root that take the tongue's colour; far
+// from the plate's 20 mm.
+TEST(VolumeModel, PsiIsTheLargestDeformableComponentsExtent) {
+  TriangleMesh d = MakeBox({0, 0, 8}, {20, 20, 10});
+  const int tongue_first_vertex = static_cast<int>(d.vertices.size());
+  d.Append(MakeBox({9, 9, 0}, {11, 11, 8}));
+  const Scene scene = MakeScene("tongue", MakeBox({40, 40, 0}, {50, 50, 10}), d);
+  std::vector<double> deformability(scene.dynamic_mesh.vertices.size(), 0.0);
+  for (std::size_t v = tongue_first_vertex; v < deformability.size(); ++v) deformability[v] = 1.0;
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.25;
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VolumeModel model(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), deformability,
+                    ValidityMode::kLabeledMliv);
+  EXPECT_GE(model.EstimatePsi(), 8.0);
+  EXPECT_LE(model.EstimatePsi(), 8.0 + 2 * 0.25 + 1.5);
+  VolumeModel rigid(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
+  EXPECT_DOUBLE_EQ(rigid.EstimatePsi(), 2 * 0.25);  // no labels: two voxels
+}
+
+// ------------------------------------------------------------ clip scenes
+
+struct ClipCase {
+  Scene scene;
+  ClipGroundTruth truth;
+  SceneVoxels voxels;
+};
+
+const ClipCase& Clip(const std::string& family) {
+  static std::map<std::string, ClipCase> cache;
+  auto it = cache.find(family);
+  if (it == cache.end()) {
+    ClipSceneOptions options;
+    options.seed = 3;
+    options.triangles = 2000;
+    const ClipSceneFiles files = GenerateClipScene(family, options, testing::MakeTempDir(family));
+    ClipCase c;
+    c.scene = LoadScene(files.scene_yaml);
+    c.truth = LoadClipGroundTruth(files.ground_truth_yaml);
+    c.voxels = VoxelizeScene(c.scene, VoxelizeOptions{});
+    it = cache.emplace(family, std::move(c)).first;
+  }
+  return it->second;
+}
+
+std::vector<double> TruthLabels(const ClipCase& c) {
+  std::vector<double> labels = c.truth.VertexDeformability();
+  for (double& value : labels) value = value > 0 ? 1.0 : 0.0;
+  return labels;
+}
+
+TEST(GroundTruthCheck, KnownPathIsCorrectStraightLiftIsNot) {
+  for (const std::string family : {"clips-ds1", "clips-ds3"}) {
+    SCOPED_TRACE(family);
+    const ClipCase& c = Clip(family);
+    const GroundTruthCheck known =
+        CheckPathAgainstGroundTruth(c.scene, c.truth, c.voxels, c.scene.dynamic_origin, c.truth.path);
+    EXPECT_TRUE(known.correct) << known.reason;
+    // Lifting straight up, without sliding the rails out first, drags them
+    // through their lips.
+    Pose up = c.truth.path.front();
+    up.t.z() += 100;
+    const GroundTruthCheck lift =
+        CheckPathAgainstGroundTruth(c.scene, c.truth, c.voxels, c.scene.dynamic_origin, {c.truth.path.front(), up});
+    EXPECT_TRUE(lift.ends_disassembled);
+    EXPECT_FALSE(lift.correct);
+    EXPECT_EQ(lift.worst_part.rfind("rail", 0), 0u) << lift.worst_part;
+  }
+}
+
+struct Planned {
+  InIStateResult result;
+  double tau = 0, psi = 0;
+};
+
+// tau estimate + InIState planning with ground-truth labels.
+Planned PlanClip(const ClipCase& c, std::uint64_t seed, int threads = 0) {
+  const PlanningProblem problem = MakePlanningProblem(c.scene);
+  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  auto colliding = [&fcl](const Pose& p) { return fcl.InCollision(p); };
+  auto distance = [&fcl](const Pose& p) { return fcl.Distance(p); };
+  Planned out;
+  out.psi = model.EstimatePsi();
+  PlanningProblem local = problem;
+  local.goal_test = ClearOfFasteners(local, colliding, distance, out.psi);
+  TauEstimateOptions tau_options;
+  tau_options.planner.seed = seed;
+  tau_options.threads = threads;
+  const TauEstimate estimate = EstimateTau(local, model.volume(), model.measure(), out.psi, tau_options);
+  EXPECT_TRUE(estimate.solved);
+  EXPECT_GE(estimate.tau, estimate.tau_lowest);
+  out.tau = estimate.tau;
+  const VolumeValidity validity(model.volume(), model.measure(), out.tau);
+  InIStateOptions options;
+  options.local.seed = options.rigid.seed = seed;
+  options.local.time_limit_s = options.rigid.time_limit_s = 30;
+  options.psi = out.psi;
+  out.result = PlanInIState(problem, validity, fcl, colliding, distance, options);
+  return out;
+}
+
+TEST(InIStatePlanner, PlansCorrectPathsOnClipScenesWithTrueLabels) {
+  for (const std::string family : {"clips-ds1", "clips-ds4"}) {
+    SCOPED_TRACE(family);
+    const ClipCase& c = Clip(family);
+    const Planned planned = PlanClip(c, 1);
+    ASSERT_TRUE(planned.result.solved());
+    const PlanningProblem problem = MakePlanningProblem(c.scene);
+    const auto& path = planned.result.path;
+    ASSERT_GT(planned.result.inter_index, 0);
+    // c_inter: collision-free and more than psi from S.
+    const FclCollisionChecker fcl(problem.robot, problem.environment);
+    const Pose& inter = path[planned.result.inter_index];
+    EXPECT_FALSE(fcl.InCollision(inter));
+    EXPECT_GT(fcl.Distance(inter), planned.psi);
+    EXPECT_EQ(path.front().t, problem.start.t);
+    EXPECT_TRUE(problem.InGoalRegion(path.back()));
+    std::vector<Pose> scene_path;
+    for (const Pose& p : path) scene_path.push_back(problem.PlanningToScene(p));
+    const GroundTruthCheck check =
+        CheckPathAgainstGroundTruth(c.scene, c.truth, c.voxels, problem.reference_point, scene_path);
+    EXPECT_TRUE(check.correct) << check.reason;
+  }
+}
+
+TEST(TauEstimate, DeterministicAndIndependentOfThreads) {
+  const ClipCase& c = Clip("clips-ds4");
+  const Planned one = PlanClip(c, 5, 1), two = PlanClip(c, 5, 2);
+  EXPECT_EQ(one.tau, two.tau);
+  ASSERT_TRUE(one.result.solved() && two.result.solved());
+  ASSERT_EQ(one.result.path.size(), two.result.path.size());
+  for (std::size_t i = 0; i < one.result.path.size(); ++i) EXPECT_EQ(one.result.path[i].t, two.result.path[i].t);
+}
+
+TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
+  const ClipCase& c = Clip("clips-ds4");
+  const PlanningProblem problem = MakePlanningProblem(c.scene);
+  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, {}, ValidityMode::kIv);
+  const double start = model.Measure(problem.start);
+  ASSERT_GT(start, 0);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  const VolumeValidity below(model.volume(), VolumeMeasure::kIv, 0.5 * start);
+  InIStateOptions options;
+  options.psi = 1;
+  EXPECT_THROW(PlanInIState(
+                   problem, below, fcl, [](const Pose&) { return true; }, [](const Pose&) { return 0.0; }, options),
+               InputError);
+
+  TauArtifact artifact;
+  artifact.validity = "iv";
+  artifact.units = "mm";
+  artifact.estimate.tau = 12.5;
+  artifact.estimate.psi = 3.0;
+  artifact.estimate.tau_lowest = 10;
+  artifact.estimate.rounds = 1;
+  artifact.estimate.solved = true;
+  TauProbe probe;
+  probe.tau = 12.5;
+  probe.speed = std::numeric_limits<double>::infinity();
+  probe.nodes = 7;
+  artifact.estimate.trace = {probe};
+  const auto file = testing::MakeTempDir("tau") / "tau.h5";
+  WriteTauArtifact(file, artifact, Provenance{"test", "0", "", {}});
+  const TauArtifact back = ReadTauArtifact(file);
+  EXPECT_EQ(back.validity, "iv");
+  EXPECT_EQ(back.estimate.tau, 12.5);
+  EXPECT_EQ(back.estimate.psi, 3.0);
+  ASSERT_EQ(back.estimate.trace.size(), 1u);
+  EXPECT_TRUE(std::isinf(back.estimate.trace[0].speed));
+  EXPECT_EQ(back.estimate.trace[0].nodes, 7);
+  EXPECT_THROW(ReadPathArtifact(file), InputError);  // wrong schema
+}
+
+TEST(PathArtifact, InIStateDatasetsRoundTrip) {
+  PathArtifact path;
+  path.success = true;
+  path.waypoints = {Pose{}, Pose{}};
+  path.waypoints[1].t = {1, 2, 3};
+  path.validity = "labeled-mliv";
+  path.tau = 4.5;
+  path.psi = 2.0;
+  path.inter_index = 1;
+  path.waypoint_volume = {3.0, 0.0};
+  path.waypoint_part = {2, -1};
+  path.waypoint_deformability = {0.75, 0.0};
+  const auto file = testing::MakeTempDir("path") / "path.h5";
+  WritePathArtifact(file, path, Provenance{"test", "0", "", {}});
+  const PathArtifact back = ReadPathArtifact(file);
+  EXPECT_EQ(back.validity, "labeled-mliv");
+  EXPECT_EQ(back.tau, 4.5);
+  EXPECT_EQ(back.inter_index, 1);
+  EXPECT_EQ(back.waypoint_part, (std::vector<int>{2, -1}));
+  EXPECT_EQ(back.waypoint_deformability, (std::vector<double>{0.75, 0.0}));
+  // A rigid path has none of it.
+  PathArtifact rigid;
+  rigid.waypoints = {Pose{}};
+  WritePathArtifact(file, rigid, Provenance{"test", "0", "", {}});
+  EXPECT_EQ(ReadPathArtifact(file).validity, "collision");
+  EXPECT_TRUE(ReadPathArtifact(file).waypoint_volume.empty());
+}
+
+}  // namespace
+}  // namespace ausbau
