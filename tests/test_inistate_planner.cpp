@@ -14,6 +14,7 @@
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/volume_model.h"
+#include "inistate/volume_smoother.h"
 #include "planning/path_io.h"
 #include "scene/clip_scenes.h"
 #include "scene/mesh_io.h"
@@ -103,6 +104,39 @@ TEST(VolumeModel, PsiIsTheLargestDeformableComponentsExtent) {
   EXPECT_LE(model.EstimatePsi(), 8.0 + 2 * 0.25 + 1.5);
   VolumeModel rigid(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
   EXPECT_DOUBLE_EQ(rigid.EstimatePsi(), 2 * 0.25);  // no labels: two voxels
+}
+
+// A detour around a cube (no intersection anywhere) is shortened, but never
+// through the cube, although the straight line start -> end would be shorter.
+TEST(VolumeSmoother, ShortcutsNeverDeepenTheIntersection) {
+  const Scene scene = MakeScene("detour", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-1, -1, -1}, {1, 1, 1}));
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.25;
+  VolumeModel model(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
+  auto at = [&](double x, double z) {
+    Pose p = problem.start;
+    p.t = Eigen::Vector3d(x, 5, z);
+    return p;
+  };
+  // Left of the cube, up, over in small steps, down on the right.
+  std::vector<Pose> path = {at(-5, 5), at(-5, 15)};
+  for (double x = -3; x <= 15; x += 2) path.push_back(at(x, 15));
+  path.push_back(at(15, 5));
+  IntersectionVolume volume = model.volume().Clone();
+  const double step = 0.01 * problem.robot_diagonal / 4;
+  ASSERT_EQ(MaxVolumeAlong(problem, volume, VolumeMeasure::kMliv, path, step), 0.0);
+  ASSERT_GT(MaxVolumeAlong(problem, volume, VolumeMeasure::kMliv, {path.front(), path.back()}, step), 0.0);
+  SmoothOptions options;
+  options.attempts = 500;
+  const VolumeSmoothResult result = SmoothUnderVolume(problem, volume, VolumeMeasure::kMliv, path, options);
+  EXPECT_LT(result.path.size(), path.size());
+  EXPECT_GT(result.shortcuts, 0);
+  EXPECT_EQ(result.path.front().t, path.front().t);
+  EXPECT_EQ(result.path.back().t, path.back().t);
+  EXPECT_EQ(result.max_after, 0.0);
+  EXPECT_EQ(MaxVolumeAlong(problem, volume, VolumeMeasure::kMliv, result.path, step), 0.0);
+  EXPECT_LT(MeasurePath(problem, result.path).normalized, MeasurePath(problem, path).normalized);
 }
 
 // ------------------------------------------------------------ clip scenes

@@ -4,6 +4,7 @@
 
 #include "cli/stage_main.h"
 #include "cli/volume_inputs.h"
+#include "inistate/volume_smoother.h"
 #include "core/atomic_file.h"
 #include "collision/fcl_checker.h"
 #include "core/hash.h"
@@ -47,13 +48,6 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
     }
   }
   return out;
-}
-
-double MaxVolumeAlong(VolumeModel& model, const PlanningProblem& problem, const std::vector<Pose>& path,
-                      double step) {
-  double worst = 0;
-  for (const DensePose& p : Densify(problem, path, step)) worst = std::max(worst, model.Measure(p.pose));
-  return worst;
 }
 
 // The profile: per dense pose the path parameter, the mode's volume with its
@@ -142,27 +136,21 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
     }
     result = SmoothPath(problem, checker, planning_path, options.smooth);
   } else {
-    // sigma_1 under the volume validity with the threshold lowered to the
-    // path's own largest volume (so a shortcut never raises it), sigma_2
-    // under collision; no shortcut crosses c_inter.
+    // sigma_1 under its volume, no shortcut deepening any intersection
+    // (inistate/volume_smoother.h); sigma_2 under collision; no shortcut
+    // crosses c_inter.
     model = LoadVolumeModel(scene, problem, ParseValidityMode(input.validity), options.volume);
-    const double step = options.smooth.resolution * problem.robot_diagonal / 4.0;
     const std::vector<Pose> sigma1(planning_path.begin(), planning_path.begin() + first_rigid + 1);
     const std::vector<Pose> sigma2(planning_path.begin() + first_rigid, planning_path.end());
-    const double worst = MaxVolumeAlong(*model, problem, sigma1, step);
-    if (worst > input.tau * (1 + 1e-9) + 1e-12) {
+    IntersectionVolume volume = model->volume().Clone();
+    const VolumeSmoothResult first = SmoothUnderVolume(problem, volume, model->measure(), sigma1, options.smooth);
+    if (first.max_before > input.tau * (1 + 1e-9) + 1e-12) {
       LogWarn("the input path's largest volume %.6g exceeds its tau %.6g (other voxels or labels than planned with?)",
-              worst, input.tau);
+              first.max_before, input.tau);
     }
-    LogInfo("sigma_1: %zu waypoints, largest %s %.6g %s^3 (tau %.6g); smoothing under that", sigma1.size(),
-            input.validity.c_str(), worst, scene.units.c_str(), input.tau);
-    const VolumeValidity volume_validity(model->volume(), model->measure(), worst);
-    SmoothResult first = SmoothPath(problem, volume_validity, sigma1, options.smooth);
-    if (MaxVolumeAlong(*model, problem, first.path, step) > worst) {
-      LogWarn("a shortcut raised the largest volume between checked poses; keeping sigma_1 as planned");
-      first.path = sigma1;
-      first.after = first.before;
-    }
+    LogInfo("sigma_1: %zu -> %zu waypoints, largest %s %.6g -> %.6g %s^3 (tau %.6g), %d shortcuts in %d attempts",
+            sigma1.size(), first.path.size(), input.validity.c_str(), first.max_before, first.max_after,
+            scene.units.c_str(), input.tau, first.shortcuts, first.attempts);
     SmoothOptions second_options = options.smooth;
     second_options.seed = options.smooth.seed + 1;
     const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options);
