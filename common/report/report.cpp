@@ -528,7 +528,11 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
   if (!labels_file.empty()) {
     try {
       const ArtifactReader reader(labels_file, kLabelsSchema, kLabelsSchemaVersion);
-      const Array<float> values = reader.ReadFloats("deformability", 1);
+      // ausbau-pbd-label writes doubles; the viewer needs floats (colours).
+      const Array<double> stored = reader.ReadDoubles("deformability", 1);
+      Array<float> values;
+      values.dims = stored.dims;
+      values.data.assign(stored.data.begin(), stored.data.end());
       if (values.data.size() != scene.dynamic_mesh.vertices.size()) {
         throw InputErrorAt(labels_file.string(), Fmt("dataset 'deformability' has %zu values (expected one per vertex of D: %zu)",
                                                      values.data.size(), scene.dynamic_mesh.vertices.size()));
