@@ -125,3 +125,18 @@ bench-farr: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-farr-bench
 	@$(BUILD)/bin/ausbau-farr-bench --output-dir $(BENCH_FARR_OUT) $(BENCH_FARR_ARGS)
 	@echo "bench-farr: $(BENCH_FARR_OUT)/farr-summary.md (printed above), $(BENCH_FARR_OUT)/farr-results.csv"
+
+# Thesis table 16 on the generated clip scenes clips-ds1 .. clips-ds5:
+# shrink, IV, MLIV and Labeled-MLIV InIState planning (voxelize, label, tau,
+# plan), each path checked against the generator's ground truth. Defaults: 5
+# seeds, default triangle counts (thesis table 14), 20 s per planning part:
+# about 13 min on 2 cores (labels take 10-30 s per ds1/ds2/ds5 scene); e.g.
+# BENCH_INISTATE_ARGS="--families clips-ds3,clips-ds4 --seeds 1" for a smoke run.
+BENCH_INISTATE_OUT ?= out/bench-inistate
+BENCH_INISTATE_ARGS ?=
+
+.PHONY: bench-inistate
+bench-inistate: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-inistate-bench
+	@$(BUILD)/bin/ausbau-inistate-bench --out $(BENCH_INISTATE_OUT) $(BENCH_INISTATE_ARGS)
+	@echo "bench-inistate: $(BENCH_INISTATE_OUT)/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv"
