@@ -222,7 +222,7 @@ Planned PlanClip(const ClipCase& c, std::uint64_t seed, int threads = 0) {
 }
 
 TEST(InIStatePlanner, PlansCorrectPathsOnClipScenesWithTrueLabels) {
-  for (const std::string family : {"clips-ds1", "clips-ds4"}) {
+  for (const std::string family : {"clips-ds1", "clips-ds2", "clips-ds3", "clips-ds4", "clips-ds5"}) {
     SCOPED_TRACE(family);
     const ClipCase& c = Clip(family);
     const Planned planned = PlanClip(c, 1);
