@@ -162,10 +162,14 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
       estimate.local_path = result.path;
       break;
     }
-    // The next round searches above the failed tau (its speed may already
-    // exceed the raised target; the same tau would fail again).
+    // The next round searches above the failed tau: its speed may already
+    // exceed the raised target (on clips-ds5 the tree reaches any speed by
+    // turning in place near the start), and the same tau would fail again.
+    // At least twice the failed tau's distance from the start's volume (plus
+    // two voxels), so that a few rounds span the range geometrically.
     lower = tau;
-    while (candidate(k_pass) <= tau) ++k_pass;
+    const double floor = estimate.tau_lowest + 2.0 * (tau - estimate.tau_lowest) + 2.0 * delta;
+    while (candidate(k_pass) < floor) ++k_pass;
   }
   if (estimate.rounds == 0) estimate.tau = tau;
   estimate.seconds = Seconds(begin);

@@ -4,7 +4,9 @@
 // start itself is invalid), and is raised until the local planner's tree
 // grows at the target expansion speed s (s_init = 4 nodes per second). Then
 // a planning round (sigma_1 only) runs with that tau; if it fails, the
-// target speed rises by delta_2 = 5 nodes/s and tau is raised again.
+// target speed rises by delta_2 = 5 nodes/s and tau is raised again, to at
+// least twice its distance from tau_lowest (plus two voxels): the speed may
+// already exceed the new target at the failed tau.
 //
 // Expansion speed, made deterministic: the thesis counts nodes per second of
 // wall-clock time, which would make tau (and so the path) depend on the
@@ -39,14 +41,16 @@ inline constexpr double kChecksPerReferenceSecond = 2000.0;
 struct TauEstimateOptions {
   double initial_speed = 4.0;   // s_init, nodes per reference second
   double speed_step = 5.0;      // delta_2
-  int max_rounds = 4;           // planning rounds
+  int max_rounds = 5;           // planning rounds
   std::int64_t probe_attempts = 300;  // expansion attempts per probe
   int bisection_steps = 4;
   double max_tau = 0;           // 0 = D's whole volume (IV of all of D)
   PlannerOptions planner;       // local planner (est), seed, time limit per planning round
   int threads = 0;              // parallel probes; 0 = all cores
   std::function<void(const std::string&)> progress;  // one line per step, optional
-  TauEstimateOptions() { planner.planner = "est"; planner.time_limit_s = 20.0; }
+  // 10 s per round: successful rounds on the clip scenes take 0.1-5 s;
+  // five rounds then stay within the 60 s a scene may take end to end.
+  TauEstimateOptions() { planner.planner = "est"; planner.time_limit_s = 10.0; }
   void Check() const;  // throws InputError
 };
 
