@@ -73,6 +73,49 @@ std::vector<int> TriangleParts(const TriangleMesh& mesh, int* count) {
   return part;
 }
 
+double PsiOf(const VoxelGrid& grid, const std::vector<float>& colors) {
+  const VoxelGridGeometry& g = grid.geometry;
+  const double margin = 2.0 * g.spacing;
+  if (colors.empty()) return margin;
+  const std::int64_t n = g.Count();
+  std::vector<std::uint8_t> seen(static_cast<std::size_t>(n), 0);
+  std::vector<std::int64_t> stack;
+  std::int64_t best_count = 0;
+  double best_extent = 0;
+  auto deformable = [&](std::int64_t v) { return grid.cells[v] != kVoxelEmpty && colors[v] < VolumeModel::kDeformableColor; };
+  for (std::int64_t start = 0; start < n; ++start) {
+    if (seen[start] || !deformable(start)) continue;
+    seen[start] = 1;
+    stack.assign(1, start);
+    std::int64_t count = 0;
+    Eigen::Vector3i lo(g.dims[0], g.dims[1], g.dims[2]), hi(-1, -1, -1);
+    while (!stack.empty()) {
+      const std::int64_t v = stack.back();
+      stack.pop_back();
+      ++count;
+      const int i = static_cast<int>(v % g.dims[0]);
+      const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
+      const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
+      lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
+      hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+      const int neighbours[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+      for (const auto& d : neighbours) {
+        const int a = i + d[0], b = j + d[1], c = k + d[2];
+        if (!g.Contains(a, b, c)) continue;
+        const std::int64_t w = g.Index(a, b, c);
+        if (seen[w] || !deformable(w)) continue;
+        seen[w] = 1;
+        stack.push_back(w);
+      }
+    }
+    if (count > best_count) {
+      best_count = count;
+      best_extent = ((hi - lo).array() + 1).maxCoeff() * g.spacing;
+    }
+  }
+  return best_extent + margin;
+}
+
 }  // namespace
 
 VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
@@ -83,6 +126,7 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
     throw InputError("--validity labeled-mliv needs D's labels (ausbau-pbd-label, --labels)");
   }
   if (!deformability.empty()) colors_ = ColorValues(voxels_.dynamic_grid, dynamic_mesh, deformability);
+  psi_ = PsiOf(voxels_.dynamic_grid, colors_);  // of D as it is, before any shrinking
 
   if (mode == ValidityMode::kShrink) {
     // The smallest erosion (whole voxels) that frees the start pose, as long
@@ -148,48 +192,6 @@ VolumeReport VolumeModel::Describe(const Pose& pose) {
   return report;
 }
 
-double VolumeModel::EstimatePsi() const {
-  const VoxelGrid& grid = voxels_.dynamic_grid;
-  const VoxelGridGeometry& g = grid.geometry;
-  const double margin = 2.0 * g.spacing;
-  if (colors_.empty()) return margin;
-  const std::int64_t n = g.Count();
-  std::vector<std::uint8_t> seen(static_cast<std::size_t>(n), 0);
-  std::vector<std::int64_t> stack;
-  std::int64_t best_count = 0;
-  double best_extent = 0;
-  auto deformable = [&](std::int64_t v) { return grid.cells[v] != kVoxelEmpty && colors_[v] < kDeformableColor; };
-  for (std::int64_t start = 0; start < n; ++start) {
-    if (seen[start] || !deformable(start)) continue;
-    seen[start] = 1;
-    stack.assign(1, start);
-    std::int64_t count = 0;
-    Eigen::Vector3i lo(g.dims[0], g.dims[1], g.dims[2]), hi(-1, -1, -1);
-    while (!stack.empty()) {
-      const std::int64_t v = stack.back();
-      stack.pop_back();
-      ++count;
-      const int i = static_cast<int>(v % g.dims[0]);
-      const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
-      const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
-      lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
-      hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
-      const int neighbours[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-      for (const auto& d : neighbours) {
-        const int a = i + d[0], b = j + d[1], c = k + d[2];
-        if (!g.Contains(a, b, c)) continue;
-        const std::int64_t w = g.Index(a, b, c);
-        if (seen[w] || !deformable(w)) continue;
-        seen[w] = 1;
-        stack.push_back(w);
-      }
-    }
-    if (count > best_count) {
-      best_count = count;
-      best_extent = ((hi - lo).array() + 1).maxCoeff() * g.spacing;
-    }
-  }
-  return best_extent + margin;
-}
+double VolumeModel::EstimatePsi() const { return psi_; }
 
 }  // namespace ausbau

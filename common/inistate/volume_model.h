@@ -68,6 +68,7 @@ class VolumeModel {
   // psi of 5.4.4: the largest extent of the largest 6-connected component of
   // deformable voxels (colorValue < kDeformableColor) plus two voxels (the
   // voxels' surface margin); two voxels when D has no deformable voxel.
+  // Measured on D's voxels before shrinking.
   // psi only decides where sigma_1 hands over to the rigid planner (c_inter
   // is collision-free whatever psi > 0 is), so a rough value is enough.
   // The threshold: on the clip scenes the labels put clips at 0.75-1 and
@@ -82,6 +83,7 @@ class VolumeModel {
   std::vector<float> colors_;
   std::unique_ptr<IntersectionVolume> volume_;
   double shrink_ = 0;
+  double psi_ = 0;
   // D's parts: per triangle of D its connected component; a BVH to find the
   // triangle nearest a point.
   std::vector<int> triangle_part_;
