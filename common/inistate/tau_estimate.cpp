@@ -89,6 +89,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
   int k_pass = 0;  // candidates below this index are known to be too slow for the previous target
   double tau = estimate.tau_lowest;
   double lower = -1;  // largest tau known too slow for the current target
+  double floor = -1;  // after a failed round: the next tau is at least this
   for (int round = 0; round < options.max_rounds; ++round) {
     const double target = options.initial_speed + round * options.speed_step;
     estimate.speed_target = target;
@@ -125,6 +126,8 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     k_pass = found;
     double upper = candidate(found);
     if (lower < estimate.tau_lowest || lower >= upper) lower = found > 0 ? candidate(found - 1) : -1;
+    // Bisection never goes below the floor a failed round set.
+    if (floor >= 0) lower = std::max(lower, std::min(floor, upper));
     // Bisection between the last too-slow and the first fast-enough candidate.
     for (int step = 0; step < options.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta; ++step) {
       const double middle = 0.5 * (lower + upper);
@@ -167,8 +170,8 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     // turning in place near the start), and the same tau would fail again.
     // At least twice the failed tau's distance from the start's volume (plus
     // two voxels), so that a few rounds span the range geometrically.
+    floor = estimate.tau_lowest + 2.0 * (tau - estimate.tau_lowest) + 2.0 * delta;
     lower = tau;
-    const double floor = estimate.tau_lowest + 2.0 * (tau - estimate.tau_lowest) + 2.0 * delta;
     while (candidate(k_pass) < floor) ++k_pass;
   }
   if (estimate.rounds == 0) estimate.tau = tau;
