@@ -30,7 +30,7 @@ struct PlanStageOptions {
   PlannerOptions planner;
   std::string collision = "fcl";  // fcl | farr
   std::string distfield;          // "S.h5,D.h5" (farr); empty: build or reuse through the cache
-  // InIState planning (README "Invalid initial states").
+  // InIState planning (README "InIState planning").
   std::string validity = "collision";  // collision | shrink | iv | mliv | labeled-mliv
   double tau = -1;                     // < 0: from --tau-file, else estimated here (shrink: 0)
   std::string tau_file;                // ausbau-tau-estimate artifact
@@ -322,7 +322,7 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--validity", options.validity,
                        "collision | shrink | iv | mliv | labeled-mliv (the last four: the start may collide; "
-                       "README \"Invalid initial states\")")
+                       "README \"InIState planning\")")
             ->check(CLI::IsMember(ValidityModeNames()))
             ->capture_default_str();
         app.add_option("--tau", options.tau,
