@@ -236,8 +236,6 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
   run.family = truth.family;
   run.seed = seed;
   run.mode = mode;
-  auto colliding = [&fcl](const Pose& pose) { return fcl.InCollision(pose); };
-  auto distance = [&fcl](const Pose& pose) { return fcl.Distance(pose); };
   try {
     auto start = Clock::now();
     VolumeModel model(problem, scene.dynamic_mesh, voxels, deformability, mode);
@@ -257,9 +255,7 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
       run.tau = 0;
       run.tau_lowest = run.start_volume;
     } else {
-      PlanningProblem local_problem = problem;
-      local_problem.goal.reset();
-      local_problem.goal_test = ClearOfFasteners(local_problem, colliding, distance, run.psi);
+      const PlanningProblem local_problem = FastenerProblem(problem, fcl, run.psi);
       TauEstimateOptions tau_options;
       tau_options.planner = local;
       tau_options.threads = options.threads;
@@ -282,7 +278,7 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
     inistate.rigid.planner = "cr-rrtc";
     inistate.psi = run.psi;
     start = Clock::now();
-    const InIStateResult result = PlanInIState(problem, volume_validity, fcl, colliding, distance, inistate);
+    const InIStateResult result = PlanInIState(problem, volume_validity, fcl, fcl, inistate);
     run.plan_s = SecondsSince(start);
     run.local_s = result.local.stats.time_s;
     run.rigid_s = result.rigid.stats.time_s;

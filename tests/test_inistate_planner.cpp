@@ -199,16 +199,13 @@ Planned PlanClip(const ClipCase& c, std::uint64_t seed, int threads = 0) {
   const PlanningProblem problem = MakePlanningProblem(c.scene);
   VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
   const FclCollisionChecker fcl(problem.robot, problem.environment);
-  auto colliding = [&fcl](const Pose& p) { return fcl.InCollision(p); };
-  auto distance = [&fcl](const Pose& p) { return fcl.Distance(p); };
   Planned out;
   out.psi = model.EstimatePsi();
-  PlanningProblem local = problem;
-  local.goal_test = ClearOfFasteners(local, colliding, distance, out.psi);
   TauEstimateOptions tau_options;
   tau_options.planner.seed = seed;
   tau_options.threads = threads;
-  const TauEstimate estimate = EstimateTau(local, model.volume(), model.measure(), out.psi, tau_options);
+  const TauEstimate estimate =
+      EstimateTau(FastenerProblem(problem, fcl, out.psi), model.volume(), model.measure(), out.psi, tau_options);
   EXPECT_TRUE(estimate.solved);
   EXPECT_GE(estimate.tau, estimate.tau_lowest);
   out.tau = estimate.tau;
@@ -217,7 +214,7 @@ Planned PlanClip(const ClipCase& c, std::uint64_t seed, int threads = 0) {
   options.local.seed = options.rigid.seed = seed;
   options.local.time_limit_s = options.rigid.time_limit_s = 30;
   options.psi = out.psi;
-  out.result = PlanInIState(problem, validity, fcl, colliding, distance, options);
+  out.result = PlanInIState(problem, validity, fcl, fcl, options);
   return out;
 }
 

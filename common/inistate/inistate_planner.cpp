@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/log.h"
 
@@ -40,6 +41,24 @@ std::function<bool(const Pose&)> ClearOfFasteners(const PlanningProblem& problem
 PlannerOptions LocalPlannerOptions(const PlanningProblem& problem, double psi, PlannerOptions local) {
   if (local.planner == "est" && local.est_range == 0) local.est_range = std::clamp(psi / problem.metric.nu, 1e-4, 0.05);
   return local;
+}
+
+PlanningProblem FastenerProblem(const PlanningProblem& problem, const FclCollisionChecker& fcl, double psi) {
+  PlanningProblem local = problem;
+  local.goal.reset();
+  // Captures `problem`, not the copy, which the caller may move.
+  local.goal_test = ClearOfFasteners(
+      problem, [&fcl](const Pose& pose) { return fcl.InCollision(pose); },
+      [&fcl](const Pose& pose) { return fcl.Distance(pose); }, psi);
+  return local;
+}
+
+InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
+                            const PoseValidity& rigid_validity, const FclCollisionChecker& fcl,
+                            const InIStateOptions& options) {
+  return PlanInIState(
+      problem, volume_validity, rigid_validity, [&fcl](const Pose& pose) { return fcl.InCollision(pose); },
+      [&fcl](const Pose& pose) { return fcl.Distance(pose); }, options);
 }
 
 InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,

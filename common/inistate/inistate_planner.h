@@ -19,6 +19,8 @@
 
 namespace ausbau {
 
+class FclCollisionChecker;
+
 struct InIStateOptions {
   PlannerOptions local;   // sigma_1; planner "est" by default
   PlannerOptions rigid;   // sigma_2; planner "cr-rrtc" by default
@@ -42,6 +44,16 @@ struct InIStateResult {
 InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
                             const PoseValidity& rigid_validity, const std::function<bool(const Pose&)>& colliding,
                             const std::function<double(const Pose&)>& distance, const InIStateOptions& options);
+
+// The same with the goal's tests done by FCL on D and S (`fcl`).
+InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& volume_validity,
+                            const PoseValidity& rigid_validity, const FclCollisionChecker& fcl,
+                            const InIStateOptions& options);
+
+// The problem sigma_1 solves (and the tau estimate probes): `problem`
+// without a goal pose, its goal region D clear of the fasteners
+// (ClearOfFasteners, tested by `fcl`). `problem` and `fcl` must outlive it.
+PlanningProblem FastenerProblem(const PlanningProblem& problem, const FclCollisionChecker& fcl, double psi);
 
 // The options of sigma_1's planner: EST's expansion radius, when automatic,
 // becomes psi / nu: the tree advances at most one fastener length (and turns

@@ -151,19 +151,14 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   if (psi <= 0) psi = model->EstimatePsi();
   const double start_volume = model->Measure(problem.start);
   const FclCollisionChecker fcl(problem.robot, problem.environment);
-  auto colliding = [&fcl](const Pose& pose) { return fcl.InCollision(pose); };
-  auto distance = [&fcl](const Pose& pose) { return fcl.Distance(pose); };
   if (tau < 0) {
     if (mode == ValidityMode::kShrink) {
       tau = 0;
     } else {
       LogInfo("no --tau or --tau-file: estimating tau here (ausbau-tau-estimate caches it)");
-      PlanningProblem local = problem;
-      local.goal.reset();
-      local.goal_test = ClearOfFasteners(local, colliding, distance, psi);
       TauEstimateOptions tau_options;
       tau_options.planner = ResolvedPlanner(options, true);
-      tau = EstimateTau(local, model->volume(), model->measure(), psi, tau_options).tau;
+      tau = EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, tau_options).tau;
     }
   }
   LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
@@ -178,8 +173,7 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   inistate.rigid = options.planner;
   inistate.rigid.planner = options.rigid_planner;
   inistate.psi = psi;
-  const InIStateResult result =
-      PlanInIState(problem, volume_validity, rigid_checker, colliding, distance, inistate);
+  const InIStateResult result = PlanInIState(problem, volume_validity, rigid_checker, fcl, inistate);
   *stats = result.Stats();
   *solved = result.solved();
 

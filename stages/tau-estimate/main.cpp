@@ -59,12 +59,8 @@ int Run(TauStageOptions options, const std::string& parameters) {
     LogInfo("shrink: tau is 0 (D shrunk by %.4g %s)", model->shrink(), scene.units.c_str());
   } else {
     const FclCollisionChecker fcl(problem.robot, problem.environment);
-    PlanningProblem local = problem;
-    local.goal.reset();
-    local.goal_test = ClearOfFasteners(
-        local, [&fcl](const Pose& pose) { return fcl.InCollision(pose); },
-        [&fcl](const Pose& pose) { return fcl.Distance(pose); }, psi);
-    artifact.estimate = EstimateTau(local, model->volume(), model->measure(), psi, options.estimate);
+    artifact.estimate =
+        EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, options.estimate);
   }
   WriteTauArtifact(options.output, artifact, provenance);
   if (!options.csv.empty()) WriteTauTraceCsv(options.csv, artifact.estimate);
