@@ -10,22 +10,11 @@
 #include <utility>
 #include <vector>
 
+#include "machine.h"
+
 namespace ausbau::bench {
 
-struct MachineInfo {
-  std::string cpu;       // /proc/cpuinfo "model name"
-  int cores = 0;         // logical cores
-  double ram_gib = 0;    // /proc/meminfo MemTotal
-  std::string compiler;  // __VERSION__
-  std::string ompl;      // "1.5.2" or "" when built without OMPL
-  std::string fcl;       // FCL_VERSION
-  std::string host;
-  std::string date_utc;  // ISO 8601
-  std::string load_start;  // /proc/loadavg at start (the machine may be shared)
-};
-MachineInfo DescribeMachine();
-std::string LoadAverage();
-std::string NowIsoUtc();
+
 
 // One run of one planner configuration.
 struct RunRecord {

@@ -25,8 +25,6 @@
 // Scene names: OMPL.app scenes by name (../shared/benchmarks/ompl/<name>.yaml),
 // flange-1.00 / flange-0.95 / flange-0.90 (generated, common/scene/flange.h),
 // parasol-flange-1.0 (../shared/benchmarks/parasol/flange-1.0/, if present).
-#include <fcl/config.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -41,13 +39,13 @@
 #include <mutex>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "machine.h"
 #include "core/log.h"
 #include "planning/planner.h"
 #include "scene/flange.h"
@@ -68,47 +66,6 @@ std::string Fmt(const char* format, ...) {
   va_start(args, format);
   std::vsnprintf(buffer, sizeof buffer, format, args);
   va_end(args);
-  return buffer;
-}
-
-std::string ReadFirstField(const char* file, const std::string& key) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.compare(0, key.size(), key) != 0) continue;
-    const auto colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    std::string value = line.substr(colon + 1);
-    value.erase(0, value.find_first_not_of(" \t"));
-    return value;
-  }
-  return "";
-}
-
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
-std::string MachineLine() {
-  std::string cpu = ReadFirstField("/proc/cpuinfo", "model name");
-  if (cpu.empty()) cpu = "unknown CPU";
-  const std::string mem = ReadFirstField("/proc/meminfo", "MemTotal");
-  const double gib = mem.empty() ? 0.0 : std::atof(mem.c_str()) / (1024.0 * 1024.0);
-  char host[256] = {0};
-  gethostname(host, sizeof(host) - 1);
-  return Fmt("%s, %u logical cores, %.1f GiB RAM (host %s); GCC %s; FCL %s", cpu.c_str(),
-             std::thread::hardware_concurrency(), gib, host, __VERSION__, FCL_VERSION);
-}
-
-std::string NowUtc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buffer[64];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buffer;
 }
 
@@ -364,7 +321,7 @@ std::string Summary(const std::vector<SceneResult>& results, const BenchOptions&
   std::ostringstream md;
   md << "# FARR collision detection against FCL\n\n";
   md << "- Machine: " << machine << "\n";
-  md << "- Date: " << date << " (UTC); load average at start " << load_start << ", at end " << LoadAverage()
+  md << "- Date: " << date << " (UTC); load average at start " << load_start << ", at end " << bench::LoadAverage()
      << " (the machine may be shared: timings are interleaved in chunks of 2,000 samples and averaged over "
      << options.reps << " repetitions)\n";
   md << "- Planner " << options.planner << ", seed " << options.seed << ", time limit " << options.time_limit_s
@@ -471,7 +428,8 @@ int main(int argc, char** argv) {
   }
   SetLogProgramName("ausbau-farr-bench");
   SetLogLevel(LogLevel::kWarn);
-  const std::string machine = MachineLine(), date = NowUtc(), load_start = LoadAverage();
+  const std::string machine = bench::MachineLine(bench::DescribeMachine());
+  const std::string date = bench::NowIsoUtc(), load_start = bench::LoadAverage();
   std::vector<SceneResult> results;
   try {
     fs::create_directories(options.output_dir);

@@ -26,7 +26,6 @@
 // and inistate-summary.md (the table, times per scene, labels); both are
 // rewritten after every scene, so an interrupted run keeps what it measured.
 #include <omp.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -41,11 +40,11 @@
 #include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "machine.h"
 #include "core/log.h"
 #include "inistate/ground_truth_check.h"
 #include "inistate/inistate_planner.h"
@@ -475,50 +474,12 @@ const char* ThesisCell(const std::string& family, ValidityMode mode) {
   return it->second[column] == '+' ? "+" : "-";
 }
 
-std::string ReadFirstField(const char* file, const char* key) {
-  std::ifstream in(file);
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind(key, 0) != 0) continue;
-    const auto colon = line.find(':');
-    if (colon == std::string::npos) continue;
-    std::string value = line.substr(colon + 1);
-    value.erase(0, value.find_first_not_of(" \t"));
-    return value;
-  }
-  return "";
-}
-
-std::string MachineLine() {
-  std::string cpu = ReadFirstField("/proc/cpuinfo", "model name");
-  if (cpu.empty()) cpu = "unknown CPU";
-  const std::string mem = ReadFirstField("/proc/meminfo", "MemTotal");
-  const double gib = mem.empty() ? 0.0 : std::atof(mem.c_str()) / (1024.0 * 1024.0);
-  return Fmt("%s, %u logical cores, %.1f GiB RAM; GCC %s", cpu.c_str(), std::thread::hardware_concurrency(), gib,
-             __VERSION__);
-}
-
-std::string NowUtc() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char buffer[64];
-  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buffer;
-}
-
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
 std::string Summary(const std::vector<SceneResult>& scenes, const BenchOptions& options, const std::string& date,
                     const std::string& command) {
   std::ostringstream md;
   md << "# ausbau-inistate-bench: thesis table 16 on the generated clip scenes\n\n";
-  md << "- Machine: " << MachineLine() << "\n";
-  md << "- Date: " << date << " (UTC), load average at the end " << LoadAverage() << "\n";
+  md << "- Machine: " << bench::MachineLine(bench::DescribeMachine()) << "\n";
+  md << "- Date: " << date << " (UTC), load average at the end " << bench::LoadAverage() << "\n";
   md << "- Command: `" << command << "`\n";
   md << "- Seeds " << options.first_seed << ".." << options.first_seed + options.seeds - 1
      << " (scene seed = planner seed); D triangles "
@@ -676,7 +637,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (options.threads > 0) omp_set_num_threads(options.threads);
-  const std::string date = NowUtc();
+  const std::string date = bench::NowIsoUtc();
   const fs::path out = options.out;
   std::vector<SceneResult> scenes;
   try {
