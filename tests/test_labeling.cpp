@@ -651,33 +651,6 @@ TEST(PbdLabels, RejectsBadOptions) {
 
 // ------------------------------------------------------------ clip scenes
 
-// Per vertex of D: 0 where it lies inside (or on) another part of D: a clip's
-// root embedded in the panel. Such vertices cannot move on their own and
-// cannot touch S, so the clip/rigid separation is measured without them.
-std::vector<std::uint8_t> ExposedVertices(const MeshTopology& topo) {
-  const TriangleBvh bvh(topo.vertices, topo.triangles);
-  std::vector<int> component(topo.triangles.size());
-  for (std::size_t t = 0; t < component.size(); ++t) component[t] = topo.component[topo.triangles[t][0]];
-  const Eigen::Vector3d directions[3] = {Eigen::Vector3d(0.577, 0.591, 0.563).normalized(),
-                                         Eigen::Vector3d(-0.707, 0.311, 0.634).normalized(),
-                                         Eigen::Vector3d(0.135, -0.812, 0.567).normalized()};
-  std::vector<std::uint8_t> exposed(topo.OriginalVertexCount(), 1);
-  for (int i = 0; i < topo.OriginalVertexCount(); ++i) {
-    const int w = topo.welded_of_original[i];
-    const int own = topo.component[w];
-    const auto others = [&](int t) { return component[t] == own; };
-    const auto near = bvh.NearestPoint(topo.vertices[w], others);
-    if (near.triangle >= 0 && near.distance_squared < 1e-4 * topo.diagonal * topo.diagonal * 1e-4) {
-      exposed[i] = 0;
-      continue;
-    }
-    int odd = 0;
-    for (const auto& direction : directions) odd += bvh.CountCrossings(topo.vertices[w], direction, 0, others) % 2;
-    if (odd >= 2) exposed[i] = 0;
-  }
-  return exposed;
-}
-
 TEST(ClipScenes, LabelsSeparateClipsFromRigidParts) {
   // The generated InIState scenes (scene/clip_scenes.h): clips (nominal
   // deformability 1; ds5's thick clips 0.35) against the panel, rims and

@@ -101,6 +101,12 @@ struct MeshTopology {
 // Throws InputError when the mesh has no triangle of positive area.
 MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptions& options = {});
 
+// Per ORIGINAL vertex: 0 where it lies inside (or on) another component of
+// the mesh (a clip's root embedded in the panel: ray parity, two of three
+// rays), 1 otherwise. Such vertices cannot move on their own nor touch S, so
+// label quality (clip/rigid separation) is measured without them.
+std::vector<std::uint8_t> ExposedVertices(const MeshTopology& topology);
+
 // A bounding volume hierarchy over triangles (binary, median split on the
 // widest centroid axis, up to 4 triangles a leaf) with exact queries.
 class TriangleBvh {
