@@ -93,6 +93,10 @@ struct BenchOptions {
   int threads = 0;  // 0 = all cores
   double resolution = PlannerOptions{}.resolution;  // edge check step, fraction of D's diagonal
   bool keep_scenes = false;
+  // The stages' knobs that decide how well D's parts are told apart (see
+  // docs/results/inistate-ds3-2026-11-22.md): library defaults.
+  std::int64_t voxel_budget = VoxelizeOptions{}.voxel_budget;
+  double label_refine = PbdLabelOptions{}.refine;
   // Also Labeled-MLIV with the generator's nominal labels (clips 1, ds5's
   // thick clips 0.35, rigid parts 0) instead of the PBD labels.
   bool truth_labels = false;
@@ -335,7 +339,9 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
     result.static_triangles = static_cast<std::int64_t>(scene.static_mesh.triangles.size());
 
     start = Clock::now();
-    const SceneVoxels voxels = VoxelizeScene(scene, VoxelizeOptions{});
+    VoxelizeOptions voxelize_options;
+    voxelize_options.voxel_budget = options.voxel_budget;
+    const SceneVoxels voxels = VoxelizeScene(scene, voxelize_options);
     result.voxelize_s = SecondsSince(start);
     result.voxel_size = voxels.dynamic_grid.geometry.spacing;
     result.dynamic_voxels = voxels.dynamic_grid.CountOccupied();
@@ -359,6 +365,7 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
       start = Clock::now();
       PbdLabelOptions label_options;
       label_options.threads = options.threads;
+      label_options.refine = options.label_refine;
       const PbdLabels labels = ComputePbdLabels(topology, spheres, label_options);
       result.labels_s = SecondsSince(start);
       result.load_cases = labels.load_cases;
@@ -605,6 +612,13 @@ int main(int argc, char** argv) {
   app.add_option("--resolution", options.resolution,
                  "edge check step of every planner (fraction of D's diagonal; library default)")
       ->capture_default_str();
+  app.add_option("--voxel-budget", options.voxel_budget,
+                 "automatic voxel size: about this many voxels in D's AABB (ausbau-voxelize --voxel-budget)")
+      ->capture_default_str();
+  app.add_option("--label-refine", options.label_refine,
+                 "split D's edges longer than this x the local diameter before labeling (ausbau-pbd-label --refine); "
+                 "0 = off")
+      ->capture_default_str();
   app.add_flag("--truth-labels", options.truth_labels,
                "also run Labeled-MLIV with the generator's nominal labels (column labeled-mliv-gt)");
   app.add_flag("--keep-scenes", options.keep_scenes, "keep the generated scenes under OUT/scenes");
@@ -632,6 +646,8 @@ int main(int argc, char** argv) {
     if (options.threads < 0) throw InputError("--threads: must be >= 0");
     if (!(options.resolution > 0)) throw InputError("--resolution: must be > 0");
     if (options.triangles < 0) throw InputError("--triangles: must be >= 0");
+    if (options.voxel_budget < 1) throw InputError("--voxel-budget: must be >= 1");
+    if (options.label_refine < 0) throw InputError("--label-refine: must be >= 0 (0 = off)");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ausbau-inistate-bench: error: %s\n", e.what());
     return 2;

@@ -650,6 +650,15 @@ TEST(VoxelizeStage, WritesCachesAndRefusesHugeGrids) {
   std::tie(rc, out) = RunCommand(base + " --voxel-size 0.001");
   EXPECT_EQ(rc, 2) << out;
   EXPECT_NE(out.find("--memory-limit"), std::string::npos) << out;
+  // The automatic size gives way to the memory limit (coarser, with a
+  // warning) rather than failing: 2 MiB fits only a coarse grid.
+  std::tie(rc, out) = RunCommand(exe.string() + " --scene " + scene.string() + " -o " + (dir / "coarse.h5").string() +
+                                 " --memory-limit 0.002");
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("coarsened"), std::string::npos) << out;
+  const SceneVoxels coarse = ReadVoxelArtifact(dir / "coarse.h5");
+  EXPECT_GT(coarse.dynamic_grid.geometry.spacing, voxels.dynamic_grid.geometry.spacing);
+  EXPECT_LE(6.0 * (coarse.dynamic_grid.geometry.Count() + coarse.static_grid.geometry.Count()), 0.002 * (1 << 30));
   std::tie(rc, out) = RunCommand(base + " --shrink 1 --voxel-size 0.8 --force");
   EXPECT_EQ(rc, 0) << out;
   const SceneVoxels shrunk = ReadVoxelArtifact(dir / "v.h5");

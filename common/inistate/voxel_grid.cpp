@@ -653,8 +653,25 @@ VoxelGrid ErodeVoxels(const VoxelGrid& grid, double distance) {
 SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
   options.Check();
   const Aabb d_box = scene.dynamic_mesh.Bounds(), s_box = scene.static_mesh.Bounds();
-  const double h = options.voxel_size > 0 ? options.voxel_size : AutomaticVoxelSize(d_box, options.voxel_budget);
-  const VoxelGridGeometry gd = GridAround(d_box, h), gs = GridAround(s_box, h);
+  double h = options.voxel_size > 0 ? options.voxel_size : AutomaticVoxelSize(d_box, options.voxel_budget);
+  VoxelGridGeometry gd = GridAround(d_box, h), gs = GridAround(s_box, h);
+  if (options.voxel_size <= 0) {
+    // The automatic size is a wish, not a demand: where S is much larger than
+    // D its grid may not fit the memory limit at the budget's size; then
+    // coarsen (by 2^(1/3), halving the cell count) until both grids fit, and
+    // say so. An explicit --voxel-size is never changed (refused below).
+    const double wished = h;
+    // At most 2^30 times fewer cells; a limit below even that is refused below.
+    for (int k = 0; k < 90 && VoxelizeMemoryBytes(gd) + VoxelizeMemoryBytes(gs) > options.memory_limit; ++k) {
+      h *= std::cbrt(2.0);
+      gd = GridAround(d_box, h);
+      gs = GridAround(s_box, h);
+    }
+    if (h != wished) {
+      LogWarn("automatic voxel size %g coarsened to %g to fit the memory limit of %.2f GiB (--memory-limit)", wished, h,
+              options.memory_limit / double(1 << 30));
+    }
+  }
   CheckVoxelMemory(gd, options.memory_limit, "D's voxel grid");
   CheckVoxelMemory(gs, options.memory_limit - VoxelizeMemoryBytes(gd), "S's voxel grid");
   LogInfo("voxel size %g: S %d x %d x %d, D %d x %d x %d voxels", h, gs.dims[0], gs.dims[1], gs.dims[2], gd.dims[0],

@@ -137,7 +137,7 @@ class WindingBvh {
 
 struct VoxelizeOptions {
   double voxel_size = 0;                              // scene units; 0 = automatic (AutomaticVoxelSize)
-  std::int64_t voxel_budget = 1000000;                // automatic size: about this many voxels in D's AABB
+  std::int64_t voxel_budget = 4000000;                // automatic size: about this many voxels in D's AABB (why 4M: README)
   std::int64_t memory_limit = std::int64_t{2} << 30;  // bytes; larger grids are refused (InputError)
   double shrink = 0;                                  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
