@@ -137,8 +137,12 @@ class WindingBvh {
 
 struct VoxelizeOptions {
   double voxel_size = 0;                              // scene units; 0 = automatic (AutomaticVoxelSize)
-  std::int64_t voxel_budget = 4000000;                // automatic size: about this many voxels in D's AABB (why 4M: README)
-  std::int64_t memory_limit = std::int64_t{2} << 30;  // bytes; larger grids are refused (InputError)
+  // Automatic size: about this many voxels in D's AABB (why 4M, not 1M:
+  // stages/voxelize/README.md).
+  std::int64_t voxel_budget = 4000000;
+  // Bytes. Grids at an explicit voxel_size that need more are refused
+  // (InputError); the automatic size is coarsened until they fit.
+  std::int64_t memory_limit = std::int64_t{2} << 30;
   double shrink = 0;                                  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
   bool progress = false;  // report progress through core/log.h
