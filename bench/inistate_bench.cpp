@@ -254,6 +254,7 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
     local.time_limit_s = options.time_limit_s;
     local.threads = options.threads;
     local.resolution = options.resolution;
+    std::vector<Pose> known_local_path;  // the tau estimate's sigma_1, as ausbau-plan reuses it
     if (mode == ValidityMode::kShrink) {
       run.tau = 0;
       run.tau_lowest = run.start_volume;
@@ -269,6 +270,7 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
       run.tau_lowest = estimate.tau_lowest;
       run.tau_rounds = estimate.rounds;
       run.tau_solved = estimate.solved;
+      if (estimate.solved) known_local_path = estimate.local_path;
     }
     if (run.start_volume > run.tau) {
       run.reason = Fmt("start invalid: volume %.6g > tau %.6g", run.start_volume, run.tau);
@@ -280,6 +282,7 @@ RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const Planni
     inistate.rigid = local;
     inistate.rigid.planner = "cr-rrtc";
     inistate.psi = run.psi;
+    inistate.known_local_path = known_local_path;
     start = Clock::now();
     const InIStateResult result = PlanInIState(problem, volume_validity, fcl, fcl, inistate);
     run.plan_s = SecondsSince(start);

@@ -242,6 +242,57 @@ TEST(InIStatePlanner, PlansCorrectPathsOnClipScenesWithTrueLabels) {
   }
 }
 
+// ausbau-plan hands the tau estimate's sigma_1 to PlanInIState instead of
+// planning it again: the result is the same path, without the planning; a
+// path that does not hold is re-planned.
+TEST(InIStatePlanner, ReusesAKnownSigma1OnlyWhenItHolds) {
+  const ClipCase& c = Clip("clips-ds4");
+  const PlanningProblem problem = MakePlanningProblem(c.scene);
+  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  const double psi = model.EstimatePsi();
+  TauEstimateOptions tau_options;
+  tau_options.planner.seed = 3;
+  const TauEstimate estimate =
+      EstimateTau(FastenerProblem(problem, fcl, psi), model.volume(), model.measure(), psi, tau_options);
+  ASSERT_TRUE(estimate.solved);
+  ASSERT_GE(estimate.local_path.size(), 2u);
+  EXPECT_EQ(estimate.local_seed, 3u);
+  EXPECT_EQ(estimate.local_planner, "est");
+  const VolumeValidity validity(model.volume(), model.measure(), estimate.tau);
+  InIStateOptions options;
+  options.local.seed = options.rigid.seed = 3;
+  options.psi = psi;
+
+  const InIStateResult planned = PlanInIState(problem, validity, fcl, fcl, options);
+  options.known_local_path = estimate.local_path;
+  const InIStateResult reused = PlanInIState(problem, validity, fcl, fcl, options);
+  ASSERT_TRUE(planned.solved() && reused.solved());
+  EXPECT_EQ(reused.local.stats.nodes, 0);  // not planned
+  EXPECT_GT(reused.local.stats.collision_checks, 0);  // but re-checked
+  EXPECT_GT(planned.local.stats.nodes, 0);
+  // Same seed, tau and planner: the round's sigma_1 is the one planning finds.
+  ASSERT_EQ(planned.path.size(), reused.path.size());
+  for (std::size_t i = 0; i < planned.path.size(); ++i) EXPECT_EQ(planned.path[i].t, reused.path[i].t) << i;
+
+  // Not from the start: planned anew.
+  options.known_local_path.front().t.x() += 1.0;
+  const InIStateResult off = PlanInIState(problem, validity, fcl, fcl, options);
+  ASSERT_TRUE(off.solved());
+  EXPECT_GT(off.local.stats.nodes, 0);
+  EXPECT_EQ(off.path.front().t, problem.start.t);
+  // Through S (a straight lift drags the clips' barbs through the plate,
+  // far above the start's volume): not used, planned anew.
+  const VolumeValidity tight(model.volume(), model.measure(), model.Measure(problem.start));
+  options.known_local_path = {problem.start, problem.start};
+  options.known_local_path.back().t.z() += 3 * problem.robot_diagonal;
+  options.local.time_limit_s = 0.5;
+  const InIStateResult through = PlanInIState(problem, tight, fcl, fcl, options);
+  const std::vector<Pose>& got = through.local.path;
+  EXPECT_TRUE(got.size() != 2 || got[1].t != options.known_local_path[1].t);
+  EXPECT_GT(through.local.stats.nodes, 0);
+}
+
 TEST(TauEstimate, DeterministicAndIndependentOfThreads) {
   const ClipCase& c = Clip("clips-ds4");
   const Planned one = PlanClip(c, 5, 1), two = PlanClip(c, 5, 2);
@@ -278,6 +329,11 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
   probe.speed = std::numeric_limits<double>::infinity();
   probe.nodes = 7;
   artifact.estimate.trace = {probe};
+  Pose moved;
+  moved.t = {1, 2, 3};
+  artifact.estimate.local_path = {Pose{}, moved};
+  artifact.estimate.local_seed = 9;
+  artifact.estimate.local_planner = "est";
   const auto file = testing::MakeTempDir("tau") / "tau.h5";
   WriteTauArtifact(file, artifact, Provenance{"test", "0", "", {}});
   const TauArtifact back = ReadTauArtifact(file);
@@ -287,6 +343,10 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
   ASSERT_EQ(back.estimate.trace.size(), 1u);
   EXPECT_TRUE(std::isinf(back.estimate.trace[0].speed));
   EXPECT_EQ(back.estimate.trace[0].nodes, 7);
+  ASSERT_EQ(back.estimate.local_path.size(), 2u);
+  EXPECT_EQ(back.estimate.local_path[1].t, moved.t);
+  EXPECT_EQ(back.estimate.local_seed, 9u);
+  EXPECT_EQ(back.estimate.local_planner, "est");
   EXPECT_THROW(ReadPathArtifact(file), InputError);  // wrong schema
 }
 

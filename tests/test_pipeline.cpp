@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "inistate/tau_estimate.h"
 #include "planning/path_io.h"
 #include "test_scenes.h"
 
@@ -120,6 +121,10 @@ TEST_F(PipelineTest, WritesTheSmoothedPathAsPathCsvAndARemovableVerdict) {
     EXPECT_TRUE(HasLine(json, std::string("\"") + stage + "\": ")) << stage << " missing in " << json;
   }
   EXPECT_NE(first_->output.find("REMOVABLE"), std::string::npos) << first_->output;
+  // plan takes the sigma_1 that tau-estimate's last round found (same tau,
+  // psi, planner, seed) instead of planning it again.
+  EXPECT_TRUE(ReadTauArtifact(Out() / "tau.h5").estimate.solved);
+  EXPECT_NE(first_->output.find("part 1 (known path, re-checked"), std::string::npos) << first_->output;
 }
 
 TEST_F(PipelineTest, ANewSeedReRunsOnlyThePlanningStages) {

@@ -1,6 +1,8 @@
 #include "inistate/inistate_planner.h"
 
 #include <algorithm>
+#include <chrono>
+#include <string>
 
 #include "collision/fcl_checker.h"
 #include "core/error.h"
@@ -24,6 +26,22 @@ namespace {
 double BoxGap(const Aabb& a, const Aabb& b) {
   const Eigen::Vector3d gap = (a.min - b.max).cwiseMax(b.min - a.max).cwiseMax(Eigen::Vector3d::Zero());
   return gap.norm();
+}
+
+// Why `path` cannot serve as sigma_1 of `local_problem`, or "" when it can.
+std::string KnownLocalPathFault(const PlanningProblem& local_problem, const PoseValidity& validity,
+                                const PlannerOptions& local, const std::vector<Pose>& path) {
+  const Pose& start = local_problem.start;
+  if ((path.front().t - start.t).norm() > 1e-9 * local_problem.robot_diagonal ||
+      path.front().q.angularDistance(start.q) > 1e-9) {
+    return "it does not start at the start pose";
+  }
+  const MotionChecker motion(local_problem, validity, local.resolution * local_problem.robot_diagonal / 4.0);
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    if (!motion.MotionValid(path[i - 1], path[i])) return "segment " + std::to_string(i) + " is not valid here";
+  }
+  if (!local_problem.InGoalRegion(path.back())) return "it does not end clear of the fasteners (psi)";
+  return "";
 }
 
 }  // namespace
@@ -74,9 +92,28 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
   PlanningProblem local_problem = problem;
   local_problem.goal.reset();
   local_problem.goal_test = ClearOfFasteners(local_problem, colliding, distance, options.psi);
-  result.local = Plan(local_problem, volume_validity, LocalPlannerOptions(problem, options.psi, options.local));
-  LogInfo("InIState part 1 (%s, volume validity): %s after %.2f s, %lld nodes, %lld checks",
-          options.local.planner.c_str(), result.local.solved() ? "clear of the fasteners" : "no path",
+  std::string planner = options.local.planner;
+  if (!options.known_local_path.empty()) {
+    const auto begin = std::chrono::steady_clock::now();
+    const std::int64_t checks = volume_validity.checks(), invalid = volume_validity.invalid_checks();
+    const std::string fault = KnownLocalPathFault(local_problem, volume_validity, options.local, options.known_local_path);
+    if (fault.empty()) {
+      result.local.status = PlanStatus::kSolved;
+      result.local.path = options.known_local_path;
+      result.local.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+      result.local.stats.collision_checks = volume_validity.checks() - checks;
+      result.local.stats.invalid_checks = volume_validity.invalid_checks() - invalid;
+      planner = "known path, re-checked";
+    } else {
+      LogWarn("the given sigma_1 (%zu poses) is not used: %s; planning sigma_1", options.known_local_path.size(),
+              fault.c_str());
+    }
+  }
+  if (!result.local.solved()) {
+    result.local = Plan(local_problem, volume_validity, LocalPlannerOptions(problem, options.psi, options.local));
+  }
+  LogInfo("InIState part 1 (%s, volume validity): %s after %.2f s, %lld nodes, %lld checks", planner.c_str(),
+          result.local.solved() ? "clear of the fasteners" : "no path",
           result.local.stats.time_s, static_cast<long long>(result.local.stats.nodes),
           static_cast<long long>(result.local.stats.collision_checks));
   if (!result.local.solved()) {

@@ -25,6 +25,13 @@ struct InIStateOptions {
   PlannerOptions local;   // sigma_1; planner "est" by default
   PlannerOptions rigid;   // sigma_2; planner "cr-rrtc" by default
   double psi = 0;         // scene units; > 0
+  // A sigma_1 found before under the same validity (ausbau-tau-estimate's
+  // successful round, planning convention), or empty. It is used instead of
+  // planning sigma_1 if it holds here: it starts at the start, every segment
+  // passes the volume validity at the planner's certification step
+  // (local.resolution / 4 of D's diagonal) and it ends clear of the
+  // fasteners; otherwise sigma_1 is planned as usual.
+  std::vector<Pose> known_local_path;
   InIStateOptions() { local.planner = "est"; }
 };
 

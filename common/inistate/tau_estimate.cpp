@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
+#include "planning/path_io.h"
 
 namespace ausbau {
 
@@ -163,6 +164,8 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     if (result.solved()) {
       estimate.solved = true;
       estimate.local_path = result.path;
+      estimate.local_seed = options.planner.seed;
+      estimate.local_planner = options.planner.planner;
       break;
     }
     // The next round searches above the failed tau: its speed may already
@@ -221,6 +224,14 @@ void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau,
   w.WriteInts("trace/planning_round", planning, {n});
   w.WriteInts("trace/solved", solved, {n});
   w.WriteDoubles("trace/seconds", seconds, {n});
+  if (e.solved && !e.local_path.empty()) {
+    // The successful round's sigma_1, so that ausbau-plan need not plan it
+    // again (it re-checks it, see PlanInIState).
+    WritePoseRows(w, "sigma_1", e.local_path);
+    w.SetAttribute("sigma_1", "convention", std::string("planning (x_world = R(q) (x - reference point) + t)"));
+    w.SetAttribute("sigma_1", "seed", static_cast<std::int64_t>(e.local_seed));
+    w.SetAttribute("sigma_1", "planner", e.local_planner);
+  }
   w.Commit();
 }
 
@@ -240,6 +251,11 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
   e.seconds = scalar("seconds");
   e.rounds = static_cast<int>(r.ReadInts("rounds").data.at(0));
   e.solved = r.ReadInts("solved").data.at(0) != 0;
+  if (r.Has("sigma_1")) {
+    e.local_path = ReadPoseRows(r, "sigma_1");
+    e.local_seed = static_cast<std::uint64_t>(r.ReadIntAttribute("sigma_1", "seed"));
+    e.local_planner = r.ReadStringAttribute("sigma_1", "planner");
+  }
   out.validity = r.ReadStringAttribute("", "validity");
   out.units = r.ReadStringAttribute("", "units");
   if (!(e.tau >= 0) || !std::isfinite(e.tau) || !(e.psi > 0) || !std::isfinite(e.psi)) {

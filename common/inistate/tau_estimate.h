@@ -75,6 +75,8 @@ struct TauEstimate {
   std::vector<TauProbe> trace;
   double seconds = 0;
   std::vector<Pose> local_path;  // sigma_1 of the successful round (planning convention)
+  std::uint64_t local_seed = 0;  // the planner seed that round used
+  std::string local_planner;     // and its planner
 };
 
 // `problem` must carry the goal test of sigma_1 (ClearOfFasteners);

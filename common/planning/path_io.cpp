@@ -17,14 +17,39 @@ void AlignQuaternionSigns(std::vector<Pose>* path) {
   }
 }
 
+void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses) {
+  std::vector<double> rows;
+  for (const Pose& p : poses) rows.insert(rows.end(), {p.t.x(), p.t.y(), p.t.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z()});
+  writer.WriteDoubles(name, rows, {poses.size(), 7});
+  writer.SetAttribute(name, "columns", std::string("x,y,z,qw,qx,qy,qz"));
+}
+
+std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& name) {
+  const std::string file = reader.path().string();
+  const Array<double> rows = reader.ReadDoubles(name, 2);
+  if (rows.dims[1] != 7) {
+    throw InputErrorAt(file, "dataset '" + name + "' must have 7 columns (got " + std::to_string(rows.dims[1]) + ")");
+  }
+  std::vector<Pose> poses;
+  for (std::size_t i = 0; i < rows.dims[0]; ++i) {
+    const double* r = &rows.data[7 * i];
+    for (int k = 0; k < 7; ++k) {
+      if (!std::isfinite(r[k])) throw InputErrorAt(file, name + " row " + std::to_string(i) + " is not finite");
+    }
+    Pose p;
+    p.t = {r[0], r[1], r[2]};
+    p.q = Eigen::Quaterniond(r[3], r[4], r[5], r[6]);
+    if (std::abs(p.q.norm() - 1.0) > 1e-6) {
+      throw InputErrorAt(file, name + " row " + std::to_string(i) + " has a non-unit quaternion");
+    }
+    poses.push_back(p);
+  }
+  return poses;
+}
+
 void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance) {
   ArtifactWriter writer(file, kPathSchema, kPathSchemaVersion, provenance);
-  std::vector<double> rows;
-  for (const Pose& p : path.waypoints) {
-    rows.insert(rows.end(), {p.t.x(), p.t.y(), p.t.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z()});
-  }
-  writer.WriteDoubles("waypoints", rows, {path.waypoints.size(), 7});
-  writer.SetAttribute("waypoints", "columns", std::string("x,y,z,qw,qx,qy,qz"));
+  WritePoseRows(writer, "waypoints", path.waypoints);
   writer.WriteDoubles("reference_point", {path.reference_point.x(), path.reference_point.y(), path.reference_point.z()}, {3});
   writer.WriteDoubles("dynamic_origin", {path.dynamic_origin.x(), path.dynamic_origin.y(), path.dynamic_origin.z()}, {3});
   writer.WriteInts("stats/success", {path.success ? 1 : 0}, {});
@@ -80,23 +105,7 @@ std::int64_t ReadIntScalar(const ArtifactReader& reader, const std::string& name
 PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   const ArtifactReader reader(file, kPathSchema, kPathSchemaVersion);
   PathArtifact path;
-  const Array<double> rows = reader.ReadDoubles("waypoints", 2);
-  if (rows.dims[1] != 7) {
-    throw InputErrorAt(file.string(), "dataset 'waypoints' must have 7 columns (got " + std::to_string(rows.dims[1]) + ")");
-  }
-  for (std::size_t i = 0; i < rows.dims[0]; ++i) {
-    const double* r = &rows.data[7 * i];
-    Pose p;
-    p.t = {r[0], r[1], r[2]};
-    p.q = Eigen::Quaterniond(r[3], r[4], r[5], r[6]);
-    for (int k = 0; k < 7; ++k) {
-      if (!std::isfinite(r[k])) throw InputErrorAt(file.string(), "waypoint " + std::to_string(i) + " is not finite");
-    }
-    if (std::abs(p.q.norm() - 1.0) > 1e-6) {
-      throw InputErrorAt(file.string(), "waypoint " + std::to_string(i) + " has a non-unit quaternion");
-    }
-    path.waypoints.push_back(p);
-  }
+  path.waypoints = ReadPoseRows(reader, "waypoints");
   path.reference_point = ReadVector3(reader, "reference_point");
   path.dynamic_origin = ReadVector3(reader, "dynamic_origin");
   path.success = ReadIntScalar(reader, "stats/success") != 0;

@@ -42,6 +42,11 @@ struct PathArtifact {
 // rotation), so that any reader's interpolation takes the short way.
 void AlignQuaternionSigns(std::vector<Pose>* path);
 
+// Poses as an n x 7 dataset (x,y,z,qw,qx,qy,qz) of an artifact, written and
+// read back checked (finite, unit quaternions; InputError naming `name`).
+void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses);
+std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& name);
+
 void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance);
 PathArtifact ReadPathArtifact(const std::filesystem::path& file);
 

@@ -139,12 +139,14 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   const ValidityMode mode = ParseValidityMode(options.validity);
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
   double tau = options.tau, psi = options.psi;
+  TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
   if (!options.tau_file.empty()) {
     const TauArtifact stored = ReadTauArtifact(options.tau_file);
     if (stored.validity != options.validity) {
       throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + stored.validity + ", not " +
                                                options.validity);
     }
+    estimate = stored.estimate;
     if (tau < 0) tau = stored.estimate.tau;
     if (psi <= 0) psi = stored.estimate.psi;
   }
@@ -158,7 +160,8 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
       LogInfo("no --tau or --tau-file: estimating tau here (ausbau-tau-estimate caches it)");
       TauEstimateOptions tau_options;
       tau_options.planner = ResolvedPlanner(options, true);
-      tau = EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, tau_options).tau;
+      estimate = EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, tau_options);
+      tau = estimate.tau;
     }
   }
   LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
@@ -173,6 +176,14 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   inistate.rigid = options.planner;
   inistate.rigid.planner = options.rigid_planner;
   inistate.psi = psi;
+  // The estimate's successful round planned sigma_1 already; with the same
+  // tau, psi, planner and seed (and no iteration cap, which that round did
+  // not have), planning it again would repeat that work (PlanInIState
+  // re-checks the path and plans anew if it does not hold).
+  if (estimate.solved && estimate.tau == tau && estimate.psi == psi && estimate.local_seed == inistate.local.seed &&
+      estimate.local_planner == inistate.local.planner && inistate.local.max_iterations == 0) {
+    inistate.known_local_path = estimate.local_path;
+  }
   const InIStateResult result = PlanInIState(problem, volume_validity, rigid_checker, fcl, inistate);
   *stats = result.Stats();
   *solved = result.solved();
