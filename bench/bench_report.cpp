@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdarg>
 #include <cstdlib>
 #include <cstdio>
 #include <ctime>
@@ -17,15 +16,6 @@
 #include <thread>
 
 namespace ausbau::bench {
-
-std::string Fmt(const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  char buffer[1024];
-  std::vsnprintf(buffer, sizeof(buffer), format, args);
-  va_end(args);
-  return buffer;
-}
 
 std::string SafeName(const std::string& text) {
   std::string out;

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/format.h"
 #include "machine.h"
 
 namespace ausbau::bench {
@@ -124,8 +125,7 @@ void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study);
 std::string WriteStudySummary(const std::filesystem::path& path, const MachineInfo& machine,
                               const BenchSettings& settings, const std::vector<StudyResult>& studies);
 
-// Formatting helpers.
-std::string Fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
+// Formatting helpers (Fmt: core/format.h).
 std::string SafeName(const std::string& text);  // letters, digits, '-', '.', '_' only
 
 }  // namespace ausbau::bench

@@ -31,7 +31,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -45,6 +44,7 @@
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "machine.h"
 #include "core/log.h"
 #include "planning/planner.h"
@@ -59,15 +59,6 @@ namespace fs = std::filesystem;
 
 double Seconds(Clock::time_point from) { return std::chrono::duration<double>(Clock::now() - from).count(); }
 
-std::string Fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string Fmt(const char* format, ...) {
-  char buffer[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buffer, sizeof buffer, format, args);
-  va_end(args);
-  return buffer;
-}
 
 // Records every pose the planner checks, with the inner checker's answer.
 class RecordingValidity : public PoseValidity {

@@ -31,7 +31,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -44,6 +43,7 @@
 
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "machine.h"
 #include "core/log.h"
 #include "inistate/ground_truth_check.h"
@@ -71,15 +71,6 @@ double SecondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string Fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string Fmt(const char* format, ...) {
-  char buffer[1024];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buffer, sizeof buffer, format, args);
-  va_end(args);
-  return buffer;
-}
 
 struct BenchOptions {
   std::vector<std::string> families;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdarg>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -18,22 +17,13 @@
 #include "core/log.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
+#include "core/format.h"
 #include "scene/scene.h"
 
 namespace ausbau {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Fmt(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string Fmt(const char* format, ...) {
-  char buffer[512];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buffer, sizeof buffer, format, args);
-  va_end(args);
-  return buffer;
-}
 
 // ---------------------------------------------------------------- text utils
 
