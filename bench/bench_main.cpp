@@ -22,6 +22,7 @@
 #include "planning/state_space.h"
 #include "scene/scene.h"
 #include "ompl_rrtc.h"
+#include "split_list.h"
 
 #ifndef AUSBAU_SOURCE_DIR
 #define AUSBAU_SOURCE_DIR "."
@@ -51,18 +52,6 @@ struct Options {
   double resolution = PlannerOptions{}.resolution;
   std::string command_line;
 };
-
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    if (!item.empty()) items.push_back(item);
-  }
-  return items;
-}
 
 struct SceneSpec {
   std::string name;  // a label; the scene's name is used once loaded

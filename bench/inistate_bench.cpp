@@ -45,12 +45,14 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "machine.h"
+#include "split_list.h"
 #include "core/log.h"
 #include "inistate/ground_truth_check.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/intersection_volume.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/volume_model.h"
+#include "inistate/volume_smoother.h"
 #include "inistate/voxel_grid.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
@@ -191,33 +193,21 @@ std::vector<KindLabels> LabelsByKind(const ClipGroundTruth& truth, const std::ve
   return out;
 }
 
-// The largest volume of the model's mode along the ground-truth path (50
-// poses per segment, interpolated in the planning convention).
+// Densely checked volumes (MaxVolumeAlong): no vertex of D moves more than
+// 0.25% of D's diagonal between measured poses.
+double DenseStep(const PlanningProblem& problem) { return 0.0025 * problem.robot_diagonal; }
+
+// The largest volume of the model's mode along the ground-truth path.
 double TruthPathVolume(const PlanningProblem& problem, const ClipGroundTruth& truth, VolumeModel* model) {
-  double worst = 0;
-  for (std::size_t i = 0; i + 1 < truth.path.size(); ++i) {
-    const Pose a = problem.SceneToPlanning(truth.path[i]), b = problem.SceneToPlanning(truth.path[i + 1]);
-    for (int s = 0; s <= 50; ++s) worst = std::max(worst, model->Measure(Interpolate(a, b, s / 50.0)));
-  }
-  return worst;
+  std::vector<Pose> path;
+  for (const Pose& pose : truth.path) path.push_back(problem.SceneToPlanning(pose));
+  return MaxVolumeAlong(problem, model->volume(), model->measure(), path, DenseStep(problem));
 }
 
-// The largest volume of the model's mode along path[0..last], interpolated
-// so that no vertex of D moves more than 0.25% of D's diagonal between poses.
+// The largest volume of the model's mode along path[0..last] (sigma_1).
 double DensePathVolume(const PlanningProblem& problem, const std::vector<Pose>& path, int last, VolumeModel* model) {
-  const double step = 0.0025 * problem.robot_diagonal;
-  double worst = path.empty() ? 0 : model->Measure(path.front());
-  for (int i = 0; i < last && i + 1 < static_cast<int>(path.size()); ++i) {
-    const Pose& a = path[i];
-    const Pose& b = path[i + 1];
-    const double dot = std::min(1.0, std::abs(a.q.dot(b.q)));
-    const double travel = (b.t - a.t).norm() + problem.robot_radius * 2.0 * std::acos(dot);
-    const int steps = std::max(1, static_cast<int>(std::ceil(travel / step)));
-    for (int s = 1; s <= steps; ++s) {
-      worst = std::max(worst, model->Measure(Interpolate(a, b, static_cast<double>(s) / steps)));
-    }
-  }
-  return worst;
+  const std::vector<Pose> part(path.begin(), path.begin() + std::min<std::size_t>(last + 1, path.size()));
+  return MaxVolumeAlong(problem, model->volume(), model->measure(), part, DenseStep(problem));
 }
 
 // One validity mode on one scene. Never throws: a failure is the run's reason.
@@ -570,15 +560,6 @@ std::string Summary(const std::vector<SceneResult>& scenes, const BenchOptions& 
   return md.str();
 }
 
-std::vector<std::string> SplitList(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream list(text);
-  for (std::string item; std::getline(list, item, ',');) {
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 }  // namespace
 }  // namespace ausbau
 
@@ -622,13 +603,13 @@ int main(int argc, char** argv) {
   SetLogProgramName("ausbau-inistate-bench");
   SetLogLevel(LogLevel::kWarn);
   try {
-    if (!families.empty()) options.families = SplitList(families);
+    if (!families.empty()) options.families = bench::SplitList(families);
     for (const std::string& family : options.families) {
       if (!IsClipSceneFamily(family)) throw InputError("--families: unknown family '" + family + "'");
     }
     if (!modes.empty()) {
       options.modes.clear();
-      for (const std::string& name : SplitList(modes)) {
+      for (const std::string& name : bench::SplitList(modes)) {
         const ValidityMode mode = ParseValidityMode(name);
         if (mode == ValidityMode::kCollision) throw InputError("--modes: collision is not an InIState mode");
         options.modes.push_back(mode);

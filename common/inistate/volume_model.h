@@ -53,6 +53,9 @@ class VolumeModel {
   ValidityMode mode() const { return mode_; }
   VolumeMeasure measure() const { return MeasureOf(mode_); }
   const IntersectionVolume& volume() const { return *volume_; }
+  // For queries that need the model's own buffers (MaxVolumeAlong); not
+  // thread-safe, as Measure.
+  IntersectionVolume& volume() { return *volume_; }
   double voxel_size() const { return voxels_.dynamic_grid.geometry.spacing; }
   double shrink() const { return shrink_; }  // erosion distance (shrink mode), scene units
   const std::vector<float>& color_values() const { return colors_; }
