@@ -302,6 +302,45 @@ TEST(TauEstimate, DeterministicAndIndependentOfThreads) {
   for (std::size_t i = 0; i < one.result.path.size(); ++i) EXPECT_EQ(one.result.path[i].t, two.result.path[i].t);
 }
 
+// Planning rounds run `threads` at a time, later ones on taus found as if
+// the earlier ones had failed: the trace must be the one-at-a-time trace.
+// Rounds limited by iterations, so that they fail deterministically.
+TEST(TauEstimate, SpeculativeRoundsGiveTheSequentialTrace) {
+  const ClipCase& c = Clip("clips-ds4");
+  const PlanningProblem problem = MakePlanningProblem(c.scene);
+  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  const double psi = model.EstimatePsi();
+  const PlanningProblem fastener = FastenerProblem(problem, fcl, psi);
+  auto run = [&](int threads) {
+    TauEstimateOptions options;
+    options.planner.seed = 2;
+    options.planner.max_iterations = 3;
+    options.max_rounds = 3;
+    options.threads = threads;
+    return EstimateTau(fastener, model.volume(), model.measure(), psi, options);
+  };
+  const TauEstimate one = run(1);
+  EXPECT_FALSE(one.solved);
+  EXPECT_EQ(one.rounds, 3);
+  EXPECT_GT(one.trace.size(), 3u);  // probes and rounds
+  for (int threads : {2, 3}) {
+    SCOPED_TRACE(threads);
+    const TauEstimate many = run(threads);
+    EXPECT_EQ(many.tau, one.tau);
+    EXPECT_EQ(many.rounds, one.rounds);
+    EXPECT_EQ(many.speed_target, one.speed_target);
+    ASSERT_EQ(many.trace.size(), one.trace.size());
+    for (std::size_t i = 0; i < one.trace.size(); ++i) {
+      EXPECT_EQ(many.trace[i].round, one.trace[i].round) << i;
+      EXPECT_EQ(many.trace[i].tau, one.trace[i].tau) << i;
+      EXPECT_EQ(many.trace[i].planning_round, one.trace[i].planning_round) << i;
+      EXPECT_EQ(many.trace[i].nodes, one.trace[i].nodes) << i;
+      EXPECT_EQ(many.trace[i].checks, one.trace[i].checks) << i;
+    }
+  }
+}
+
 TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
   const ClipCase& c = Clip("clips-ds4");
   const PlanningProblem problem = MakePlanningProblem(c.scene);

@@ -1,5 +1,6 @@
 // Planners on small generated scenes, each path re-checked densely with the
 // independent checker; nearest neighbours against brute force; smoothing.
+#include <atomic>
 #include <gtest/gtest.h>
 
 #include "collision/fcl_checker.h"
@@ -112,6 +113,23 @@ TEST(Planner, IterationLimitIsAnOutcomeNotAnError) {
   EXPECT_EQ(result.status, PlanStatus::kIterationLimit);
   EXPECT_TRUE(result.path.empty());
   EXPECT_EQ(result.stats.iterations, 3);
+}
+
+// A raised cancel flag stops every planner at its next iteration (the tau
+// estimate cancels speculative rounds this way).
+TEST(Planner, CancelFlagStopsThePlanner) {
+  Fixture f("rod-in-cage");
+  const std::atomic<bool> cancel{true};
+  for (const std::string& planner : {"rrt", "rrtc", "cr-rrtc", "est", "prm"}) {
+    SCOPED_TRACE(planner);
+    PlannerOptions options;
+    options.planner = planner;
+    options.cancel = &cancel;
+    const PlanResult result = Plan(f.problem, f.checker, options);
+    EXPECT_EQ(result.status, PlanStatus::kCancelled);
+    EXPECT_TRUE(result.path.empty());
+    EXPECT_LT(result.stats.time_s, 5.0);
+  }
 }
 
 TEST(Planner, RejectsBadOptions) {

@@ -2,9 +2,12 @@
 
 #include <omp.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -33,12 +36,14 @@ using Clock = std::chrono::steady_clock;
 double Seconds(Clock::time_point begin) { return std::chrono::duration<double>(Clock::now() - begin).count(); }
 
 TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
-                  double tau, double psi, const TauEstimateOptions& options) {
+                  double tau, double psi, const TauEstimateOptions& options,
+                  const std::atomic<bool>* cancel = nullptr) {
   const auto begin = Clock::now();
   const VolumeValidity validity(volume, measure, tau);
   PlannerOptions probe = LocalPlannerOptions(problem, psi, options.planner);
   probe.max_iterations = options.probe_attempts;
   probe.time_limit_s = 1e6;  // the attempt budget ends a probe, never the clock (determinism)
+  probe.cancel = cancel;
   const PlanResult result = Plan(problem, validity, probe);
   TauProbe out;
   out.tau = tau;
@@ -87,95 +92,203 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
   say("tau search: start volume " + std::to_string(estimate.tau_lowest) + ", step " + std::to_string(delta) +
       ", at most " + std::to_string(max_tau));
 
-  int k_pass = 0;  // candidates below this index are known to be too slow for the previous target
-  double tau = estimate.tau_lowest;
-  double lower = -1;  // largest tau known too slow for the current target
-  double floor = -1;  // after a failed round: the next tau is at least this
-  for (int round = 0; round < options.max_rounds; ++round) {
-    const double target = options.initial_speed + round * options.speed_step;
-    estimate.speed_target = target;
+  // The search state that carries from one round to the next. A round's tau
+  // depends only on the probes and on the rounds before it having failed, so
+  // the taus of later rounds can be found before the earlier rounds are
+  // planned (below: speculative rounds).
+  struct SearchState {
+    int k_pass = 0;     // candidates below this index are known to be too slow for the previous target
+    double lower = -1;  // largest tau known too slow for the current target
+    double floor = -1;  // after a failed round: the next tau is at least this
+  } state;
+  // One round's tau search; its probes (and log lines) go to `round_trace`
+  // and `lines`. A raised `cancel` ends it early (kCancelled).
+  enum class Search { kFound, kExhausted, kCancelled };
+  auto find_round_tau = [&](int round, double target, std::vector<TauProbe>* round_trace,
+                            std::vector<std::string>* lines, double* tau_out,
+                            const std::atomic<bool>* cancel) -> Search {
+    auto cancelled = [&] { return cancel != nullptr && cancel->load(); };
+    auto record = [&](TauProbe probe) {
+      probe.round = round;
+      probe.target_speed = target;
+      lines->push_back(Describe(probe));
+      round_trace->push_back(probe);
+    };
     // Doubling: probe candidates k_pass, k_pass + 1, ... in parallel batches.
     int found = -1;
-    for (int k0 = k_pass; found < 0; k0 += threads) {
+    for (int k0 = state.k_pass; found < 0; k0 += threads) {
       if (candidate(k0) > max_tau) break;
+      if (cancelled()) return Search::kCancelled;
       std::vector<TauProbe> batch(threads);
       std::vector<std::uint8_t> valid(threads, 0);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
       for (int i = 0; i < threads; ++i) {
         const double t = candidate(k0 + i);
         if (t > max_tau) continue;
-        batch[i] = RunProbe(problem, volume, measure, t, psi, options);
+        batch[i] = RunProbe(problem, volume, measure, t, psi, options, cancel);
         valid[i] = 1;
       }
       for (int i = 0; i < threads && found < 0; ++i) {
         if (!valid[i]) continue;
-        batch[i].round = round;
-        batch[i].target_speed = target;
-        estimate.trace.push_back(batch[i]);
-        say(Describe(batch[i]));
+        record(batch[i]);
         if (batch[i].speed >= target) {
           found = k0 + i;
         } else {
-          lower = batch[i].tau;
+          state.lower = batch[i].tau;
         }
       }
     }
     if (found < 0) {
-      say("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) + " nodes/s");
-      break;
+      lines->push_back("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) +
+                       " nodes/s");
+      return Search::kExhausted;
     }
-    k_pass = found;
+    state.k_pass = found;
     double upper = candidate(found);
+    double lower = state.lower;
     if (lower < estimate.tau_lowest || lower >= upper) lower = found > 0 ? candidate(found - 1) : -1;
     // Bisection never goes below the floor a failed round set.
-    if (floor >= 0) lower = std::max(lower, std::min(floor, upper));
+    if (state.floor >= 0) lower = std::max(lower, std::min(state.floor, upper));
     // Bisection between the last too-slow and the first fast-enough candidate.
     for (int step = 0; step < options.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta; ++step) {
+      if (cancelled()) return Search::kCancelled;
       const double middle = 0.5 * (lower + upper);
-      TauProbe probe = RunProbe(problem, volume, measure, middle, psi, options);
-      probe.round = round;
-      probe.target_speed = target;
-      estimate.trace.push_back(probe);
-      say(Describe(probe));
+      TauProbe probe = RunProbe(problem, volume, measure, middle, psi, options, cancel);
       (probe.speed >= target ? upper : lower) = middle;
+      record(probe);
     }
-    tau = upper;
+    if (cancelled()) return Search::kCancelled;
+    *tau_out = upper;
+    return Search::kFound;
+  };
+  // What a failed round at `failed_tau` leaves for the next: the next round
+  // searches above it, since its speed may already exceed the raised target
+  // (on clips-ds5 the tree reaches any speed by turning in place near the
+  // start) and the same tau would fail again; at least twice the failed
+  // tau's distance from the start's volume (plus two voxels), so that a few
+  // rounds span the range geometrically.
+  auto assume_failed = [&](double failed_tau) {
+    state.floor = estimate.tau_lowest + 2.0 * (failed_tau - estimate.tau_lowest) + 2.0 * delta;
+    state.lower = failed_tau;
+    while (candidate(state.k_pass) < state.floor) ++state.k_pass;
+  };
 
-    // The planning round.
+  // Planning rounds in two lanes. A planning round runs on one core (the
+  // local planner is sequential) and a failed one costs its whole time
+  // limit, while the next round's tau depends only on the probes and on this
+  // round having failed. So while lane 1 plans round r, lane 2 searches the
+  // tau of round r + 1 as if r had failed and plans it. The first round in
+  // order that finds sigma_1 is the answer, exactly as if the rounds ran one
+  // after the other; when round r succeeds, lane 2 is cancelled and its
+  // probes and round are left out of the trace. One thread: one lane.
+  struct Round {
+    int index = 0;
+    double target = 0, tau = 0;
+    std::vector<TauProbe> probes;
+    std::vector<std::string> lines;
+    Search search = Search::kCancelled;
+    bool planned = false;
+    PlanResult result;
+    double seconds = 0;
+  };
+  auto plan_round = [&](Round* round, const std::atomic<bool>* cancel) {
     const auto round_begin = Clock::now();
-    const VolumeValidity validity(volume, measure, tau);
-    const PlanResult result = Plan(problem, validity, LocalPlannerOptions(problem, psi, options.planner));
+    const VolumeValidity validity(volume, measure, round->tau);
+    PlannerOptions planner = LocalPlannerOptions(problem, psi, options.planner);
+    planner.cancel = cancel;
+    round->result = Plan(problem, validity, planner);
+    round->seconds = Seconds(round_begin);
+    round->planned = true;
+  };
+  // Adds a searched (and maybe planned) round to the estimate; true when it
+  // ends the search (sigma_1 found, or no tau reaches its target).
+  auto accept = [&](Round& round) {
+    for (const std::string& line : round.lines) say(line);
+    estimate.trace.insert(estimate.trace.end(), round.probes.begin(), round.probes.end());
+    estimate.speed_target = round.target;
+    if (round.search == Search::kExhausted) return true;
     TauProbe planning;
-    planning.round = round;
-    planning.target_speed = target;
-    planning.tau = tau;
-    planning.nodes = result.stats.nodes;
-    planning.attempts = result.stats.iterations;
-    planning.checks = result.stats.collision_checks;
+    planning.round = round.index;
+    planning.target_speed = round.target;
+    planning.tau = round.tau;
+    planning.nodes = round.result.stats.nodes;
+    planning.attempts = round.result.stats.iterations;
+    planning.checks = round.result.stats.collision_checks;
     planning.planning_round = true;
-    planning.solved = result.solved();
-    planning.seconds = Seconds(round_begin);
+    planning.solved = round.result.solved();
+    planning.seconds = round.seconds;
     estimate.trace.push_back(planning);
-    estimate.rounds = round + 1;
-    estimate.tau = tau;
-    say("round " + std::to_string(round + 1) + ": tau " + std::to_string(tau) + " (target " +
-        std::to_string(target) + " nodes/s): " + (result.solved() ? "sigma_1 found" : "no path") + " in " +
-        std::to_string(planning.seconds) + " s");
-    if (result.solved()) {
-      estimate.solved = true;
-      estimate.local_path = result.path;
-      estimate.local_seed = options.planner.seed;
-      estimate.local_planner = options.planner.planner;
+    estimate.rounds = round.index + 1;
+    estimate.tau = round.tau;
+    say("round " + std::to_string(round.index + 1) + ": tau " + std::to_string(round.tau) + " (target " +
+        std::to_string(round.target) + " nodes/s): " + (planning.solved ? "sigma_1 found" : "no path") + " in " +
+        std::to_string(round.seconds) + " s");
+    if (!planning.solved) return false;
+    estimate.solved = true;
+    estimate.local_path = round.result.path;
+    estimate.local_seed = options.planner.seed;
+    estimate.local_planner = options.planner.planner;
+    return true;
+  };
+  auto new_round = [&](int index) {
+    Round round;
+    round.index = index;
+    round.target = options.initial_speed + index * options.speed_step;
+    return round;
+  };
+
+  double tau = estimate.tau_lowest;
+  Round current = new_round(0);
+  current.search = find_round_tau(0, current.target, &current.probes, &current.lines, &current.tau, nullptr);
+  while (true) {
+    if (current.search != Search::kFound) {
+      accept(current);  // no tau reaches the target
       break;
     }
-    // The next round searches above the failed tau: its speed may already
-    // exceed the raised target (on clips-ds5 the tree reaches any speed by
-    // turning in place near the start), and the same tau would fail again.
-    // At least twice the failed tau's distance from the start's volume (plus
-    // two voxels), so that a few rounds span the range geometrically.
-    floor = estimate.tau_lowest + 2.0 * (tau - estimate.tau_lowest) + 2.0 * delta;
-    lower = tau;
-    while (candidate(k_pass) < floor) ++k_pass;
+    for (const std::string& line : current.lines) say(line);
+    current.lines.clear();
+    assume_failed(current.tau);  // for the next round's search
+    const bool last = current.index + 1 >= options.max_rounds;
+    Round next = new_round(current.index + 1);
+    std::atomic<bool> cancel_next{false};
+    std::exception_ptr errors[2];
+    const int lanes = threads > 1 && !last ? 2 : 1;
+#pragma omp parallel for schedule(static, 1) num_threads(lanes)
+    for (int lane = 0; lane < lanes; ++lane) {
+      try {
+        if (lane == 0) {
+          plan_round(&current, nullptr);
+          if (current.result.solved()) cancel_next = true;
+        } else {
+          next.search = find_round_tau(next.index, next.target, &next.probes, &next.lines, &next.tau, &cancel_next);
+          if (next.search == Search::kFound && !cancel_next) plan_round(&next, &cancel_next);
+        }
+      } catch (...) {
+        errors[lane] = std::current_exception();
+        cancel_next = true;
+      }
+    }
+    for (const std::exception_ptr& error : errors) {
+      if (error) std::rethrow_exception(error);
+    }
+    tau = current.tau;
+    if (accept(current) || last) break;
+    if (lanes == 1) {  // search the next round now
+      next.search = find_round_tau(next.index, next.target, &next.probes, &next.lines, &next.tau, nullptr);
+    } else if (next.planned && next.result.status != PlanStatus::kCancelled) {
+      // Planned alongside: accept it as it is; the round after it is next.
+      if (accept(next) || next.index + 1 >= options.max_rounds) break;
+      assume_failed(next.tau);
+      current = new_round(next.index + 1);
+      current.search = find_round_tau(current.index, current.target, &current.probes, &current.lines,
+                                      &current.tau, nullptr);
+      continue;
+    }
+    if (next.search == Search::kFound && !next.planned) {
+      current = std::move(next);
+      continue;
+    }
+    current = std::move(next);
   }
   if (estimate.rounds == 0) estimate.tau = tau;
   estimate.seconds = Seconds(begin);

@@ -2,6 +2,7 @@
 // planner's name.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -27,12 +28,15 @@ struct PlannerOptions {
   double resolution = 0.01;
   // est: expansion radius r1 (range, eq. 3); 0 = automatic (single_tree_planners.h).
   double est_range = 0.0;
+  // When set and true, the planner stops at its next iteration with
+  // kCancelled (the tau estimate's speculative rounds, tau_estimate.h).
+  const std::atomic<bool>* cancel = nullptr;
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;
 };
 
-enum class PlanStatus { kSolved, kTimeLimit, kIterationLimit };
+enum class PlanStatus { kSolved, kTimeLimit, kIterationLimit, kCancelled };
 
 struct PlanStats {
   double time_s = 0;

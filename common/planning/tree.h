@@ -79,17 +79,22 @@ class StatsScope {
 };
 
 // The planner loop's stop rule: iteration budget first (deterministic), then
-// the wall clock.
+// a cancellation (PlannerOptions::cancel), then the wall clock.
 class Budget {
  public:
   Budget(const PlannerOptions& options, std::chrono::steady_clock::time_point begin)
       : max_iterations_(options.max_iterations),
+        cancel_(options.cancel),
         deadline_(begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                               std::chrono::duration<double>(options.time_limit_s))) {}
   // Returns false and sets *status when the budget is spent.
   bool Continue(std::int64_t iteration, PlanStatus* status) const {
     if (max_iterations_ > 0 && iteration >= max_iterations_) {
       *status = PlanStatus::kIterationLimit;
+      return false;
+    }
+    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) {
+      *status = PlanStatus::kCancelled;
       return false;
     }
     if (std::chrono::steady_clock::now() >= deadline_) {
@@ -101,6 +106,7 @@ class Budget {
 
  private:
   std::int64_t max_iterations_;
+  const std::atomic<bool>* cancel_;
   std::chrono::steady_clock::time_point deadline_;
 };
 
