@@ -23,16 +23,15 @@
 // count); the first candidate whose speed reaches the target is refined by
 // bisection against the one before (the speed grows with tau).
 //
-// Speculative rounds: a round's tau depends only on the probes and on the
-// rounds before it having failed, and a failed round costs its whole time
-// limit on one core (the local planner is sequential). So the taus of the
-// next `threads` rounds are found first, as if the earlier rounds had
-// failed, and their planning runs in parallel; the first round in order that
-// finds sigma_1 is the answer, later ones are cancelled
-// (PlannerOptions::cancel) and left out of the trace with their probes. The
-// result is the one-round-at-a-time result (tested); on clips-ds5 seed 1
-// (four failed rounds of 10 s) the estimate takes 28 s instead of 49 s on 2
-// cores.
+// Two lanes: a round's tau depends only on the probes and on the rounds
+// before it having failed, and a failed round costs its whole time limit on
+// one core (the local planner is sequential). So while one lane plans round
+// r, the other searches round r + 1's tau as if r had failed and plans it;
+// when r succeeds, the other lane is cancelled (PlannerOptions::cancel) and
+// its probes and round are left out of the trace. The result is the
+// one-round-at-a-time result (tested); on clips-ds5 seed 1 (four failed
+// rounds of 10 s) the estimate takes 28 s instead of 49 s on 2 cores. One
+// thread: one lane.
 #pragma once
 
 #include <cstdint>
