@@ -284,11 +284,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
                                       &current.tau, nullptr);
       continue;
     }
-    if (next.search == Search::kFound && !next.planned) {
-      current = std::move(next);
-      continue;
-    }
-    current = std::move(next);
+    current = std::move(next);  // searched, not planned yet (or no tau reaches its target)
   }
   if (estimate.rounds == 0) estimate.tau = tau;
   estimate.seconds = Seconds(begin);
