@@ -194,13 +194,28 @@ struct Planned {
   double tau = 0, psi = 0;
 };
 
+// A clip scene's planning problem, Labeled-MLIV model with ground-truth
+// labels, FCL checker and psi.
+struct TruthLabelled {
+  explicit TruthLabelled(const ClipCase& c)
+      : problem(MakePlanningProblem(c.scene)),
+        model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv),
+        fcl(problem.robot, problem.environment),
+        psi(model.EstimatePsi()) {}
+  const PlanningProblem problem;
+  VolumeModel model;
+  const FclCollisionChecker fcl;
+  const double psi;
+};
+
 // tau estimate + InIState planning with ground-truth labels.
 Planned PlanClip(const ClipCase& c, std::uint64_t seed, int threads = 0) {
-  const PlanningProblem problem = MakePlanningProblem(c.scene);
-  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
-  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  TruthLabelled t(c);
+  const PlanningProblem& problem = t.problem;
+  VolumeModel& model = t.model;
+  const FclCollisionChecker& fcl = t.fcl;
   Planned out;
-  out.psi = model.EstimatePsi();
+  out.psi = t.psi;
   TauEstimateOptions tau_options;
   tau_options.planner.seed = seed;
   tau_options.threads = threads;
@@ -246,11 +261,11 @@ TEST(InIStatePlanner, PlansCorrectPathsOnClipScenesWithTrueLabels) {
 // planning it again: the result is the same path, without the planning; a
 // path that does not hold is re-planned.
 TEST(InIStatePlanner, ReusesAKnownSigma1OnlyWhenItHolds) {
-  const ClipCase& c = Clip("clips-ds4");
-  const PlanningProblem problem = MakePlanningProblem(c.scene);
-  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
-  const FclCollisionChecker fcl(problem.robot, problem.environment);
-  const double psi = model.EstimatePsi();
+  TruthLabelled t(Clip("clips-ds4"));
+  const PlanningProblem& problem = t.problem;
+  VolumeModel& model = t.model;
+  const FclCollisionChecker& fcl = t.fcl;
+  const double psi = t.psi;
   TauEstimateOptions tau_options;
   tau_options.planner.seed = 3;
   const TauEstimate estimate =
@@ -302,16 +317,16 @@ TEST(TauEstimate, DeterministicAndIndependentOfThreads) {
   for (std::size_t i = 0; i < one.result.path.size(); ++i) EXPECT_EQ(one.result.path[i].t, two.result.path[i].t);
 }
 
-// Planning rounds run `threads` at a time, later ones on taus found as if
-// the earlier ones had failed: the trace must be the one-at-a-time trace.
-// Rounds limited by iterations, so that they fail deterministically.
+// With more than one thread, round r + 1 is searched and planned alongside
+// round r, on a tau found as if r had failed: the trace must be the
+// one-round-at-a-time trace. Rounds limited by iterations, so that they fail
+// deterministically (DeterministicAndIndependentOfThreads covers a first
+// round that succeeds while the second is cancelled).
 TEST(TauEstimate, SpeculativeRoundsGiveTheSequentialTrace) {
-  const ClipCase& c = Clip("clips-ds4");
-  const PlanningProblem problem = MakePlanningProblem(c.scene);
-  VolumeModel model(problem, c.scene.dynamic_mesh, c.voxels, TruthLabels(c), ValidityMode::kLabeledMliv);
-  const FclCollisionChecker fcl(problem.robot, problem.environment);
-  const double psi = model.EstimatePsi();
-  const PlanningProblem fastener = FastenerProblem(problem, fcl, psi);
+  TruthLabelled t(Clip("clips-ds4"));
+  const PlanningProblem fastener = FastenerProblem(t.problem, t.fcl, t.psi);
+  VolumeModel& model = t.model;
+  const double psi = t.psi;
   auto run = [&](int threads) {
     TauEstimateOptions options;
     options.planner.seed = 2;
