@@ -95,7 +95,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
   // The search state that carries from one round to the next. A round's tau
   // depends only on the probes and on the rounds before it having failed, so
   // the taus of later rounds can be found before the earlier rounds are
-  // planned (below: speculative rounds).
+  // planned (below: the two lanes).
   struct SearchState {
     int k_pass = 0;     // candidates below this index are known to be too slow for the previous target
     double lower = -1;  // largest tau known too slow for the current target
@@ -236,10 +236,12 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     round.target = options.initial_speed + index * options.speed_step;
     return round;
   };
+  auto search = [&](Round* round, const std::atomic<bool>* cancel) {
+    round->search = find_round_tau(round->index, round->target, &round->probes, &round->lines, &round->tau, cancel);
+  };
 
-  double tau = estimate.tau_lowest;
   Round current = new_round(0);
-  current.search = find_round_tau(0, current.target, &current.probes, &current.lines, &current.tau, nullptr);
+  search(&current, nullptr);
   while (true) {
     if (current.search != Search::kFound) {
       accept(current);  // no tau reaches the target
@@ -260,7 +262,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
           plan_round(&current, nullptr);
           if (current.result.solved()) cancel_next = true;
         } else {
-          next.search = find_round_tau(next.index, next.target, &next.probes, &next.lines, &next.tau, &cancel_next);
+          search(&next, &cancel_next);
           if (next.search == Search::kFound && !cancel_next) plan_round(&next, &cancel_next);
         }
       } catch (...) {
@@ -271,22 +273,20 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     for (const std::exception_ptr& error : errors) {
       if (error) std::rethrow_exception(error);
     }
-    tau = current.tau;
     if (accept(current) || last) break;
     if (lanes == 1) {  // search the next round now
-      next.search = find_round_tau(next.index, next.target, &next.probes, &next.lines, &next.tau, nullptr);
+      search(&next, nullptr);
     } else if (next.planned && next.result.status != PlanStatus::kCancelled) {
       // Planned alongside: accept it as it is; the round after it is next.
       if (accept(next) || next.index + 1 >= options.max_rounds) break;
       assume_failed(next.tau);
       current = new_round(next.index + 1);
-      current.search = find_round_tau(current.index, current.target, &current.probes, &current.lines,
-                                      &current.tau, nullptr);
+      search(&current, nullptr);
       continue;
     }
     current = std::move(next);  // searched, not planned yet (or no tau reaches its target)
   }
-  if (estimate.rounds == 0) estimate.tau = tau;
+  if (estimate.rounds == 0) estimate.tau = estimate.tau_lowest;  // no round was planned
   estimate.seconds = Seconds(begin);
   return estimate;
 }
