@@ -42,7 +42,7 @@ TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
-VALIDITY ?= labeled-mliv  # shrink | iv | mliv | labeled-mliv (or collision: rigid planning only)
+VALIDITY ?= labeled-mliv  # shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
 THREADS ?= 0              # --threads of the parallel stages; 0 = all cores

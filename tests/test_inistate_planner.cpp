@@ -5,6 +5,8 @@
 // planner, not the labeling.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <map>
 
 #include "collision/fcl_checker.h"
@@ -44,6 +46,9 @@ TEST(ValidityModes, NamesRoundTripAndUnknownNamesAreRefused) {
   for (const std::string& name : ValidityModeNames()) EXPECT_EQ(ValidityModeName(ParseValidityMode(name)), name);
   EXPECT_EQ(MeasureOf(ValidityMode::kShrink), VolumeMeasure::kIv);
   EXPECT_EQ(MeasureOf(ValidityMode::kLabeledMliv), VolumeMeasure::kLabeledMliv);
+  EXPECT_EQ(MeasureOf(ValidityMode::kLabeledMlivUnguarded), VolumeMeasure::kLabeledMliv);
+  EXPECT_TRUE(NeedsLabels(ValidityMode::kLabeledMlivUnguarded));
+  EXPECT_FALSE(NeedsLabels(ValidityMode::kMliv));
   EXPECT_THROW(ParseValidityMode("labelled-mliv"), InputError);
 }
 
@@ -104,6 +109,68 @@ TEST(VolumeModel, PsiIsTheLargestDeformableComponentsExtent) {
   EXPECT_LE(model.EstimatePsi(), 8.0 + 2 * 0.25 + 1.5);
   VolumeModel rigid(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
   EXPECT_DOUBLE_EQ(rigid.EstimatePsi(), 2 * 0.25);  // no labels: two voxels
+}
+
+// The fastener guard. S: a 55 x 40 x 2 plate. D: a 40 mm bar 1 mm above it
+// with a deformable 2 x 4 mm tongue at one end that reaches 0.5 mm into the
+// plate at the start (a relaxed clip). Pushing the tongue deeper stays
+// within its reach; lowering the whole bar into the plate puts voxels up to
+// 37 mm from the tongue into S: refused by labeled-mliv at any tau, a finite
+// volume for labeled-mliv-unguarded.
+TEST(VolumeModel, FastenerGuardRefusesIntersectionsBeyondTheFastenersReach) {
+  TriangleMesh d = MakeBox({0, 18, 3}, {40, 22, 5});
+  const int tongue_first_vertex = static_cast<int>(d.vertices.size());
+  d.Append(MakeBox({1, 18, 1.5}, {3, 22, 5}));
+  const Scene scene = MakeScene("bar-with-tongue", MakeBox({-5, 0, 0}, {50, 40, 2}), d);
+  std::vector<double> deformability(scene.dynamic_mesh.vertices.size(), 0.0);
+  for (std::size_t v = tongue_first_vertex; v < deformability.size(); ++v) deformability[v] = 1.0;
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.25;
+  const SceneVoxels voxels = VoxelizeScene(scene, voxelize);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VolumeModel guarded(problem, scene.dynamic_mesh, voxels, deformability, ValidityMode::kLabeledMliv);
+  VolumeModel unguarded(problem, scene.dynamic_mesh, voxels, deformability, ValidityMode::kLabeledMlivUnguarded);
+  ASSERT_TRUE(guarded.guarded());
+  EXPECT_FALSE(unguarded.guarded());
+  // psi: the tongue below the bar (1.5 mm) plus two voxels, give or take the
+  // interpolated colours at its root; the reach is the tongue's end of D.
+  EXPECT_GT(guarded.start_voxels(), 0);
+  EXPECT_GT(guarded.reach_voxels(), guarded.start_voxels());
+  EXPECT_LT(guarded.reach_voxels(), voxels.dynamic_grid.CountOccupied() / 3);
+
+  // At the start both measure the tongue's overlap (its colour is ~0, so
+  // little of it counts), the same number.
+  EXPECT_TRUE(std::isfinite(guarded.Measure(problem.start)));
+  EXPECT_DOUBLE_EQ(guarded.Measure(problem.start), unguarded.Measure(problem.start));
+  // The tongue 0.4 mm deeper (the bar still 0.6 mm above the plate, more
+  // than the voxels' surface margin): within reach.
+  Pose deeper = problem.start;
+  deeper.t.z() -= 0.4;
+  EXPECT_TRUE(std::isfinite(guarded.Measure(deeper)));
+  EXPECT_DOUBLE_EQ(guarded.Measure(deeper), unguarded.Measure(deeper));
+  // The bar 0.5 mm into the plate along its whole length: the rigid bar's
+  // overlap, at least 37 x 4 x 0.5 = 74 mm^3 beyond the tongue, counts fully
+  // when unguarded; guarded, nothing allows it.
+  Pose lowered = problem.start;
+  lowered.t.z() -= 1.5;
+  EXPECT_GT(unguarded.Measure(lowered), 74.0);
+  EXPECT_TRUE(std::isfinite(unguarded.Measure(lowered)));
+  EXPECT_EQ(guarded.Measure(lowered), std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(VolumeValidity(guarded.volume(), VolumeMeasure::kLabeledMliv, 1e9).IsValid(lowered));
+  EXPECT_TRUE(VolumeValidity(unguarded.volume(), VolumeMeasure::kLabeledMliv, 1e9).IsValid(lowered));
+  // Reports keep the labels' deformability (no infinities).
+  const VolumeReport report = guarded.Describe(lowered);
+  EXPECT_GE(report.deformability, 0.0);
+  EXPECT_LE(report.deformability, 1.0);
+
+  // A start clear of S has no reach: any intersection is refused.
+  PlanningProblem lifted_start = problem;
+  lifted_start.start.t.z() += 5;
+  VolumeModel no_reach(lifted_start, scene.dynamic_mesh, voxels, deformability, ValidityMode::kLabeledMliv);
+  EXPECT_EQ(no_reach.start_voxels(), 0);
+  EXPECT_EQ(no_reach.reach_voxels(), 0);
+  EXPECT_EQ(no_reach.Measure(lifted_start.start), 0.0);
+  EXPECT_EQ(no_reach.Measure(problem.start), std::numeric_limits<double>::infinity());
 }
 
 // A detour around a cube (no intersection anywhere) is shortened, but never

@@ -41,8 +41,9 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
                                             std::to_string(scene.dynamic_mesh.vertices.size()) +
                                             " (labels of another part?)");
     }
-  } else if (mode == ValidityMode::kLabeledMliv) {
-    throw InputError("--validity labeled-mliv needs --labels (ausbau-medial-spheres, then ausbau-pbd-label)");
+  } else if (NeedsLabels(mode)) {
+    throw InputError("--validity " + ValidityModeName(mode) +
+                     " needs --labels (ausbau-medial-spheres, then ausbau-pbd-label)");
   }
   return std::make_unique<VolumeModel>(problem, scene.dynamic_mesh, std::move(voxels), deformability, mode);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 
@@ -133,7 +134,10 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
     const int i = static_cast<int>(cell % g.dims[0]), j = static_cast<int>((cell / g.dims[0]) % g.dims[1]),
               k = static_cast<int>(cell / (std::int64_t{g.dims[0]} * g.dims[1]));
     data->cells.push_back({i, j, k});
-    data->weight.push_back(color_values.empty() ? 1.0f : std::clamp(color_values[cell], 0.0f, 1.0f));
+    // +infinity (a voxel that must not intersect S) is kept; the rest is
+    // clamped to colorValue's range.
+    const float color = color_values.empty() ? 1.0f : color_values[cell];
+    data->weight.push_back(color == std::numeric_limits<float>::infinity() ? color : std::clamp(color, 0.0f, 1.0f));
   }
   data->neighbors.resize(order.size());
   static const int kOffsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};

@@ -7,7 +7,9 @@
 //                 in D's own grid;
 //   Labeled-MLIV  (alg. 12) the largest sum over a component of voxel volume
 //                 x colorValue(voxel), colorValue in [0 = deformable,
-//                 1 = rigid] (voxel_grid.h: ColorValues); with a threshold
+//                 1 = rigid] (voxel_grid.h: ColorValues), or +infinity for a
+//                 voxel that must not intersect S at all (the fastener
+//                 guard of volume_model.h); with a threshold
 //                 tau it stops as soon as one component's running sum exceeds
 //                 tau (the early out of 5.4.4) and returns that sum (> tau).
 // So IV >= MLIV >= Labeled-MLIV. Poses are in the planning convention
@@ -68,7 +70,9 @@ class IntersectionVolume {
   // static_grid: S in world coordinates; dynamic_grid: D's voxels in D's mesh
   // coordinates (any spacing; usually the same as S's). color_values: one per
   // cell of dynamic_grid (ColorValues), or empty for all 1 (then
-  // Labeled-MLIV = MLIV). Throws InputError on size mismatches.
+  // Labeled-MLIV = MLIV); finite values are clamped to [0, 1], +infinity
+  // is kept (a component holding such a voxel exceeds every tau). Throws
+  // InputError on size mismatches.
   IntersectionVolume(const VoxelGrid& static_grid, const VoxelGrid& dynamic_grid,
                      const Eigen::Vector3d& reference_point, const std::vector<float>& color_values = {});
   IntersectionVolume(IntersectionVolume&&) noexcept;

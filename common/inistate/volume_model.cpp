@@ -1,8 +1,11 @@
 #include "inistate/volume_model.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
+#include <queue>
 
 #include "core/error.h"
 #include "core/log.h"
@@ -10,7 +13,8 @@
 namespace ausbau {
 
 const std::vector<std::string>& ValidityModeNames() {
-  static const std::vector<std::string> names = {"collision", "shrink", "iv", "mliv", "labeled-mliv"};
+  static const std::vector<std::string> names = {"collision", "shrink",       "iv",
+                                                 "mliv",      "labeled-mliv", "labeled-mliv-unguarded"};
   return names;
 }
 
@@ -18,7 +22,8 @@ ValidityMode ParseValidityMode(const std::string& name) {
   const auto& names = ValidityModeNames();
   const auto it = std::find(names.begin(), names.end(), name);
   if (it == names.end()) {
-    throw InputError("--validity: unknown mode '" + name + "' (expected collision, shrink, iv, mliv or labeled-mliv)");
+    throw InputError("--validity: unknown mode '" + name +
+                     "' (expected collision, shrink, iv, mliv, labeled-mliv or labeled-mliv-unguarded)");
   }
   return static_cast<ValidityMode>(it - names.begin());
 }
@@ -30,10 +35,15 @@ VolumeMeasure MeasureOf(ValidityMode mode) {
     case ValidityMode::kMliv:
       return VolumeMeasure::kMliv;
     case ValidityMode::kLabeledMliv:
+    case ValidityMode::kLabeledMlivUnguarded:
       return VolumeMeasure::kLabeledMliv;
     default:
       return VolumeMeasure::kIv;
   }
+}
+
+bool NeedsLabels(ValidityMode mode) {
+  return mode == ValidityMode::kLabeledMliv || mode == ValidityMode::kLabeledMlivUnguarded;
 }
 
 namespace {
@@ -116,14 +126,71 @@ double PsiOf(const VoxelGrid& grid, const std::vector<float>& colors) {
   return best_extent + margin;
 }
 
+// The fastener guard (volume_model.h): D's voxels farther than `reach`
+// from every voxel of D intersecting S at `start`, the distance measured
+// through D's voxels (26-neighbour steps of 1, sqrt 2, sqrt 3 voxels;
+// Dijkstra, stopped at `reach`), get colorValue +infinity.
+void GuardFasteners(const SceneVoxels& voxels, const Eigen::Vector3d& reference_point, const Pose& start, double reach,
+                    std::vector<float>* colors, std::int64_t* start_voxels, std::int64_t* reach_voxels) {
+  const VoxelGrid& grid = voxels.dynamic_grid;
+  const VoxelGridGeometry& g = grid.geometry;
+  IntersectionVolume unlabeled(voxels.static_grid, grid, reference_point);
+  VolumeQuery at_start;
+  at_start.record_cells = true;
+  unlabeled.Iv(start, &at_start);  // IV: all intersecting voxels
+
+  const float radius = static_cast<float>(reach / g.spacing);
+  std::vector<float> distance(static_cast<std::size_t>(g.Count()), std::numeric_limits<float>::infinity());
+  using Item = std::pair<float, std::int64_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (const Eigen::Vector3i& c : at_start.cells) {
+    const std::int64_t v = g.Index(c.x(), c.y(), c.z());
+    distance[v] = 0;
+    queue.push({0.0f, v});
+  }
+  const float step[4] = {0.0f, 1.0f, std::sqrt(2.0f), std::sqrt(3.0f)};
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;  // a stale entry
+    const int i = static_cast<int>(v % g.dims[0]);
+    const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
+    const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
+    for (int a = -1; a <= 1; ++a) {
+      for (int b = -1; b <= 1; ++b) {
+        for (int c = -1; c <= 1; ++c) {
+          if (!g.Contains(i + a, j + b, k + c)) continue;
+          const std::int64_t w = g.Index(i + a, j + b, k + c);
+          if (grid.cells[w] == kVoxelEmpty) continue;
+          const float through = d + step[std::abs(a) + std::abs(b) + std::abs(c)];
+          if (through < distance[w] && through <= radius) {
+            distance[w] = through;
+            queue.push({through, w});
+          }
+        }
+      }
+    }
+  }
+  *start_voxels = static_cast<std::int64_t>(at_start.cells.size());
+  *reach_voxels = 0;
+  for (std::int64_t v = 0; v < g.Count(); ++v) {
+    if (grid.cells[v] == kVoxelEmpty) continue;
+    if (distance[v] <= radius) {
+      ++*reach_voxels;
+    } else {
+      (*colors)[v] = std::numeric_limits<float>::infinity();
+    }
+  }
+}
+
 }  // namespace
 
 VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
                          const std::vector<double>& deformability, ValidityMode mode)
     : mode_(mode), voxels_(std::move(voxels)) {
   if (mode == ValidityMode::kCollision) throw std::logic_error("VolumeModel: collision is not a volume mode");
-  if (mode == ValidityMode::kLabeledMliv && deformability.empty()) {
-    throw InputError("--validity labeled-mliv needs D's labels (ausbau-pbd-label, --labels)");
+  if (NeedsLabels(mode) && deformability.empty()) {
+    throw InputError("--validity " + ValidityModeName(mode) + " needs D's labels (ausbau-pbd-label, --labels)");
   }
   if (!deformability.empty()) colors_ = ColorValues(voxels_.dynamic_grid, dynamic_mesh, deformability);
   psi_ = PsiOf(voxels_.dynamic_grid, colors_);  // of D as it is, before any shrinking
@@ -154,8 +221,21 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
     LogInfo("shrink: D's voxels eroded by %g (%d voxels) to free the start", shrink_,
             static_cast<int>(std::lround(shrink_ / h)));
   }
+  std::vector<float> weights;  // the colorValues alg. 12 sums: the labels', guarded
+  if (NeedsLabels(mode)) weights = colors_;
+  if (guarded()) {
+    GuardFasteners(voxels_, problem.reference_point, problem.start, psi_, &weights, &start_voxels_, &reach_voxels_);
+    if (start_voxels_ == 0) {
+      LogInfo("fastener guard: D does not intersect S at the start, so no fastener is engaged: every intersection "
+              "is refused (labeled-mliv-unguarded allows them up to tau)");
+    } else {
+      LogInfo("fastener guard: %lld voxels of D intersect S at the start; %lld within psi = %.4g of them (through "
+              "D); intersections elsewhere are refused",
+              static_cast<long long>(start_voxels_), static_cast<long long>(reach_voxels_), psi_);
+    }
+  }
   volume_ = std::make_unique<IntersectionVolume>(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point,
-                                                 mode == ValidityMode::kLabeledMliv ? colors_ : std::vector<float>{});
+                                                 weights);
   triangle_part_ = TriangleParts(dynamic_mesh, &part_count_);
   bvh_ = std::make_unique<WindingBvh>(dynamic_mesh);
 }

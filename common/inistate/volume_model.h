@@ -9,6 +9,30 @@
 //   iv            IV <= tau            (5.3, def. 5)
 //   mliv          MLIV <= tau          (alg. 11)
 //   labeled-mliv  Labeled-MLIV <= tau  (alg. 12, the thesis's InIState check)
+//                 and no intersection beyond the fasteners' reach (the
+//                 fastener guard below; ours, not the thesis's)
+//   labeled-mliv-unguarded
+//                 Labeled-MLIV <= tau alone: alg. 12 exactly as the thesis
+//                 has it, for comparison
+//
+// The fastener guard. Chapter 5's premise is that D intersects S at its
+// installed pose because of its fastening elements (relaxed clips) or
+// friction fits, and psi (5.4.4) is the largest extent of a fastening
+// element. So an intersection of a voxel of D that lies farther than psi
+// (geodesically, through D's own voxels) from every voxel of D that
+// intersects S at the start cannot be a fastener giving way: it is a rigid
+// part of D cutting into S. The guard forbids those: such voxels get the
+// colorValue +infinity, so a component holding one exceeds every tau. Why:
+// alg. 12 alone lets a rigid part of D overlap S by up to tau / colorValue,
+// and tau is at least what pulling the stiffest clip through costs; with our
+// PBD labels (rigid parts at 0.4-0.8 of a clip's deformation) that let the
+// planner cut rails and rims into S by 4-45 mm^3 on clips-ds3
+// (docs/results/inistate-ds3-2026-11-22.md). Within psi of the installed
+// intersections alg. 12 decides as before. Limits: a fastener that first
+// touches S during the motion, and a rigid part passing S closer than about a
+// voxel (which the voxels count as an intersection, voxel_grid.h) after the
+// start, are refused; labeled-mliv-unguarded plans those. A start that is
+// free of S has no reach at all: every intersection is then refused.
 #pragma once
 
 #include <memory>
@@ -21,16 +45,19 @@
 
 namespace ausbau {
 
-enum class ValidityMode { kCollision, kShrink, kIv, kMliv, kLabeledMliv };
+enum class ValidityMode { kCollision, kShrink, kIv, kMliv, kLabeledMliv, kLabeledMlivUnguarded };
 
-const std::vector<std::string>& ValidityModeNames();  // collision, shrink, iv, mliv, labeled-mliv
+// collision, shrink, iv, mliv, labeled-mliv, labeled-mliv-unguarded
+const std::vector<std::string>& ValidityModeNames();
 ValidityMode ParseValidityMode(const std::string& name);  // throws InputError naming --validity
 std::string ValidityModeName(ValidityMode mode);
-VolumeMeasure MeasureOf(ValidityMode mode);  // shrink and iv: IV
+VolumeMeasure MeasureOf(ValidityMode mode);  // shrink and iv: IV; both labeled modes: Labeled-MLIV
+bool NeedsLabels(ValidityMode mode);         // the two labeled modes
 
 // One intersection of D with S at a pose, described for a user.
 struct VolumeReport {
-  double value = 0;            // the mode's volume (Labeled-MLIV weighted), scene units^3
+  double value = 0;            // the mode's volume (Labeled-MLIV weighted), scene units^3; +infinity
+                               // when the component reaches beyond the fasteners (labeled-mliv)
   std::int64_t voxels = 0;     // voxels of the reported component (IV: all intersecting)
   int part = -1;               // D's part (connected mesh component) nearest the component's centre; -1 none
   double deformability = 0;    // mean deformability (1 - colorValue) over the component's voxels
@@ -58,7 +85,12 @@ class VolumeModel {
   IntersectionVolume& volume() { return *volume_; }
   double voxel_size() const { return voxels_.dynamic_grid.geometry.spacing; }
   double shrink() const { return shrink_; }  // erosion distance (shrink mode), scene units
-  const std::vector<float>& color_values() const { return colors_; }
+  const std::vector<float>& color_values() const { return colors_; }  // the labels' colorValues, unguarded
+  // The fastener guard (labeled-mliv): D's voxels intersecting S at the
+  // start, and those within psi of them (the reach; the start's included).
+  bool guarded() const { return mode_ == ValidityMode::kLabeledMliv; }
+  std::int64_t start_voxels() const { return start_voxels_; }
+  std::int64_t reach_voxels() const { return reach_voxels_; }
   const SceneVoxels& voxels() const { return voxels_; }
   int part_count() const { return part_count_; }
 
@@ -84,6 +116,7 @@ class VolumeModel {
   ValidityMode mode_;
   SceneVoxels voxels_;
   std::vector<float> colors_;
+  std::int64_t start_voxels_ = 0, reach_voxels_ = 0;
   std::unique_ptr<IntersectionVolume> volume_;
   double shrink_ = 0;
   double psi_ = 0;

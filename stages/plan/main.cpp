@@ -208,7 +208,8 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
 int Run(PlanStageOptions options, const std::string& parameters) {
   const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
   if (!volume_mode && (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0)) {
-    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv)");
+    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
+                     "labeled-mliv-unguarded)");
   }
   if (!(options.tau < 0 || std::isfinite(options.tau))) throw InputError("--tau: must be a finite number");
   if (!(options.psi >= 0) || !std::isfinite(options.psi)) throw InputError("--psi: must be >= 0");
@@ -326,8 +327,8 @@ int main(int argc, char** argv) {
             ->check(CLI::IsMember({"fcl", "farr"}))
             ->capture_default_str();
         app.add_option("--validity", options.validity,
-                       "collision | shrink | iv | mliv | labeled-mliv (the last four: the start may collide; "
-                       "README \"InIState planning\")")
+                       "collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but collision: "
+                       "the start may collide; README \"InIState planning\")")
             ->check(CLI::IsMember(ValidityModeNames()))
             ->capture_default_str();
         app.add_option("--tau", options.tau,
@@ -337,7 +338,7 @@ int main(int argc, char** argv) {
                        "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
         app.add_option("--voxels", options.volume.voxels,
                        "voxels of S and D (ausbau-voxelize); default: voxelized here");
-        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by labeled-mliv");
+        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by the labeled modes");
         app.add_option("--rigid-planner", options.rigid_planner,
                        "planner of sigma_2 (volume modes), collision-checked")
             ->capture_default_str();

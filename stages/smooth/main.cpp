@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
                        "also write the intersection and clearance profile along the path (CSV)");
         app.add_option("--voxels", options.volume.voxels,
                        "InIState paths: voxels they were planned with (ausbau-voxelize); default: voxelized here");
-        app.add_option("--labels", options.volume.labels, "InIState paths: labels of D (labeled-mliv)");
+        app.add_option("--labels", options.volume.labels, "InIState paths: labels of D (the labeled modes)");
         app.add_flag("--force", options.force, "smooth even when the output is up to date");
       },
       [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "path", "output", "csv", "profile", "force", "voxels", "labels"})); });

@@ -85,11 +85,11 @@ int main(int argc, char** argv) {
       [&](CLI::App& app) {
         app_ptr = &app;
         app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--validity", options.validity, "shrink | iv | mliv | labeled-mliv")
+        app.add_option("--validity", options.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded")
             ->check(CLI::IsMember(ValidityModeNames()))
             ->capture_default_str();
         app.add_option("--voxels", options.volume.voxels, "voxels of S and D (ausbau-voxelize); default: voxelized here");
-        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by labeled-mliv");
+        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by the labeled modes");
         app.add_option("-o,--output", options.output, "tau artifact (HDF5, schema ausbau-tau)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write the search's trace as CSV");
         app.add_option("--psi", options.psi, "scene units; 0 = from the labels (largest deformable component)")
