@@ -151,6 +151,25 @@ TEST_F(PipelineTest, ANewSeedReRunsOnlyThePlanningStages) {
   }
 }
 
+// The thesis's alg. 12 without the fastener guard is a validity mode of its
+// own: switching to it re-runs tau and planning on the cached voxels and labels.
+TEST_F(PipelineTest, TheUnguardedModeReusesVoxelsAndLabels) {
+  const fs::path dir = Copy("unguarded");
+  const Outcome run = RunPipeline(dir / "scene/scene.yaml", dir / "out", "VALIDITY=labeled-mliv-unguarded");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* name : {"voxels.h5", "labels.h5"}) {
+    EXPECT_TRUE(UpToDate(run, (dir / "out" / name).string())) << name << " was redone:\n" << run.output;
+  }
+  for (const char* name : {"tau.h5", "path.h5"}) {
+    EXPECT_FALSE(UpToDate(run, (dir / "out" / name).string())) << name << " was not redone:\n" << run.output;
+  }
+  EXPECT_EQ(ReadTauArtifact(dir / "out/tau.h5").validity, "labeled-mliv-unguarded");
+  EXPECT_TRUE(HasLine(testing::ReadTextFile(dir / "out/verdict.json"), "\"validity\": \"labeled-mliv-unguarded\""));
+  // The guarded run said what its guard allows; the unguarded one has none.
+  EXPECT_NE(first_->output.find("fastener guard:"), std::string::npos) << first_->output;
+  EXPECT_EQ(run.output.find("fastener guard:"), std::string::npos) << run.output;
+}
+
 TEST_F(PipelineTest, ChangingDsMeshReRunsEverythingThatDependsOnD) {
   const fs::path dir = Copy("mesh");
   // Move one vertex of D by a hair (0.1% of a millimetre).

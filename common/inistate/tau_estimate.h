@@ -100,7 +100,7 @@ inline constexpr int kTauSchemaVersion = 1;
 
 struct TauArtifact {
   TauEstimate estimate;
-  std::string validity;  // the mode the estimate is for (iv, mliv, labeled-mliv, shrink)
+  std::string validity;  // the mode the estimate is for (iv, mliv, labeled-mliv, labeled-mliv-unguarded, shrink)
   std::string units;
 };
 void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau, const Provenance& provenance);
