@@ -26,9 +26,9 @@
 // alg. 12 alone lets a rigid part of D overlap S by up to tau / colorValue,
 // and tau is at least what pulling the stiffest clip through costs; with our
 // PBD labels (rigid parts at 0.4-0.8 of a clip's deformation) that let the
-// planner cut rails into S by up to 45 mm^3 on 3 of 5 clips-ds3 scenes
-// (docs/results/inistate-ds3-2026-11-22.md; guarded: none). Within psi of the installed
-// intersections alg. 12 decides as before. Limits: a fastener that first
+// planner cut rails into S by up to 45 mm^3 on 3-4 of 5 clips-ds3 scenes;
+// guarded, none (docs/results/inistate-ds3-2026-11-22.md). Within psi of
+// the installed intersections alg. 12 decides as before. Limits: a fastener that first
 // touches S during the motion, and a rigid part passing S closer than about a
 // voxel (which the voxels count as an intersection, voxel_grid.h) after the
 // start, are refused; labeled-mliv-unguarded plans those. A start that is
