@@ -223,6 +223,17 @@ TEST(IntersectionVolume, WeightsCanMakeAnotherComponentTheMaximum) {
   ASSERT_EQ(q.cells.size(), 27u);
   for (const auto& c : q.cells) EXPECT_LT(c.x(), 5);  // block A
   EXPECT_FLOAT_EQ(volume.color_value(11, 11, 3), 0.1f);
+  // The same voxels reweighted: unit colours give the MLIV again; one voxel
+  // of block B at +infinity makes B's component weigh more than any tau.
+  IntersectionVolume plain = volume.Reweighted(std::vector<float>(hb.Colors().size(), 1.0f));
+  EXPECT_DOUBLE_EQ(plain.LabeledMliv(Pose()), 48.0);
+  std::vector<float> guarded = hb.Colors();
+  guarded[hb.d.geometry.Index(11, 11, 3)] = std::numeric_limits<float>::infinity();
+  IntersectionVolume refusing = volume.Reweighted(guarded);
+  EXPECT_EQ(refusing.LabeledMliv(Pose()), std::numeric_limits<double>::infinity());
+  EXPECT_GT(refusing.LabeledMliv(Pose(), 1e12), 1e12);
+  EXPECT_NEAR(volume.LabeledMliv(Pose()), 27.0, 1e-4);  // the original keeps its weights
+  EXPECT_THROW(volume.Reweighted({1.0f}), InputError);
 }
 
 TEST(IntersectionVolume, EarlyOutStopsAtTau) {

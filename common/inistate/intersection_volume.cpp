@@ -50,6 +50,12 @@ std::vector<std::uint8_t> ChessboardDistance(const VoxelGrid& grid) {
   return d;
 }
 
+// A colour value as alg. 12 sums it: +infinity (a voxel that must not
+// intersect S) is kept, the rest clamped to colorValue's range.
+float Weight(float color) {
+  return color == std::numeric_limits<float>::infinity() ? color : std::clamp(color, 0.0f, 1.0f);
+}
+
 }  // namespace
 
 struct IntersectionVolume::Data {
@@ -134,10 +140,7 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
     const int i = static_cast<int>(cell % g.dims[0]), j = static_cast<int>((cell / g.dims[0]) % g.dims[1]),
               k = static_cast<int>(cell / (std::int64_t{g.dims[0]} * g.dims[1]));
     data->cells.push_back({i, j, k});
-    // +infinity (a voxel that must not intersect S) is kept; the rest is
-    // clamped to colorValue's range.
-    const float color = color_values.empty() ? 1.0f : color_values[cell];
-    data->weight.push_back(color == std::numeric_limits<float>::infinity() ? color : std::clamp(color, 0.0f, 1.0f));
+    data->weight.push_back(color_values.empty() ? 1.0f : Weight(color_values[cell]));
   }
   data->neighbors.resize(order.size());
   static const int kOffsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
@@ -193,6 +196,20 @@ IntersectionVolume& IntersectionVolume::operator=(IntersectionVolume&&) noexcept
 IntersectionVolume::~IntersectionVolume() = default;
 
 IntersectionVolume IntersectionVolume::Clone() const { return IntersectionVolume(data_); }
+
+IntersectionVolume IntersectionVolume::Reweighted(const std::vector<float>& color_values) const {
+  if (static_cast<std::int64_t>(color_values.size()) != data_->d_geometry.Count()) {
+    throw InputError("intersection volume: " + std::to_string(color_values.size()) + " colour values for " +
+                     std::to_string(data_->d_geometry.Count()) + " voxels of D");
+  }
+  auto data = std::make_shared<Data>(*data_);
+  for (std::size_t n = 0; n < data->cells.size(); ++n) {
+    const auto& c = data->cells[n];
+    data->weight[n] = Weight(color_values[data->d_geometry.Index(c[0], c[1], c[2])]);
+  }
+  data->color_grid = color_values;
+  return IntersectionVolume(std::move(data));
+}
 
 std::int64_t IntersectionVolume::voxel_count() const { return static_cast<std::int64_t>(data_->cells.size()); }
 double IntersectionVolume::voxel_volume() const { return data_->d_geometry.VoxelVolume(); }

@@ -81,6 +81,9 @@ class IntersectionVolume {
 
   // A copy that shares the precomputed data and has its own buffers.
   IntersectionVolume Clone() const;
+  // A copy with other colour values (as the constructor's), reusing the
+  // voxel lists and S's distances instead of computing them again.
+  IntersectionVolume Reweighted(const std::vector<float>& color_values) const;
 
   double Iv(const Pose& pose, VolumeQuery* query = nullptr);
   double Mliv(const Pose& pose, VolumeQuery* query = nullptr);

@@ -126,18 +126,17 @@ double PsiOf(const VoxelGrid& grid, const std::vector<float>& colors) {
   return best_extent + margin;
 }
 
-// The fastener guard (volume_model.h): D's voxels farther than `reach`
-// from every voxel of D intersecting S at `start`, the distance measured
-// through D's voxels (26-neighbour steps of 1, sqrt 2, sqrt 3 voxels;
-// Dijkstra, stopped at `reach`), get colorValue +infinity.
-void GuardFasteners(const SceneVoxels& voxels, const Eigen::Vector3d& reference_point, const Pose& start, double reach,
+// The fastener guard (volume_model.h): D's voxels (`grid`) farther than
+// `reach` from every voxel of D intersecting S at `start` (`volume`'s IV
+// cells), the distance measured through D's voxels (26-neighbour steps of
+// 1, sqrt 2, sqrt 3 voxels; Dijkstra, stopped at `reach`), get colorValue
+// +infinity.
+void GuardFasteners(const VoxelGrid& grid, IntersectionVolume& volume, const Pose& start, double reach,
                     std::vector<float>* colors, std::int64_t* start_voxels, std::int64_t* reach_voxels) {
-  const VoxelGrid& grid = voxels.dynamic_grid;
   const VoxelGridGeometry& g = grid.geometry;
-  IntersectionVolume unlabeled(voxels.static_grid, grid, reference_point);
   VolumeQuery at_start;
   at_start.record_cells = true;
-  unlabeled.Iv(start, &at_start);  // IV: all intersecting voxels
+  volume.Iv(start, &at_start);  // IV: all intersecting voxels, whatever their colours
 
   const float radius = static_cast<float>(reach / g.spacing);
   std::vector<float> distance(static_cast<std::size_t>(g.Count()), std::numeric_limits<float>::infinity());
@@ -221,10 +220,12 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
     LogInfo("shrink: D's voxels eroded by %g (%d voxels) to free the start", shrink_,
             static_cast<int>(std::lround(shrink_ / h)));
   }
-  std::vector<float> weights;  // the colorValues alg. 12 sums: the labels', guarded
-  if (NeedsLabels(mode)) weights = colors_;
+  volume_ = std::make_unique<IntersectionVolume>(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point,
+                                                 NeedsLabels(mode) ? colors_ : std::vector<float>{});
   if (guarded()) {
-    GuardFasteners(voxels_, problem.reference_point, problem.start, psi_, &weights, &start_voxels_, &reach_voxels_);
+    std::vector<float> weights = colors_;  // the colorValues alg. 12 sums: the labels', guarded
+    GuardFasteners(voxels_.dynamic_grid, *volume_, problem.start, psi_, &weights, &start_voxels_, &reach_voxels_);
+    volume_ = std::make_unique<IntersectionVolume>(volume_->Reweighted(weights));
     if (start_voxels_ == 0) {
       LogInfo("fastener guard: D does not intersect S at the start, so no fastener is engaged: every intersection "
               "is refused (labeled-mliv-unguarded allows them up to tau)");
@@ -234,8 +235,6 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
               static_cast<long long>(start_voxels_), static_cast<long long>(reach_voxels_), psi_);
     }
   }
-  volume_ = std::make_unique<IntersectionVolume>(voxels_.static_grid, voxels_.dynamic_grid, problem.reference_point,
-                                                 weights);
   triangle_part_ = TriangleParts(dynamic_mesh, &part_count_);
   bvh_ = std::make_unique<WindingBvh>(dynamic_mesh);
 }
