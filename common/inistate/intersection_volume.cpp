@@ -137,9 +137,8 @@ IntersectionVolume::IntersectionVolume(const VoxelGrid& static_grid, const Voxel
   for (size_t n = 0; n < order.size(); ++n) {
     const std::int64_t cell = order[n].cell;
     compact[cell] = static_cast<std::int32_t>(n);
-    const int i = static_cast<int>(cell % g.dims[0]), j = static_cast<int>((cell / g.dims[0]) % g.dims[1]),
-              k = static_cast<int>(cell / (std::int64_t{g.dims[0]} * g.dims[1]));
-    data->cells.push_back({i, j, k});
+    const Eigen::Vector3i c = g.Cell(cell);
+    data->cells.push_back({c.x(), c.y(), c.z()});
     data->weight.push_back(color_values.empty() ? 1.0f : Weight(color_values[cell]));
   }
   data->neighbors.resize(order.size());

@@ -103,11 +103,10 @@ double PsiOf(const VoxelGrid& grid, const std::vector<float>& colors) {
       const std::int64_t v = stack.back();
       stack.pop_back();
       ++count;
-      const int i = static_cast<int>(v % g.dims[0]);
-      const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
-      const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
-      lo = lo.cwiseMin(Eigen::Vector3i(i, j, k));
-      hi = hi.cwiseMax(Eigen::Vector3i(i, j, k));
+      const Eigen::Vector3i cell = g.Cell(v);
+      const int i = cell.x(), j = cell.y(), k = cell.z();
+      lo = lo.cwiseMin(cell);
+      hi = hi.cwiseMax(cell);
       const int neighbours[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
       for (const auto& d : neighbours) {
         const int a = i + d[0], b = j + d[1], c = k + d[2];
@@ -152,9 +151,8 @@ void GuardFasteners(const VoxelGrid& grid, IntersectionVolume& volume, const Pos
     const auto [d, v] = queue.top();
     queue.pop();
     if (d > distance[v]) continue;  // a stale entry
-    const int i = static_cast<int>(v % g.dims[0]);
-    const int j = static_cast<int>((v / g.dims[0]) % g.dims[1]);
-    const int k = static_cast<int>(v / (static_cast<std::int64_t>(g.dims[0]) * g.dims[1]));
+    const Eigen::Vector3i cell = g.Cell(v);
+    const int i = cell.x(), j = cell.y(), k = cell.z();
     for (int a = -1; a <= 1; ++a) {
       for (int b = -1; b <= 1; ++b) {
         for (int c = -1; c <= 1; ++c) {

@@ -253,9 +253,8 @@ class ParallelProgress {
 // ---------------------------------------------------------------- grids
 
 Vec3 VoxelGridGeometry::Center(std::int64_t index) const {
-  const std::int64_t i = index % dims[0], j = (index / dims[0]) % dims[1],
-                     k = index / (std::int64_t{dims[0]} * dims[1]);
-  return Center(static_cast<int>(i), static_cast<int>(j), static_cast<int>(k));
+  const Eigen::Vector3i c = Cell(index);
+  return Center(c.x(), c.y(), c.z());
 }
 
 Aabb VoxelGridGeometry::Bounds() const {

@@ -71,6 +71,12 @@ struct VoxelGridGeometry {
 
   std::int64_t Count() const { return static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2]; }
   std::int64_t Index(int i, int j, int k) const { return (static_cast<std::int64_t>(k) * dims[1] + j) * dims[0] + i; }
+  // (i, j, k) of a cell index, the inverse of Index.
+  Eigen::Vector3i Cell(std::int64_t index) const {
+    const std::int64_t plane = static_cast<std::int64_t>(dims[0]) * dims[1];
+    return {static_cast<int>(index % dims[0]), static_cast<int>((index / dims[0]) % dims[1]),
+            static_cast<int>(index / plane)};
+  }
   bool Contains(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2];
   }
