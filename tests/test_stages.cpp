@@ -2,11 +2,18 @@
 // messages, outputs, caching and determinism.
 #include <gtest/gtest.h>
 
+#include <yaml-cpp/yaml.h>
+
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "artifact/artifact.h"
+#include "core/hash.h"
 #include "geometry/primitives.h"
+#include "inistate/tau_estimate.h"
+#include "inistate/voxel_grid.h"
 #include "planning/dense_check.h"
 #include "scene/mesh_io.h"
 #include "planning/path_io.h"
@@ -253,6 +260,85 @@ TEST(SceneGenStage, WritesALoadableScene) {
   ASSERT_EQ(o.exit_code, 0) << o.output;
   EXPECT_NO_THROW(LoadScene(dir / "scene.yaml"));
   EXPECT_EQ(RunStage("scene-gen", "--family nope -o " + dir.string()).exit_code, 2);
+}
+
+// The `inputs` of an artifact: role -> content hash.
+std::map<std::string, std::string> ArtifactInputs(const std::filesystem::path& file, const std::string& schema,
+                                                  int schema_version) {
+  const ArtifactReader reader(file, schema, schema_version);
+  std::map<std::string, std::string> inputs;
+  for (const auto& entry : YAML::Load(reader.ReadStringAttribute("", "inputs"))) {
+    inputs[entry.first.as<std::string>()] = entry.second.as<std::string>();
+  }
+  return inputs;
+}
+
+// scene.yaml's `static:` may list several files. Each must be an input of its
+// own: they once all had the role "static", and every stage that writes an
+// artifact failed at the end with "duplicate input role 'static'". A change to
+// the second file must invalidate the stages' outputs.
+TEST(SceneInputs, EachOfSeveralStaticFilesIsAnInputOfEveryStage) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  const auto dir = yaml.parent_path();
+  struct Stage {
+    std::string name, arguments, output, schema;
+    int schema_version;
+  };
+  const std::string scene = "--scene " + yaml.string();
+  const std::vector<Stage> stages = {
+      {"voxelize", scene + " --voxel-size 0.05 --threads 1", "voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion},
+      {"plan", scene + " --validity collision --threads 1", "path.h5", kPathSchema, kPathSchemaVersion},
+      {"smooth", scene + " --path " + (dir / "path.h5").string(), "smooth.h5", kPathSchema, kPathSchemaVersion},
+      {"tau-estimate", scene + " --validity iv --voxels " + (dir / "voxels.h5").string() + " --threads 1 --rounds 1",
+       "tau.h5", kTauSchema, kTauSchemaVersion},
+  };
+  // Runs every stage; returns each output's provenance hash.
+  const auto run_all = [&](bool expect_up_to_date) {
+    std::vector<std::string> hashes;
+    for (const Stage& stage : stages) {
+      const Outcome o = RunStage(stage.name, stage.arguments + " -o " + (dir / stage.output).string());
+      EXPECT_EQ(o.exit_code, 0) << stage.name << ": " << o.output;
+      EXPECT_EQ(o.output.find("up to date") != std::string::npos, expect_up_to_date) << stage.name << ": " << o.output;
+      hashes.push_back(ExistingProvenanceHash(dir / stage.output, stage.schema, stage.schema_version).value_or(""));
+    }
+    return hashes;
+  };
+
+  // One static file keeps the role "static", so earlier outputs stay valid.
+  const Outcome one = RunStage("voxelize", stages[0].arguments + " -o " + (dir / "voxels.h5").string());
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  auto inputs = ArtifactInputs(dir / "voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion);
+  EXPECT_EQ(inputs["static"], HashFile(dir / "environment.obj"));
+  EXPECT_EQ(inputs.count("static[0]"), 0u);
+
+  // A second static file, away from D's way.
+  SaveObj(MakeBox({3.5, 3.5, 3.5}, {4.5, 4.5, 4.5}), dir / "extra.obj");
+  std::string text = ReadFile(yaml);
+  const std::string line = "static: [\"environment.obj\"]";
+  const auto at = text.find(line);
+  ASSERT_NE(at, std::string::npos) << text;
+  WriteFile(yaml, text.replace(at, line.size(), "static: [\"environment.obj\", \"extra.obj\"]"));
+  ASSERT_EQ(LoadScene(yaml).static_files.size(), 2u);
+
+  const std::vector<std::string> before = run_all(false);
+  if (::testing::Test::HasFailure()) return;
+  for (const Stage& stage : stages) {
+    inputs = ArtifactInputs(dir / stage.output, stage.schema, stage.schema_version);
+    EXPECT_EQ(inputs.count("static"), 0u) << stage.name;
+    EXPECT_EQ(inputs["static[0]"], HashFile(dir / "environment.obj")) << stage.name;
+    EXPECT_EQ(inputs["static[1]"], HashFile(dir / "extra.obj")) << stage.name;
+    EXPECT_EQ(inputs["dynamic"], HashFile(dir / "part.obj")) << stage.name;
+  }
+  EXPECT_EQ(run_all(true), before);
+
+  // Only the second file changes: every output is computed again.
+  SaveObj(MakeBox({3.5, 3.5, 3.5}, {4.6, 4.5, 4.5}), dir / "extra.obj");
+  const std::vector<std::string> after = run_all(false);
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    EXPECT_NE(after[i], before[i]) << stages[i].name;
+    inputs = ArtifactInputs(dir / stages[i].output, stages[i].schema, stages[i].schema_version);
+    EXPECT_EQ(inputs["static[1]"], HashFile(dir / "extra.obj")) << stages[i].name;
+  }
 }
 
 }  // namespace

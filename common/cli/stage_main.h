@@ -31,7 +31,9 @@ struct Scene;
 
 // Adds the scene's inputs to a provenance, in this order: the scene.yaml,
 // each static mesh file, the dynamic mesh file (content hashes), so that a
-// change to any of them invalidates the stage's cached output.
+// change to any of them invalidates the stage's cached output. Roles:
+// "scene", "static" (one static file) or "static[0]", "static[1]", ...
+// (several), "dynamic".
 void AddSceneInputs(const Scene& scene, Provenance* provenance);
 
 }  // namespace ausbau

@@ -17,8 +17,7 @@ class PoseValidity {
   // call from several threads at once. Counts checks and invalid answers.
   bool IsValid(const Pose& pose) const {
     const bool valid = CheckValid(pose);
-    checks_.fetch_add(1, std::memory_order_relaxed);
-    if (!valid) invalid_.fetch_add(1, std::memory_order_relaxed);
+    CountCheck(valid);
     return valid;
   }
   std::int64_t checks() const { return checks_.load(std::memory_order_relaxed); }
@@ -27,10 +26,36 @@ class PoseValidity {
  protected:
   // The check itself; must be thread-safe.
   virtual bool CheckValid(const Pose& pose) const = 0;
+  void CountCheck(bool valid) const {
+    checks_.fetch_add(1, std::memory_order_relaxed);
+    if (!valid) invalid_.fetch_add(1, std::memory_order_relaxed);
+  }
 
  private:
   mutable std::atomic<std::int64_t> checks_{0};
   mutable std::atomic<std::int64_t> invalid_{0};
+};
+
+// A validity check that also bounds how far D may move and stay valid: the
+// motion check then steps by that bound (conservative advancement) instead
+// of a fixed step, which is both exact and fast near thin features.
+class SlackValidity : public PoseValidity {
+ public:
+  // >= 0: `pose` is valid, and so is every pose reached by a motion in which
+  // no point of D moves farther than the value; < 0: invalid. Counted like
+  // IsValid.
+  double MeasureSlack(const Pose& pose) const {
+    const double slack = Slack(pose);
+    CountCheck(slack >= 0);
+    return slack;
+  }
+  // The step a motion check takes where the slack is smaller: the check
+  // guarantees the limits plus this much (see collision/rigid_depth.h).
+  virtual double MinStep() const = 0;
+
+ protected:
+  virtual double Slack(const Pose& pose) const = 0;
+  bool CheckValid(const Pose& pose) const override { return Slack(pose) >= 0; }
 };
 
 }  // namespace ausbau

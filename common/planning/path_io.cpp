@@ -64,7 +64,8 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
   writer.SetAttribute("", "validity", path.validity);
-  if (path.validity != "collision") {
+  // Volume modes only: rigid-exact paths carry no volumes.
+  if (path.validity != "collision" && path.validity != "rigid-exact") {
     const std::size_t n = path.waypoints.size();
     if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n) {
       throw std::logic_error("WritePathArtifact: per-waypoint volumes do not match the waypoints");
@@ -117,8 +118,8 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.length_normalized = ReadScalar(reader, "stats/length");
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
+  path.validity = reader.ReadStringAttribute("", "validity");
   if (reader.Has("inistate/volume")) {
-    path.validity = reader.ReadStringAttribute("", "validity");
     path.tau = ReadScalar(reader, "inistate/tau");
     path.psi = ReadScalar(reader, "inistate/psi");
     path.inter_index = static_cast<int>(ReadIntScalar(reader, "inistate/inter_index"));

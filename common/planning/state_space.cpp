@@ -114,7 +114,27 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
 }
 
 MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step)
-    : problem_(&problem), validity_(&validity), step_(step) {}
+    : problem_(&problem), validity_(&validity), slack_(dynamic_cast<const SlackValidity*>(&validity)), step_(step) {}
+
+double MotionChecker::Advance(const Pose& a, const Pose& b, double s_begin, double s_end, Pose* last_valid) const {
+  // Conservative advancement: from a pose with slack d, any motion in which
+  // no point of D moves farther than d stays valid; the straight motion
+  // moves a point at most MaxDisplacement per unit of s (slerp turns at a
+  // constant rate about one axis), so the next pose to check is d further.
+  const double per_unit = MaxDisplacement(a, b, problem_->robot_radius);
+  double s = s_begin;
+  Pose pose = s == 0 ? a : Interpolate(a, b, s);
+  while (true) {
+    if (!problem_->InBounds(pose)) return s == s_begin ? -1 : s;
+    const double slack = slack_->MeasureSlack(pose);
+    if (slack < 0) return s == s_begin ? -1 : s;
+    if (last_valid) *last_valid = pose;
+    if (s >= s_end) return s_end;
+    const double advance = per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0;
+    s = std::min(s_end, s + advance);
+    pose = s == 1.0 ? b : Interpolate(a, b, s);
+  }
+}
 
 int MotionChecker::Steps(const Pose& a, const Pose& b) const {
   const double displacement = MaxDisplacement(a, b, problem_->robot_radius);
@@ -122,6 +142,7 @@ int MotionChecker::Steps(const Pose& a, const Pose& b) const {
 }
 
 bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
+  if (slack_) return Advance(a, b, 0.0, 1.0, nullptr) >= 1.0;
   const int steps = Steps(a, b);
   if (!IsValid(b)) return false;
   // Bisection order (as OMPL's discrete motion validator): a collision in
@@ -141,6 +162,12 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
 }
 
 double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const {
+  if (slack_) {
+    Pose last = a;
+    const double reached = Advance(a, b, 0.0, 1.0, &last);
+    if (last_valid) *last_valid = last;
+    return std::max(0.0, reached);
+  }
   const int steps = Steps(a, b);
   int valid = 0;
   Pose last = a;

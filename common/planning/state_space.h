@@ -97,7 +97,10 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
 
 // Checks straight motions (linear t, slerp q about the reference point)
 // between poses at a step size bound: between two checked poses no vertex of
-// D moves more than `step` (world units).
+// D moves more than `step` (world units). A validity that measures its slack
+// (collision/validity.h: SlackValidity, e.g. the exact rigid-depth check) is
+// walked by conservative advancement instead: steps as long as the slack
+// allows, never shorter than its MinStep.
 class MotionChecker {
  public:
   MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step);
@@ -114,8 +117,14 @@ class MotionChecker {
   const PoseValidity& validity() const { return *validity_; }
 
  private:
+  // With a SlackValidity: walks from s_begin towards s_end by conservative
+  // advancement; returns how far it got (s_end when every pose was valid,
+  // -1 when the first pose is invalid) and the last valid pose.
+  double Advance(const Pose& a, const Pose& b, double s_begin, double s_end, Pose* last_valid) const;
+
   const PlanningProblem* problem_;
   const PoseValidity* validity_;
+  const SlackValidity* slack_;  // validity_ when it measures slack, else null
   double step_;
 };
 

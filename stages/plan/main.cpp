@@ -11,7 +11,9 @@
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
+#include "collision/rigid_depth.h"
 #include "planning/dense_check.h"
+#include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "planning/planner.h"
 #include "planning/smoother.h"
@@ -37,7 +39,16 @@ struct PlanStageOptions {
   double psi = 0;                      // 0: from --tau-file, else from the labels
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
+  double rigid_tolerance_mm = 0.05;  // rigid-exact: millimetres, converted by the scene's units
 };
+
+constexpr const char* kRigidExact = "rigid-exact";
+
+std::vector<std::string> PlanValidityNames() {
+  std::vector<std::string> names = ValidityModeNames();
+  names.insert(names.begin(), kRigidExact);
+  return names;
+}
 
 // The two files of --distfield, or none.
 std::vector<std::string> DistfieldPaths(const PlanStageOptions& options) {
@@ -205,7 +216,91 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   return artifact;
 }
 
+// --validity rigid-exact: D's rigid shells never deeper in S than the
+// tolerance (half of it while planning, so that the plain-interpolated,
+// densified file passes the full tolerance), its fasteners free
+// (collision/rigid_depth.h). A collision-free start is the same problem
+// without fasteners: plain rigid planning with a tolerance.
+int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Provenance& provenance) {
+  bool assumed = false;
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &assumed);
+  if (assumed) {
+    LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
+            options.rigid_tolerance_mm);
+  }
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s",
+          scene.name.c_str(), parts->robot_shells.size(), parts->FastenerCount(),
+          parts->Describe(parts->anchor, true).c_str(), parts->static_shells.size(), tolerance, scene.units.c_str());
+  PathArtifact artifact;
+  artifact.validity = kRigidExact;
+  artifact.reference_point = problem.reference_point;
+  artifact.dynamic_origin = problem.dynamic_origin;
+  artifact.scene = scene.name;
+  if (!parts->rigid_interference.empty()) {
+    const int shell = parts->rigid_interference.front();
+    LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
+             parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
+    artifact.planner = "none";
+    WritePathArtifact(options.output, artifact, provenance);
+    return kExitNoPath;
+  }
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  CheckEndpoints(problem, checker, scene.file.string());
+  const PlannerOptions planner = ResolvedPlanner(options, false);
+  LogInfo("planning with %s, seed %llu, time limit %.1f s (%s start)", planner.planner.c_str(),
+          static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
+          parts->FastenerCount() > 0 ? "fastened" : "collision-free");
+  const PlanResult result = Plan(problem, checker, planner);
+  artifact.planner = planner.planner;
+  artifact.stats = result.stats;
+  artifact.success = result.solved();
+  LogResult("planning", result.stats, result.solved());
+  if (result.solved()) {
+    FillPath(problem, result.path, &artifact);
+    artifact.waypoints = DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point,
+                                                      problem.dynamic_origin, tolerance / 10);
+    if (options.verify) {
+      const ExactCheckReport check = ExactCheckPath(scene, artifact.waypoints, tolerance);
+      if (!check.valid) throw std::runtime_error("planned path fails the exact check: " + check.reason);
+      LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s, fasteners %.4g %s",
+              static_cast<long long>(check.poses_checked), check.max_rigid_depth, scene.units.c_str(),
+              check.max_fastener_depth, scene.units.c_str());
+    }
+  }
+  WritePathArtifact(options.output, artifact, provenance);
+  if (!result.solved()) {
+    LogError("no path within the budget (%s)", result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+    return kExitNoPath;
+  }
+  if (!options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
+  if (!options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
+  LogInfo("path: %zu waypoints, written to %s%s%s", artifact.waypoints.size(), options.output.c_str(),
+          options.csv.empty() ? "" : " and ", options.csv.c_str());
+  return kExitOk;
+}
+
 int Run(PlanStageOptions options, const std::string& parameters) {
+  if (options.validity == kRigidExact) {
+    if (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0) {
+      throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
+    }
+    if (!(options.rigid_tolerance_mm > 0) || !std::isfinite(options.rigid_tolerance_mm)) {
+      throw InputError("--rigid-tolerance: must be a positive number (mm)");
+    }
+    ResolvedPlanner(options, false).Check();
+    const Scene scene = LoadScene(options.scene);
+    const Provenance provenance = MakeProvenance(scene, parameters, options);
+    if (!options.force &&
+        ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {
+      const PathArtifact cached = ReadPathArtifact(options.output);
+      LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
+      if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
+      return cached.success ? kExitOk : kExitNoPath;
+    }
+    return RunRigidExact(options, scene, provenance);
+  }
   const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
   if (!volume_mode && (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0)) {
     throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
@@ -327,9 +422,13 @@ int main(int argc, char** argv) {
             ->check(CLI::IsMember({"fcl", "farr"}))
             ->capture_default_str();
         app.add_option("--validity", options.validity,
-                       "collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but collision: "
-                       "the start may collide; README \"InIState planning\")")
-            ->check(CLI::IsMember(ValidityModeNames()))
+                       "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all "
+                       "but collision: the start may collide; README \"InIState planning\", \"Rigid and deformable\")")
+            ->check(CLI::IsMember(PlanValidityNames()))
+            ->capture_default_str();
+        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
+                       "rigid-exact: how deep D's rigid part may touch into S, in mm (converted by the scene's "
+                       "units)")
             ->capture_default_str();
         app.add_option("--tau", options.tau,
                        "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)");

@@ -1,0 +1,107 @@
+// The hard rigid constraint: D's rigid part may never penetrate S deeper
+// than a tolerance, measured exactly on the meshes, however thin S is.
+//
+// Which part of D is rigid (the rule; README "Rigid and deformable"):
+// D and S are split into shells (geometry/shells.h: the closed solids a CAD
+// export is made of). Chapter 5 of the thesis rests on one premise: where D
+// intersects S at the installed pose, a fastener (a snap clip, a friction
+// fit) is deformed. So
+//  1. the anchor is D's largest shell (by volume): the body the fasteners
+//     hang from. It is always rigid;
+//  2. a shell of D that penetrates S deeper than the tolerance at the
+//     installed pose is a fastener, and so is every shell of D that overlaps
+//     a fastener (a clip's beam under its hook), growing through overlaps but
+//     never through the anchor;
+//  3. every other shell is rigid: ribs, rails, pins, the panel, and a solid
+//     block or peg (one shell: the anchor). Nothing is deformable unless it
+//     is already deformed at the installed pose.
+// When the anchor, or a non-convex shell, penetrates S at the installed pose,
+// D cannot come out without cutting: `rigid_interference` says which.
+// Fasteners are not limited here: a clip bends as far as its removal needs
+// (passing the rim, its hook overlaps S by its whole reach, more than at the
+// installed pose), and only the rigid part decides. Their penetration is
+// measured and reported; cluster_limit is the hook for a bound (infinite).
+//
+// Depth: for two convex shells, the exact separating-axis penetration depth
+// (the shortest translation that separates them; ConvexSignedDepth). A pair
+// with a non-convex or open shell is checked strictly: any intersection of
+// their triangles (FCL) counts as infinitely deep, so the tolerance does not
+// apply there (conservative).
+//
+// Poses are those of the frame the robot mesh is given in (the planning
+// convention for planners, the scene convention for the final check).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collision/validity.h"
+#include "geometry/mesh.h"
+#include "geometry/shells.h"
+
+namespace ausbau {
+
+enum class ShellRole { kRigid, kFastener };
+
+struct PartModel {
+  std::vector<Shell> robot_shells;       // D, in the frame its poses refer to
+  std::vector<Shell> static_shells;      // S, world
+  std::vector<ShellRole> role;           // per robot shell
+  std::vector<int> cluster;              // per robot shell: fastener cluster, -1 for rigid
+  std::vector<double> cluster_limit;     // per cluster: the depth it may reach (infinite: not limited)
+  std::vector<double> installed_depth;   // per robot shell: deepest penetration of S at the installed pose
+  int anchor = -1;                       // index of the anchor shell
+  std::vector<int> rigid_interference;   // rigid shells deeper than the tolerance at the installed pose
+  double tolerance = 0;                  // the one used to classify
+
+  int FastenerCount() const;
+  // "shell 3 (convex, 12 triangles, centre [x, y, z])": how a report names a
+  // shell of D (robot = true) or of S.
+  std::string Describe(int shell, bool robot) const;
+};
+
+// Splits D and S into shells and classifies D's shells at `installed` (the
+// start pose, in the robot mesh's frame). `tolerance` in scene units.
+std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
+                                               const Pose& installed, double tolerance);
+
+struct DepthReport {
+  // Deepest penetration of a rigid shell into S (> 0), or minus a lower bound
+  // on the smallest rigid gap measured (<= 0); -infinity when no rigid shell
+  // is within the broad phase margin. +infinity: a non-convex pair intersects.
+  double rigid_depth = -std::numeric_limits<double>::infinity();
+  int rigid_shell = -1, rigid_static_shell = -1;
+  // Deepest fastener penetration beyond its cluster's installed depth.
+  double fastener_excess = -std::numeric_limits<double>::infinity();
+  int fastener_shell = -1, fastener_static_shell = -1;
+  double fastener_depth = 0;  // deepest fastener penetration (reported, not judged)
+  // min over measured pairs of (allowed depth - depth); >= 0 valid.
+  double slack = 0;
+};
+
+class RigidDepthChecker : public SlackValidity {
+ public:
+  // `limit`: the rigid depth this check allows (the planners use half the
+  // tolerance, so that the final check at the full tolerance has room);
+  // `min_step`: the conservative-advancement floor (a motion check then
+  // guarantees limit + min_step between its poses).
+  RigidDepthChecker(std::shared_ptr<const PartModel> parts, double limit, double min_step);
+  ~RigidDepthChecker() override;
+
+  DepthReport Measure(const Pose& pose) const;
+  double MinStep() const override { return min_step_; }
+  double limit() const { return limit_; }
+  const PartModel& parts() const { return *parts_; }
+
+ protected:
+  double Slack(const Pose& pose) const override { return Measure(pose).slack; }
+
+ private:
+  struct Impl;
+  std::shared_ptr<const PartModel> parts_;
+  double limit_, min_step_, margin_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ausbau

@@ -1,0 +1,329 @@
+#include "geometry/shells.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+namespace ausbau {
+namespace {
+
+// Directions closer than this angle (radians) are one direction. Meshes
+// stored in single precision metres from the origin (STL) carry coordinate
+// noise of ~1e-4 mm, which tilts a 1 mm face by a few 1e-4 rad; a merged
+// direction only makes the separating-axis depth larger (conservative), never
+// smaller.
+constexpr double kSameDirection = 1e-3;
+
+struct PositionKey {
+  std::array<std::uint64_t, 3> bits;
+  bool operator==(const PositionKey& other) const { return bits == other.bits; }
+};
+struct PositionHash {
+  std::size_t operator()(const PositionKey& k) const {
+    std::size_t h = 1469598103934665603ull;
+    for (auto b : k.bits) h = (h ^ b) * 1099511628211ull;
+    return h;
+  }
+};
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Groups unit directions up to sign; each group's representative is the
+// normalized weighted sum of its members (sign-aligned to the first).
+class DirectionSet {
+ public:
+  int Add(const Eigen::Vector3d& unit, double weight) {
+    for (std::size_t i = 0; i < first_.size(); ++i) {
+      const double dot = first_[i].dot(unit);
+      if (std::abs(dot) >= std::cos(kSameDirection)) {
+        sum_[i] += (dot >= 0 ? weight : -weight) * unit;
+        return static_cast<int>(i);
+      }
+    }
+    first_.push_back(unit);
+    sum_.push_back(weight * unit);
+    return static_cast<int>(first_.size()) - 1;
+  }
+  std::vector<Eigen::Vector3d> Directions() const {
+    std::vector<Eigen::Vector3d> out;
+    for (std::size_t i = 0; i < sum_.size(); ++i) {
+      const double n = sum_[i].norm();
+      out.push_back(n > 0 ? Eigen::Vector3d(sum_[i] / n) : first_[i]);
+    }
+    return out;
+  }
+
+ private:
+  std::vector<Eigen::Vector3d> first_, sum_;
+};
+
+void Analyse(Shell& shell) {
+  for (const auto& v : shell.vertices) shell.box.Extend(v);
+  shell.center = shell.box.Center();
+  for (const auto& v : shell.vertices) shell.radius = std::max(shell.radius, (v - shell.center).norm());
+
+  // Closed: every undirected edge used exactly twice.
+  std::map<std::pair<int, int>, std::vector<int>> edge_triangles;
+  for (int t = 0; t < static_cast<int>(shell.triangles.size()); ++t) {
+    const auto& tri = shell.triangles[t];
+    for (int e = 0; e < 3; ++e) {
+      const int a = tri[e], b = tri[(e + 1) % 3];
+      edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(t);
+    }
+  }
+  shell.closed = !edge_triangles.empty();
+  for (const auto& [edge, tris] : edge_triangles) shell.closed = shell.closed && tris.size() == 2;
+
+  double signed_volume = 0;
+  for (const auto& tri : shell.triangles) {
+    const Eigen::Vector3d a = shell.vertices[tri[0]] - shell.center, b = shell.vertices[tri[1]] - shell.center,
+                          c = shell.vertices[tri[2]] - shell.center;
+    signed_volume += a.dot(b.cross(c)) / 6.0;
+  }
+  shell.volume = shell.closed ? std::abs(signed_volume) : 0.0;
+  if (!shell.closed) return;
+
+  // Convex: every vertex on one side of every (non-degenerate) face plane,
+  // within a tolerance for coordinate noise (relative to the shell's size
+  // and to its distance from the origin, as single-precision files lose
+  // digits there).
+  const double tolerance = 1e-4 * shell.radius + 1e-6 * shell.center.norm();
+  DirectionSet normals;
+  std::vector<int> triangle_group(shell.triangles.size(), -1);
+  for (std::size_t t = 0; t < shell.triangles.size(); ++t) {
+    const auto& tri = shell.triangles[t];
+    const Eigen::Vector3d cross =
+        (shell.vertices[tri[1]] - shell.vertices[tri[0]]).cross(shell.vertices[tri[2]] - shell.vertices[tri[0]]);
+    const double area2 = cross.norm();
+    if (!(area2 > 1e-12 * shell.radius * shell.radius)) continue;
+    const Eigen::Vector3d n = cross / area2;
+    const double offset = n.dot(shell.vertices[tri[0]]);
+    double lo = 0, hi = 0;
+    for (const auto& v : shell.vertices) {
+      const double d = n.dot(v) - offset;
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    if (lo < -tolerance && hi > tolerance) return;  // vertices on both sides: not convex
+    triangle_group[t] = normals.Add(n, area2);
+  }
+  shell.face_normals = normals.Directions();
+  if (shell.face_normals.empty()) return;
+
+  DirectionSet edges;
+  std::vector<std::vector<int>> vertex_groups(shell.vertices.size());
+  for (const auto& [edge, tris] : edge_triangles) {
+    const int g0 = triangle_group[tris[0]], g1 = triangle_group[tris[1]];
+    for (int g : {g0, g1}) {
+      if (g < 0) continue;
+      for (int v : {edge.first, edge.second}) {
+        auto& groups = vertex_groups[v];
+        if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+      }
+    }
+    if (g0 < 0 || g1 < 0 || g0 == g1) continue;  // inside one flat face: not a feature edge
+    const Eigen::Vector3d d = shell.vertices[edge.second] - shell.vertices[edge.first];
+    const double length = d.norm();
+    if (length > 0) edges.Add(d / length, length);
+  }
+  shell.edge_directions = edges.Directions();
+  for (std::size_t v = 0; v < shell.vertices.size(); ++v)
+    if (vertex_groups[v].size() >= 3) shell.corners.push_back(shell.vertices[v]);
+  if (shell.corners.size() < 4) shell.corners = shell.vertices;
+  shell.convex = true;
+}
+
+}  // namespace
+
+std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
+  // Weld positions closer than a few single-precision steps at the mesh's
+  // magnitude: an STL export repeats every corner per triangle, and rounds
+  // each copy on its own (1e-4 mm apart, metres from the origin).
+  double magnitude = 0;
+  for (const auto& v : mesh.vertices) magnitude = std::max(magnitude, v.cwiseAbs().maxCoeff());
+  const double weld = std::max(1e-6 * magnitude, 1e-12);
+  std::unordered_map<PositionKey, std::vector<int>, PositionHash> cells;
+  std::vector<int> welded(mesh.vertices.size());
+  std::vector<Eigen::Vector3d> positions;
+  auto cell_of = [&](const Eigen::Vector3d& p) {
+    PositionKey key;
+    for (int k = 0; k < 3; ++k) key.bits[k] = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p[k] / weld)));
+    return key;
+  };
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const Eigen::Vector3d& p = mesh.vertices[i];
+    const PositionKey home = cell_of(p);
+    int found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx) {
+      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          PositionKey key = home;
+          key.bits[0] += dx;
+          key.bits[1] += dy;
+          key.bits[2] += dz;
+          const auto it = cells.find(key);
+          if (it == cells.end()) continue;
+          for (int w : it->second) {
+            if ((positions[w] - p).cwiseAbs().maxCoeff() <= weld) {
+              found = w;
+              break;
+            }
+          }
+        }
+      }
+    }
+    if (found < 0) {
+      found = static_cast<int>(positions.size());
+      positions.push_back(p);
+      cells[home].push_back(found);
+    }
+    welded[i] = found;
+  }
+  // Triangles are joined across their edges. Where several solids of a soup
+  // share an edge (a plate tiled by boxes shares faces and edges), an edge
+  // has more than two triangles: each triangle is joined to the one met
+  // first when turning about the edge from it into its own solid (the
+  // radial-edge rule: the solid's inside lies on the side opposite to the
+  // triangle's normal, by its orientation), so that each box stays a shell.
+  const int triangle_count = static_cast<int>(mesh.triangles.size());
+  auto corner = [&](int t, int k) { return welded[mesh.triangles[t][k]]; };
+  auto key_of = [](std::uint64_t a, std::uint64_t b) { return a << 32 | b; };
+  std::unordered_map<std::uint64_t, std::vector<int>> directed;  // (a -> b) -> triangles
+  for (int t = 0; t < triangle_count; ++t)
+    for (int e = 0; e < 3; ++e) directed[key_of(corner(t, e), corner(t, (e + 1) % 3))].push_back(t);
+  std::vector<int> parent(triangle_count);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto join = [&](int x, int y) {
+    const int r0 = Find(parent, x), r1 = Find(parent, y);
+    if (r0 != r1) parent[std::max(r0, r1)] = std::min(r0, r1);
+  };
+  auto third = [&](int t, int a, int b) {
+    for (int k = 0; k < 3; ++k)
+      if (corner(t, k) != a && corner(t, k) != b) return corner(t, k);
+    return corner(t, 0);
+  };
+  for (int t = 0; t < triangle_count; ++t) {
+    const Eigen::Vector3d normal = (positions[corner(t, 1)] - positions[corner(t, 0)])
+                                       .cross(positions[corner(t, 2)] - positions[corner(t, 0)]);
+    for (int e = 0; e < 3; ++e) {
+      const int a = corner(t, e), b = corner(t, (e + 1) % 3);
+      const auto reverse = directed.find(key_of(b, a));
+      if (reverse == directed.end()) {
+        // Inconsistently oriented: join where the edge has one other triangle.
+        const auto& same = directed[key_of(a, b)];
+        if (same.size() == 2) join(same[0], same[1]);
+        continue;
+      }
+      const auto& candidates = reverse->second;
+      if (candidates.size() == 1) {
+        join(t, candidates[0]);
+        continue;
+      }
+      const Eigen::Vector3d axis = (positions[b] - positions[a]).normalized();
+      auto inward = [&](int tri) {  // in the triangle's plane, from the edge to its third corner
+        const Eigen::Vector3d d = positions[third(tri, a, b)] - positions[a];
+        return Eigen::Vector3d(d - d.dot(axis) * axis).normalized();
+      };
+      const Eigen::Vector3d u = inward(t);
+      const Eigen::Vector3d w = -(normal - normal.dot(axis) * axis).normalized();  // into the solid
+      int best = -1;
+      double best_angle = 0;
+      for (int c : candidates) {
+        const Eigen::Vector3d d = inward(c);
+        double angle = std::atan2(d.dot(w), d.dot(u));
+        if (angle <= kSameDirection) angle += 2 * M_PI;  // coincident (or behind): last
+        // Overlapping solids of a soup may share an edge with a face of one
+        // inside the other's wedge, or flush with it (a rail's leg and foot),
+        // so the angle alone can mislead: among the locally convex
+        // candidates (within half a turn) the triangle written nearest to
+        // this one wins, as exports write a solid's triangles together
+        // (STL: every triangle has its own vertices).
+        const bool convex = angle <= M_PI + kSameDirection;
+        const bool best_convex = best >= 0 && best_angle <= M_PI + kSameDirection;
+        bool better;
+        if (best < 0) better = true;
+        else if (convex != best_convex) better = convex;
+        else if (convex) better = std::abs(c - t) < std::abs(best - t);
+        else better = angle < best_angle;
+        if (better) best = c, best_angle = angle;
+      }
+      join(t, best);
+    }
+  }
+  std::vector<Shell> shells;
+  std::unordered_map<int, int> shell_of_root;
+  std::vector<std::unordered_map<int, int>> local_index;
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const int root = Find(parent, t);
+    const auto [it, inserted] = shell_of_root.emplace(root, static_cast<int>(shells.size()));
+    if (inserted) {
+      shells.emplace_back();
+      local_index.emplace_back();
+    }
+    Shell& shell = shells[it->second];
+    auto& local = local_index[it->second];
+    std::array<int, 3> out;
+    for (int k = 0; k < 3; ++k) {
+      const int w = welded[tri[k]];
+      const auto [li, fresh] = local.emplace(w, static_cast<int>(shell.vertices.size()));
+      if (fresh) shell.vertices.push_back(positions[w]);
+      out[k] = li->second;
+    }
+    shell.triangles.push_back(out);
+    shell.source_triangles.push_back(t);
+  }
+  for (auto& shell : shells) Analyse(shell);
+  return shells;
+}
+
+double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b, double stop_gap) {
+  // A's corners in B's frame.
+  thread_local std::vector<Eigen::Vector3d> corners_a;
+  corners_a.resize(a.corners.size());
+  for (std::size_t i = 0; i < a.corners.size(); ++i) corners_a[i] = pose_a * a.corners[i];
+  const Eigen::Matrix3d rotation = pose_a.linear();
+
+  double depth = std::numeric_limits<double>::infinity();
+  // Overlap of the two projections on `axis` (unit); negative = a gap.
+  auto overlap = [&](const Eigen::Vector3d& axis) {
+    double a_lo = std::numeric_limits<double>::infinity(), a_hi = -a_lo, b_lo = a_lo, b_hi = -a_lo;
+    for (const auto& p : corners_a) {
+      const double d = axis.dot(p);
+      a_lo = std::min(a_lo, d);
+      a_hi = std::max(a_hi, d);
+    }
+    for (const auto& p : b.corners) {
+      const double d = axis.dot(p);
+      b_lo = std::min(b_lo, d);
+      b_hi = std::max(b_hi, d);
+    }
+    return std::min(a_hi - b_lo, b_hi - a_lo);
+  };
+  auto consider = [&](const Eigen::Vector3d& axis) {
+    depth = std::min(depth, overlap(axis));
+    return stop_gap > 0 && depth < -stop_gap;
+  };
+  for (const auto& n : a.face_normals)
+    if (consider(rotation * n)) return depth;
+  for (const auto& n : b.face_normals)
+    if (consider(n)) return depth;
+  for (const auto& ea : a.edge_directions) {
+    const Eigen::Vector3d ra = rotation * ea;
+    for (const auto& eb : b.edge_directions) {
+      const Eigen::Vector3d c = ra.cross(eb);
+      const double length = c.norm();
+      if (length < 1e-9) continue;  // parallel edges: covered by the face normals
+      if (consider(c / length)) return depth;
+    }
+  }
+  return depth;
+}
+
+}  // namespace ausbau

@@ -1,0 +1,61 @@
+// A triangle soup split into its shells (connected pieces), and the exact
+// penetration depth of two convex shells by the separating-axis theorem.
+//
+// CAD exports model a part as a soup of closed solids that overlap (a clip
+// is a beam box, a hook box and a wedge box glued into a panel box). Each
+// solid is one shell here: the triangles connected through shared vertices
+// (vertices within a few single-precision steps are welded first, as STL repeats
+// them per triangle). A shell that is closed (every edge used by exactly two
+// triangles) and lies on one side of each of its triangles' planes is
+// convex; for a pair of convex shells the separating-axis test over their
+// face normals and the cross products of their feature-edge directions gives
+// the exact penetration depth (the shortest translation that separates
+// them), the quantity an exact box-box checker measures. Any finer
+// tessellation of a convex solid has the same face normals and feature edges
+// (coplanar triangles are merged into one direction), so the depth does not
+// depend on the tessellation.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <vector>
+
+#include "geometry/mesh.h"
+
+namespace ausbau {
+
+struct Shell {
+  std::vector<Eigen::Vector3d> vertices;        // welded, in the mesh's coordinates
+  std::vector<std::array<int, 3>> triangles;    // into `vertices`
+  std::vector<int> source_triangles;            // index of each triangle in the input mesh
+  bool closed = false;                          // every edge shared by exactly two triangles
+  bool convex = false;                          // closed, and on one side of every face plane
+  // Convex shells only: the corners (vertices where three or more face
+  // directions meet; the projections' extremes are always attained there),
+  // the distinct face normals and the distinct feature-edge directions
+  // (edges between non-coplanar faces), each up to sign.
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<Eigen::Vector3d> face_normals;
+  std::vector<Eigen::Vector3d> edge_directions;
+  Aabb box;
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // centre of `box`
+  double radius = 0;                                 // max distance of a vertex from `center`
+  double volume = 0;                                 // |signed volume| when closed, else 0
+};
+
+// Splits `mesh` into shells, in the order of their first triangle. Triangles
+// of zero area are kept in their shell but do not count for convexity.
+std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh);
+
+// Signed separating-axis depth of two convex shells, A moved by `pose_a`
+// (rotation + translation applied to A's vertices), B as it is:
+//   > 0: they overlap, and this is the exact penetration depth;
+//   <= 0: they are separated (or touch) with a gap of at least -value
+//         (a separating axis: a lower bound on their distance).
+// `stop_gap` > 0 ends the search at the first axis with a gap larger than it
+// (the value is then that gap, negated). Both shells must be convex.
+double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b,
+                         double stop_gap = 0.0);
+
+}  // namespace ausbau

@@ -1,0 +1,131 @@
+#include "planning/exact_check.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "core/format.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+
+double RigidToleranceInSceneUnits(double millimetres, const std::string& units, bool* assumed) {
+  std::string u;
+  for (char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (assumed) *assumed = false;
+  if (u == "mm" || u == "millimeter" || u == "millimetre" || u == "millimeters" || u == "millimetres")
+    return millimetres;
+  if (u == "cm" || u == "centimeter" || u == "centimetre") return millimetres / 10.0;
+  if (u == "m" || u == "meter" || u == "metre" || u == "meters" || u == "metres") return millimetres / 1000.0;
+  if (u == "in" || u == "inch" || u == "inches") return millimetres / 25.4;
+  if (assumed) *assumed = true;
+  return millimetres;
+}
+
+std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
+                                               const Eigen::Vector3d& reference_point,
+                                               const Eigen::Vector3d& dynamic_origin, double deviation) {
+  if (waypoints.size() < 2) return waypoints;
+  const Eigen::Vector3d c = reference_point - dynamic_origin;
+  const double radius = c.norm();
+  // Scene pose (t, q) about the reference point: (t + R c, q).
+  auto about_reference = [&](const Pose& p) { return Pose{p.t + p.q * c, p.q}; };
+  auto to_scene = [&](const Pose& p) { return Pose{p.t - p.q * c, p.q}; };
+  std::vector<Pose> out = {waypoints.front()};
+  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    const Pose a = about_reference(waypoints[i]), b = about_reference(waypoints[i + 1]);
+    const double angle = RotationAngle(a.q, b.q);
+    int pieces = 1;
+    // radius (1 - cos(angle / (2 pieces))) <= deviation
+    if (radius > 0 && angle > 0 && radius * (1 - std::cos(angle / 2)) > deviation) {
+      const double max_angle = 2 * std::acos(std::max(-1.0, 1 - deviation / radius));
+      pieces = static_cast<int>(std::ceil(angle / max_angle));
+    }
+    for (int k = 1; k < pieces; ++k) out.push_back(to_scene(Interpolate(a, b, static_cast<double>(k) / pieces)));
+    out.push_back(waypoints[i + 1]);
+  }
+  return out;
+}
+
+ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance) {
+  ExactCheckReport report;
+  if (waypoints.empty()) {
+    report.reason = "the path has no waypoint";
+    return report;
+  }
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& v : robot.vertices) v -= scene.dynamic_origin;
+  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance);
+  const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
+  const Aabb robot_box = robot.Bounds();
+  const Eigen::Vector3d c = robot_box.Center();
+  double radius_c = 0;
+  for (const auto& v : robot.vertices) radius_c = std::max(radius_c, (v - c).norm());
+
+  const Pose& first = waypoints.front();
+  report.starts_at_start = (first.t - scene.start.t).norm() <= 1e-6 * (1 + scene.start.t.norm()) &&
+                           RotationAngle(first.q, scene.start.q) <= 1e-6;
+  // Exact world AABB of D at the last waypoint against S's.
+  Aabb last_box;
+  for (const auto& v : robot.vertices) last_box.Extend(waypoints.back().Apply(v));
+  report.ends_separated = last_box.SeparatedFrom(scene.static_mesh.Bounds());
+
+  auto judge = [&](const Pose& pose, int segment, double fraction) {
+    ++report.poses_checked;
+    const DepthReport depth = checker.Measure(pose);
+    if (depth.rigid_depth > report.max_rigid_depth) {
+      report.max_rigid_depth = depth.rigid_depth;
+      report.rigid_shell = depth.rigid_shell;
+      report.static_shell = depth.rigid_static_shell;
+      report.worst_segment = segment;
+      report.worst_fraction = fraction;
+      report.worst_pose = pose;
+    }
+    report.max_fastener_depth = std::max(report.max_fastener_depth, depth.fastener_depth);
+    report.max_fastener_excess = std::max(report.max_fastener_excess, depth.fastener_excess);
+    if (depth.slack < 0 && report.first_bad_segment < 0) report.first_bad_segment = segment;
+    return std::max(depth.slack, 0.0);
+  };
+
+  double slack = judge(waypoints.front(), 0, 0.0);
+  for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    const Pose& a = waypoints[i];
+    const Pose& b = waypoints[i + 1];
+    // A rigorous bound on how fast any point of D moves per unit of s (see
+    // exact_check.h): the centre c moves at |v + w x R_a c| at s = 0 and
+    // that changes by at most |w|^2 |c| along the segment; points turn about
+    // it at |w| times their distance.
+    Eigen::Quaterniond qb = b.q;
+    if (a.q.coeffs().dot(qb.coeffs()) < 0) qb.coeffs() *= -1;
+    const Eigen::AngleAxisd relative(qb * a.q.conjugate());
+    const double angle = std::abs(relative.angle());
+    const Eigen::Vector3d omega = relative.axis() * relative.angle();
+    const Eigen::Vector3d v = b.t - a.t;
+    const double per_unit =
+        (v + omega.cross(a.q * c)).norm() + angle * angle * c.norm() + angle * radius_c + 1e-300;
+    double s = 0;
+    while (s < 1.0) {
+      s = std::min(1.0, s + std::max(slack, tolerance / 10) / per_unit);
+      slack = judge(Interpolate(a, b, s), static_cast<int>(i), s);
+    }
+  }
+  std::vector<std::string> problems;
+  if (!report.starts_at_start) problems.push_back("the first waypoint is not the start (installed) pose");
+  if (!report.ends_separated) problems.push_back("at the last waypoint D's AABB still overlaps S's");
+  if (!report.parts->rigid_interference.empty())
+    problems.push_back("a rigid part of D penetrates S at the installed pose: " +
+                       report.parts->Describe(report.parts->rigid_interference.front(), true));
+  if (report.max_rigid_depth > tolerance)
+    problems.push_back(Fmt("a rigid part of D penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",
+                           report.max_rigid_depth, tolerance, report.worst_segment,
+                           report.parts->Describe(report.rigid_shell, true).c_str(),
+                           report.parts->Describe(report.static_shell, false).c_str()));
+  if (report.max_fastener_excess > tolerance)
+    problems.push_back(Fmt("a fastener of D goes %.4g deeper into S than at the installed pose",
+                           report.max_fastener_excess));
+  report.valid = problems.empty();
+  for (const auto& p : problems) report.reason += (report.reason.empty() ? "" : "; ") + p;
+  return report;
+}
+
+}  // namespace ausbau

@@ -1,0 +1,65 @@
+// The independent exact check of a finished path, as a file states it: the
+// waypoints in the scene convention (x_world = R(q)(x - dynamic_origin) + t),
+// interpolated the plain way (lerp of t, slerp of q along the shorter arc),
+// which is how any other tool reads path.csv, not about the planner's
+// reference point. A path passes when
+//  1. its first waypoint is the scene's start (the installed pose);
+//  2. at its last waypoint D's world AABB is separated from S's;
+//  3. along the whole interpolated motion, no rigid shell of D penetrates S
+//     deeper than `tolerance` (exact separating-axis depth per shell pair,
+//     collision/rigid_depth.h), and no fastener deeper than at the installed
+//     pose plus `tolerance`. Poses are checked by conservative advancement:
+//     the next pose is as far as the current slack allows (never less than
+//     `tolerance` / 10), with a rigorous bound on how far a point moves, so
+//     between two checked poses the depth can exceed the checked one by at
+//     most that floor.
+// The same shells and roles as the planners (ClassifyParts at the start).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "collision/rigid_depth.h"
+#include "geometry/pose.h"
+
+namespace ausbau {
+
+struct Scene;
+
+struct ExactCheckReport {
+  bool valid = false;
+  std::string reason;                  // empty when valid
+  std::int64_t poses_checked = 0;
+  double max_rigid_depth = 0;          // >= 0; deepest rigid penetration along the path
+  int rigid_shell = -1, static_shell = -1;
+  int worst_segment = -1;              // where the deepest rigid penetration is
+  double worst_fraction = 0;
+  Pose worst_pose;                     // scene convention
+  double max_fastener_depth = 0;       // deepest fastener penetration (reported)
+  double max_fastener_excess = 0;      // beyond the installed depth (judged)
+  int first_bad_segment = -1;          // first segment that breaks the limits
+  bool starts_at_start = false;
+  bool ends_separated = false;
+  std::shared_ptr<const PartModel> parts;
+};
+
+ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance);
+
+// Adds waypoints so that interpolating each segment the plain way (about
+// D's mesh origin shifted by dynamic_origin) stays within `deviation` of
+// interpolating it about `reference_point` (the planners' way). Both sets of
+// waypoints are in the scene convention. The two differ by a chord against
+// an arc of radius |reference_point - dynamic_origin|, at most
+// |c| (1 - cos(angle / 2)) per segment, so long turns far from the origin
+// are split.
+std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
+                                               const Eigen::Vector3d& reference_point,
+                                               const Eigen::Vector3d& dynamic_origin, double deviation);
+
+// The rigid tolerance in scene units: `millimetres` converted by the scene's
+// `units` (mm, cm, m, in; empty or unknown units are taken as mm, with a
+// warning the caller prints when `*assumed` is set).
+double RigidToleranceInSceneUnits(double millimetres, const std::string& units, bool* assumed);
+
+}  // namespace ausbau

@@ -1,0 +1,260 @@
+// Shells, the exact separating-axis depth and the rigid/fastener rule, on
+// hand-checkable boxes.
+#include <gtest/gtest.h>
+
+#include "collision/rigid_depth.h"
+#include "geometry/primitives.h"
+#include "geometry/shells.h"
+#include "planning/exact_check.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+Pose At(double x, double y, double z, double angle = 0, Eigen::Vector3d axis = Eigen::Vector3d::UnitZ()) {
+  Pose p;
+  p.t = {x, y, z};
+  p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+  return p;
+}
+
+// A box split into n x n squares per face (a finer tessellation of the same
+// convex solid).
+TriangleMesh FineBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
+  TriangleMesh mesh;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const int base = static_cast<int>(mesh.vertices.size());
+      for (int i = 0; i <= n; ++i) {
+        for (int j = 0; j <= n; ++j) {
+          Eigen::Vector3d p;
+          p[axis] = side ? hi[axis] : lo[axis];
+          p[u] = lo[u] + (hi[u] - lo[u]) * i / n;
+          p[v] = lo[v] + (hi[v] - lo[v]) * j / n;
+          mesh.vertices.push_back(p);
+        }
+      }
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+          const int a = base + i * (n + 1) + j, b = a + n + 1, c = b + 1, d = a + 1;
+          if (side) {
+            mesh.triangles.push_back({a, b, c});
+            mesh.triangles.push_back({a, c, d});
+          } else {
+            mesh.triangles.push_back({a, c, b});
+            mesh.triangles.push_back({a, d, c});
+          }
+        }
+      }
+    }
+  }
+  return mesh;
+}
+
+TEST(Shells, BoxSoupSplitsIntoConvexBoxes) {
+  TriangleMesh soup = MakeBox({0, 0, 0}, {10, 10, 1});
+  soup.Append(MakeBox({2, 2, 0.5}, {3, 3, 5}));  // overlaps the first: still its own shell
+  const auto shells = SplitIntoShells(soup);
+  ASSERT_EQ(shells.size(), 2u);
+  for (const auto& s : shells) {
+    EXPECT_TRUE(s.closed);
+    EXPECT_TRUE(s.convex);
+    EXPECT_EQ(s.face_normals.size(), 3u);
+    EXPECT_EQ(s.edge_directions.size(), 3u);
+    EXPECT_EQ(s.corners.size(), 8u);
+  }
+  EXPECT_NEAR(shells[0].volume, 100, 1e-9);
+  EXPECT_NEAR(shells[1].volume, 4.5, 1e-9);
+}
+
+TEST(Shells, FineTessellationHasTheSameAxesAndDepth) {
+  const auto coarse = SplitIntoShells(MakeBox({0, 0, 0}, {4, 2, 1}));
+  const auto fine = SplitIntoShells(FineBox({0, 0, 0}, {4, 2, 1}, 5));
+  ASSERT_EQ(fine.size(), 1u);
+  EXPECT_TRUE(fine[0].convex);
+  EXPECT_EQ(fine[0].face_normals.size(), 3u);
+  EXPECT_EQ(fine[0].edge_directions.size(), 3u);
+  EXPECT_EQ(fine[0].corners.size(), 8u);
+  const auto other = SplitIntoShells(MakeBox({3.7, 1, 0.5}, {6, 3, 2}));
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  EXPECT_NEAR(ConvexSignedDepth(coarse[0], identity, other[0]), 0.3, 1e-12);  // overlap 0.3 in x, 1 in y, 0.5 in z
+  EXPECT_NEAR(ConvexSignedDepth(fine[0], identity, other[0]), 0.3, 1e-12);
+}
+
+TEST(Shells, NonConvexAndOpenShellsAreFlagged) {
+  TriangleMesh open = MakeBox({0, 0, 0}, {1, 1, 1});
+  open.triangles.pop_back();
+  EXPECT_FALSE(SplitIntoShells(open)[0].closed);
+  EXPECT_FALSE(SplitIntoShells(open)[0].convex);
+  // An L: two boxes sharing a face, welded into one closed non-convex shell
+  // is hard to build by hand; a tetrahedron with a dent is enough.
+  TriangleMesh dented;
+  dented.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, 4}, {0.5, 0.5, 0.5}};
+  // Tetrahedron whose face (1,2,3) is replaced by three faces through the
+  // inner point 4: a dent.
+  dented.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 4}, {2, 3, 4}, {3, 1, 4}};
+  const auto shells = SplitIntoShells(dented);
+  ASSERT_EQ(shells.size(), 1u);
+  EXPECT_TRUE(shells[0].closed);
+  EXPECT_FALSE(shells[0].convex);
+}
+
+TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
+  const auto a = SplitIntoShells(MakeBox({-1, -1, -1}, {1, 1, 1}));
+  const auto b = SplitIntoShells(MakeBox({-1, -1, -1}, {1, 1, 1}));
+  // Side by side with a gap of 0.25 along x.
+  EXPECT_NEAR(ConvexSignedDepth(a[0], At(2.25, 0, 0).ToIsometry(), b[0]), -0.25, 1e-12);
+  // Turned 45 degrees about z: its corner reaches sqrt(2) from its centre.
+  const double reach = std::sqrt(2.0);
+  EXPECT_NEAR(ConvexSignedDepth(a[0], At(1 + reach - 0.1, 0, 0, M_PI / 4).ToIsometry(), b[0]), 0.1, 1e-9);
+  // Edge against edge: A turned 45 degrees about z (its leftmost feature an
+  // edge along z at x - sqrt 2), B about y (its rightmost an edge along y at
+  // sqrt 2): the edges cross, 0.2 deep along x.
+  const Eigen::Isometry3d b_turned(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()));
+  std::vector<Shell> b_moved = b;
+  for (auto* list : {&b_moved[0].corners, &b_moved[0].vertices}) for (auto& p : *list) p = b_turned * p;
+  for (auto& n : b_moved[0].face_normals) n = b_turned.linear() * n;
+  for (auto& e : b_moved[0].edge_directions) e = b_turned.linear() * e;
+  EXPECT_NEAR(ConvexSignedDepth(a[0], At(2 * reach - 0.2, 0, 0, M_PI / 4).ToIsometry(), b_moved[0]), 0.2, 1e-9);
+}
+
+// A rigid key (a bar) hanging from a panel into a slot in a 2 mm plate.
+struct KeyScene {
+  TriangleMesh robot, environment;
+  KeyScene() {
+    robot = MakeBox({-50, -50, 5}, {50, 50, 8});      // panel, above the plate
+    robot.Append(MakeBox({-2, -10, -10}, {2, 10, 5}));  // key through a slot, 0.5 mm each side in x
+    environment = MakeBox({-100, -100, -2}, {-2.5, 100, 0});
+    environment.Append(MakeBox({2.5, -100, -2}, {100, 100, 0}));
+    environment.Append(MakeBox({-2.5, -100, -2}, {2.5, -11, 0}));
+    environment.Append(MakeBox({-2.5, 11, -2}, {2.5, 100, 0}));
+  }
+};
+
+TEST(RigidDepth, ARigidKeyCannotCrossATwoMillimetrePlate) {
+  const KeyScene scene;
+  const auto parts = ClassifyParts(scene.robot, scene.environment, Pose{}, 0.05);
+  EXPECT_EQ(parts->FastenerCount(), 0);  // nothing intersects at the installed pose: all rigid
+  EXPECT_TRUE(parts->rigid_interference.empty());
+  const RigidDepthChecker checker(parts, 0.05, 0.01);
+  EXPECT_TRUE(checker.IsValid(Pose{}));
+  EXPECT_NEAR(checker.Measure(Pose{}).rigid_depth, -0.5, 1e-12);  // the slot's clearance
+  // Sideways by 1 mm: the key cuts 0.5 mm into the plate, whatever any volume threshold says.
+  const DepthReport cut = checker.Measure(At(1.0, 0, 0));
+  EXPECT_NEAR(cut.rigid_depth, 0.5, 1e-12);
+  EXPECT_FALSE(checker.IsValid(At(1.0, 0, 0)));
+  EXPECT_TRUE(checker.IsValid(At(0.52, 0, 0)));  // 0.02 deep: within the limit 0.05
+  EXPECT_FALSE(checker.IsValid(At(0.56, 0, 0)));
+  // Pulled straight up it stays clear.
+  EXPECT_TRUE(checker.IsValid(At(0, 0, 30)));
+}
+
+TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
+  TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});       // panel (anchor)
+  robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));          // clip beam, in a 4 mm wide hole
+  robot.Append(MakeBox({-0.7, -5, -3.9}, {3, 5, -1.5}));           // hook: 1 mm under the rim, 0.5 mm into it
+  robot.Append(MakeBox({20, -5, -3}, {22, 5, 1.5}));               // a rigid rib in its own hole
+  TriangleMesh environment = MakeBox({-100, -100, -2}, {-2, 100, 0});
+  environment.Append(MakeBox({2, -100, -2}, {19, 100, 0}));
+  environment.Append(MakeBox({-2, -100, -2}, {2, -6, 0}));
+  environment.Append(MakeBox({-2, 6, -2}, {2, 100, 0}));
+  environment.Append(MakeBox({23, -100, -2}, {100, 100, 0}));
+  environment.Append(MakeBox({19, -100, -2}, {23, -6, 0}));
+  environment.Append(MakeBox({19, 6, -2}, {23, 100, 0}));
+  const auto parts = ClassifyParts(robot, environment, Pose{}, 0.05);
+  ASSERT_EQ(parts->robot_shells.size(), 4u);
+  EXPECT_EQ(parts->anchor, 0);
+  EXPECT_EQ(parts->role[0], ShellRole::kRigid);
+  EXPECT_EQ(parts->role[1], ShellRole::kFastener);  // the beam: overlaps the hook
+  EXPECT_EQ(parts->role[2], ShellRole::kFastener);  // the hook: interferes
+  EXPECT_EQ(parts->role[3], ShellRole::kRigid);     // the rib: clear of S
+  EXPECT_TRUE(parts->rigid_interference.empty());
+  ASSERT_EQ(parts->cluster_limit.size(), 1u);
+  EXPECT_NEAR(parts->installed_depth[2], 0.5, 1e-12);  // hook 0.5 mm into the plate's underside
+  const RigidDepthChecker checker(parts, 0.025, 0.01);
+  EXPECT_TRUE(checker.IsValid(Pose{}));
+  const DepthReport pulled = checker.Measure(At(0, 0, 1.0));  // the hook passes the rim: the clip bends 1 mm
+  EXPECT_TRUE(checker.IsValid(At(0, 0, 1.0)));
+  EXPECT_NEAR(pulled.fastener_depth, 1.0, 1e-12);  // reported, not judged
+  EXPECT_FALSE(checker.IsValid(At(-1.5, 0, 0)));   // sideways: the rib hits its hole
+  EXPECT_EQ(checker.Measure(At(-1.5, 0, 0)).rigid_shell, 3);
+}
+
+TEST(RigidDepth, ASolidBlockInterferingIsRigid) {
+  // A solid peg pressed 0.3 mm into a hole's wall: the peg is the anchor.
+  const TriangleMesh peg = MakeBox({-5, -5, -10}, {5.3, 5, 10});
+  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
+  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
+  const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
+  EXPECT_EQ(parts->FastenerCount(), 0);
+  ASSERT_EQ(parts->rigid_interference.size(), 1u);
+  EXPECT_EQ(parts->rigid_interference[0], 0);
+}
+
+TEST(RigidDepth, RotatedAndMovedSceneGivesTheSameClassificationAndDepths) {
+  const KeyScene scene;
+  Eigen::Isometry3d world = Eigen::Isometry3d::Identity();
+  world.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  world.translation() = Eigen::Vector3d(2500, -1300, 3100);
+  TriangleMesh robot = scene.robot, environment = scene.environment;
+  for (auto& v : robot.vertices) v = world * v;
+  for (auto& v : environment.vertices) v = world * v;
+  const auto parts = ClassifyParts(robot, environment, Pose{}, 0.05);
+  const RigidDepthChecker checker(parts, 0.05, 0.01);
+  EXPECT_NEAR(checker.Measure(Pose{}).rigid_depth, -0.5, 1e-9);
+  // The same sideways cut, in world coordinates: a world translation of the
+  // local x axis moves D about the world origin.
+  Pose cut;
+  cut.t = world.linear() * Eigen::Vector3d(1.0, 0, 0);
+  EXPECT_NEAR(checker.Measure(cut).rigid_depth, 0.5, 1e-9);
+}
+
+TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
+  const KeyScene key;
+  Scene scene;
+  scene.dynamic_mesh = key.robot;
+  scene.static_mesh = key.environment;
+  scene.units = "mm";
+  // Straight up and out: valid.
+  std::vector<Pose> up = {Pose{}, At(0, 0, 40)};
+  const ExactCheckReport ok = ExactCheckPath(scene, up, 0.05);
+  EXPECT_TRUE(ok.valid) << ok.reason;
+  EXPECT_TRUE(ok.ends_separated);
+  EXPECT_LT(ok.max_rigid_depth, 0.05);
+  // Sideways through the plate, then up: refused, with the depth and where.
+  std::vector<Pose> cut = {Pose{}, At(40, 0, 0), At(40, 0, 40)};
+  const ExactCheckReport bad = ExactCheckPath(scene, cut, 0.05);
+  EXPECT_FALSE(bad.valid);
+  EXPECT_GT(bad.max_rigid_depth, 1.0);
+  EXPECT_EQ(bad.first_bad_segment, 0);
+  EXPECT_EQ(bad.rigid_shell, 1);  // the key
+  EXPECT_NE(bad.reason.find("penetrates"), std::string::npos);
+  // Not ending separated.
+  std::vector<Pose> short_path = {Pose{}, At(0, 0, 3)};
+  EXPECT_FALSE(ExactCheckPath(scene, short_path, 0.05).valid);
+}
+
+TEST(ExactCheck, DensifyKeepsPlainInterpolationNearThePlannersOne) {
+  // D metres from its mesh origin, turned 2 degrees about its own centre.
+  const Eigen::Vector3d reference(3000, 0, 0), origin(0, 0, 0);
+  Pose a, b;  // scene convention: x = R x + t, D's centre at 3000
+  b.q = Eigen::Quaterniond(Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitY()));
+  b.t = reference - b.q * reference;  // turn about D's centre
+  const auto dense = DensifyForPlainInterpolation({a, b}, reference, origin, 0.005);
+  ASSERT_GT(dense.size(), 2u);
+  // Plain interpolation of each piece keeps D's centre within 0.005 of where it stays.
+  for (std::size_t i = 0; i + 1 < dense.size(); ++i) {
+    const Pose mid = Interpolate(dense[i], dense[i + 1], 0.5);
+    EXPECT_LT((mid.Apply(reference) - reference).norm(), 0.005 + 1e-9);
+  }
+  // Without densifying, the centre dips ~0.46 mm mid-way.
+  EXPECT_GT((Interpolate(a, b, 0.5).Apply(reference) - reference).norm(), 0.4);
+  EXPECT_NEAR(RigidToleranceInSceneUnits(0.05, "m", nullptr), 5e-5, 1e-15);
+  bool assumed = false;
+  EXPECT_NEAR(RigidToleranceInSceneUnits(0.05, "", &assumed), 0.05, 1e-15);
+  EXPECT_TRUE(assumed);
+}
+
+}  // namespace
+}  // namespace ausbau
