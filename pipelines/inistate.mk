@@ -42,7 +42,8 @@ TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
-VALIDITY ?= labeled-mliv  # shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
+VALIDITY ?= labeled-mliv  # rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
+RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's rigid part may touch into S
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
 THREADS ?= 0              # --threads of the parallel stages; 0 = all cores
@@ -70,6 +71,7 @@ SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
 TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
 VALIDITY := $(strip $(VALIDITY))
+RIGID_TOLERANCE := $(strip $(RIGID_TOLERANCE))
 PLANNER := $(strip $(PLANNER))
 COLLISION := $(strip $(COLLISION))
 THREADS := $(strip $(THREADS))
@@ -77,14 +79,17 @@ BUDGET := $(strip $(BUDGET))
 WITH_REPORT := $(strip $(WITH_REPORT))
 
 TIMES := $(OUT)/times
-VOLUME_MODE := $(filter-out collision,$(VALIDITY))
+VOLUME_MODE := $(filter-out collision rigid-exact,$(VALIDITY))
+# rigid-exact (README "Rigid and deformable"): exact shell depths, no voxels,
+# labels, tau or distance fields.
+EXACT_MODE := $(filter rigid-exact,$(VALIDITY))
 
 # Stages that only sigma_1's volume validity needs, and FARR's fields.
-GEOMETRY_STAGES := $(if $(VOLUME_MODE),voxelize medial-spheres pbd-label) $(if $(filter farr,$(COLLISION)),distfield-build)
+GEOMETRY_STAGES := $(if $(VOLUME_MODE),voxelize medial-spheres pbd-label) $(if $(EXACT_MODE),,$(if $(filter farr,$(COLLISION)),distfield-build))
 VOLUME_INPUTS := --voxels $(OUT)/voxels.h5 --labels $(OUT)/labels.h5
-PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))
+PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))$(if $(EXACT_MODE),--validity rigid-exact --rigid-tolerance $(RIGID_TOLERANCE))
 COMMA := ,
-PLAN_COLLISION := --collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(OUT)/distfield-static.h5$(COMMA)$(OUT)/distfield-dynamic.h5)
+PLAN_COLLISION := $(if $(EXACT_MODE),,--collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(OUT)/distfield-static.h5$(COMMA)$(OUT)/distfield-dynamic.h5))
 
 .PHONY: all start voxelize medial-spheres pbd-label distfield-build tau-estimate plan smooth verdict report
 .DELETE_ON_ERROR:
@@ -141,7 +146,7 @@ plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	elif [ $$rc -ne 0 ]; then exit $$rc; fi
 
 SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
-  --profile $(OUT)/profile.csv -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+  --rigid-tolerance $(RIGID_TOLERANCE) --profile $(OUT)/profile.csv -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
 smooth: plan
 	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \
 	echo '$(SMOOTH_CMD)'; $(TIMED) smooth $(TIMES) $(SMOOTH_CMD) && \
@@ -150,7 +155,7 @@ smooth: plan
 # Exit 3 (not removable) still writes verdict.json; `all` fails afterwards,
 # so that the report is written for a failed scene too.
 VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau $(OUT)/tau.h5) --times $(TIMES) \
-  $(if $(BUDGET),--budget $(BUDGET)) -o $(OUT)/verdict.json $(VERDICT_FLAGS)
+  $(if $(BUDGET),--budget $(BUDGET)) --rigid-tolerance $(RIGID_TOLERANCE) -o $(OUT)/verdict.json $(VERDICT_FLAGS)
 verdict: smooth
 	@if [ -f $(TIMES)/no-path ]; then set -- --path $(OUT)/path.h5; \
 	else set -- --path $(OUT)/path-smooth.h5 --csv-name $(OUT)/path.csv; fi; \

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,11 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,
                                                const Eigen::Vector3d& dynamic_origin, double deviation);
+
+// Reads a path CSV as any tool would: lines starting with '#' skipped, a
+// header naming x,y,z,qw,qx,qy,qz (any order, other columns ignored), one
+// pose per row. Throws InputError naming the file and line.
+std::vector<Pose> ReadPathCsvFile(const std::filesystem::path& file);
 
 // The rigid tolerance in scene units: `millimetres` converted by the scene's
 // `units` (mm, cm, m, in; empty or unknown units are taken as mm, with a

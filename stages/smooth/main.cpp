@@ -9,7 +9,9 @@
 #include "collision/fcl_checker.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "collision/rigid_depth.h"
 #include "planning/dense_check.h"
+#include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "planning/smoother.h"
 #include "scene/scene.h"
@@ -26,6 +28,7 @@ struct SmoothStageOptions {
   bool force = false;
   SmoothOptions smooth;
   VolumeInputs volume;  // InIState paths: the voxels and labels they were planned with
+  double rigid_tolerance_mm = 0.05;  // rigid-exact paths
 };
 
 // Poses along a path (planning convention), densely: between two of them no
@@ -81,6 +84,50 @@ void WriteProfile(const std::filesystem::path& file, const PlanningProblem& prob
   WriteTextFileAtomically(file, text);
 }
 
+// A rigid-exact path (ausbau-plan --validity rigid-exact): shortcuts under
+// the same exact rigid check, the result densified for plain interpolation
+// and checked exactly as written; the input is kept when that fails.
+int SmoothRigidExact(const SmoothStageOptions& options, const Scene& scene, const PathArtifact& input,
+                     const Provenance& provenance) {
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
+    throw InputErrorAt(options.path, "was planned about another reference point than this scene's");
+  }
+  const ExactCheckReport input_check = ExactCheckPath(scene, input.waypoints, tolerance);
+  if (!input_check.valid) throw InputErrorAt(options.path, "the input path fails the exact check: " + input_check.reason);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  std::vector<Pose> planning_path;
+  for (const Pose& pose : input.waypoints) planning_path.push_back(problem.SceneToPlanning(pose));
+  SmoothResult result = SmoothPath(problem, checker, planning_path, options.smooth);
+  PathArtifact output = input;
+  output.waypoints.clear();
+  for (const Pose& pose : result.path) output.waypoints.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&output.waypoints);
+  output.waypoints = DensifyForPlainInterpolation(output.waypoints, problem.reference_point, problem.dynamic_origin,
+                                                  tolerance / 10);
+  const ExactCheckReport check = ExactCheckPath(scene, output.waypoints, tolerance);
+  if (!check.valid) {
+    LogWarn("smoothed path fails the exact check (%s); keeping the input path", check.reason.c_str());
+    output.waypoints = input.waypoints;
+    result.path = planning_path;
+    result.after = result.before;
+  }
+  output.length_normalized = result.after.normalized;
+  output.length_translation = result.after.translation;
+  output.length_rotation = result.after.rotation;
+  WritePathArtifact(options.output, output, provenance);
+  if (!options.csv.empty()) WritePathCsv(options.csv, output.waypoints);
+  if (!options.profile.empty()) WriteProfile(options.profile, problem, result.path, nullptr);
+  LogInfo("length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
+          "attempts; deepest rigid penetration %.4g %s",
+          result.before.normalized, result.after.normalized, result.before.translation, result.after.translation,
+          result.before.rotation, result.after.rotation, result.shortcuts, result.attempts,
+          check.valid ? check.max_rigid_depth : input_check.max_rigid_depth, scene.units.c_str());
+  return kExitOk;
+}
+
 int Run(const SmoothStageOptions& options, const std::string& parameters) {
   options.smooth.Check();
   const Scene scene = LoadScene(options.scene);
@@ -100,7 +147,7 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
       const PathArtifact cached = ReadPathArtifact(options.output);
       const PlanningProblem problem = MakePlanningProblem(scene);
       std::unique_ptr<VolumeModel> model;
-      if (cached.validity != "collision") {
+      if (cached.validity != "collision" && cached.validity != "rigid-exact") {
         model = LoadVolumeModel(scene, problem, ParseValidityMode(cached.validity), options.volume);
       }
       std::vector<Pose> path;
@@ -110,6 +157,7 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
     return kExitOk;
   }
 
+  if (input.validity == "rigid-exact") return SmoothRigidExact(options, scene, input, provenance);
   PlanningProblem problem = MakePlanningProblem(scene);
   if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
     throw InputErrorAt(options.path, "was planned about another reference point than this scene's");
@@ -234,6 +282,9 @@ int main(int argc, char** argv) {
                        "InIState paths: voxels they were planned with (ausbau-voxelize); default: voxelized here");
         app.add_option("--labels", options.volume.labels, "InIState paths: labels of D (the labeled modes)");
         app.add_flag("--force", options.force, "smooth even when the output is up to date");
+        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
+                       "rigid-exact paths: how deep D's rigid part may touch into S, in mm (scene units converted)")
+            ->capture_default_str();
       },
       [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "path", "output", "csv", "profile", "force", "voxels", "labels"})); });
 }

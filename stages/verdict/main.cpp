@@ -16,6 +16,7 @@
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "inistate/tau_estimate.h"
+#include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "scene/scene.h"
 
@@ -34,6 +35,7 @@ struct VerdictOptions {
   std::string times;
   std::string csv_name;
   double budget = -1;  // < 0: none
+  double rigid_tolerance_mm = 0.05;
   std::string output = "verdict.json";
 };
 
@@ -197,7 +199,17 @@ int Run(const VerdictOptions& options) {
   std::vector<std::pair<std::string, double>> stage_seconds;
   if (!options.times.empty()) stage_seconds = ReadStageSeconds(options.times);
 
-  const bool removable = path.success && !path.waypoints.empty();
+  // The independent exact check of the file as written (path.csv when
+  // given, interpolated the plain way): the verdict trusts no model.
+  std::optional<ExactCheckReport> exact;
+  bool tolerance_assumed = false;
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &tolerance_assumed);
+  if (path.success && !path.waypoints.empty()) {
+    const std::vector<Pose> written = options.csv_name.empty() ? path.waypoints : ReadPathCsvFile(options.csv_name);
+    exact = ExactCheckPath(scene, written, tolerance);
+    if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
+  }
+  const bool removable = path.success && !path.waypoints.empty() && exact && exact->valid;
   const std::optional<MaxVolume> max = FindMaxVolume(path);
   const bool volume_mode = path.validity != "collision";
   // tau and psi: the path's own (what it was planned with), else the tau file's.
@@ -259,6 +271,26 @@ int Run(const VerdictOptions& options) {
   } else {
     json.Null("max_labeled_mliv");
   }
+  if (exact) {
+    const PartModel& parts = *exact->parts;
+    json.Add("exact_check",
+             JsonObject()
+                 .Bool("valid", exact->valid)
+                 .String("reason", exact->reason)
+                 .String("file", options.csv_name.empty() ? options.path : options.csv_name)
+                 .Number("rigid_tolerance", tolerance)
+                 .Int("poses_checked", exact->poses_checked)
+                 .Number("max_rigid_penetration", exact->max_rigid_depth)
+                 .String("rigid_part", parts.Describe(exact->rigid_shell, true))
+                 .String("static_part", parts.Describe(exact->static_shell, false))
+                 .Int("at_segment", exact->worst_segment)
+                 .Number("max_fastener_penetration", exact->max_fastener_depth)
+                 .Int("fastener_shells", parts.FastenerCount())
+                 .Int("shells", static_cast<long long>(parts.robot_shells.size()))
+                 .Text());
+  } else {
+    json.Null("exact_check");
+  }
   json.Add("length", JsonObject()
                          .Number("normalized", removable ? path.length_normalized : std::nan(""))
                          .Number("translation", removable ? translation : std::nan(""))
@@ -292,6 +324,12 @@ int Run(const VerdictOptions& options) {
                 options.csv_name.empty() ? options.path.c_str() : options.csv_name.c_str(), path.waypoints.size(),
                 path.length_normalized);
   }
+  if (exact) {
+    std::printf("  exact check of %s: %s; deepest rigid penetration %.4g %s (tolerance %.4g), fasteners %.4g %s\n",
+                options.csv_name.empty() ? options.path.c_str() : options.csv_name.c_str(),
+                exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth,
+                scene.units.c_str(), tolerance, exact->max_fastener_depth, scene.units.c_str());
+  }
   std::printf("  time: %.2f s%s", total, options.times.empty() ? " (planner only)" : "");
   if (options.budget >= 0) std::printf(" (budget %.6g s: %s)", options.budget, total <= options.budget ? "within" : "exceeded");
   std::printf("\n  verdict: %s\n", options.output.c_str());
@@ -315,7 +353,11 @@ int main(int argc, char** argv) {
         app.add_option("--times", options.times, "folder of <stage>.seconds files (scripts/timed.sh)");
         app.add_option("--budget", options.budget, "seconds; adds within_budget (total <= budget)")
             ->check(CLI::NonNegativeNumber);
-        app.add_option("--csv-name", options.csv_name, "the path's CSV file, recorded in the verdict");
+        app.add_option("--csv-name", options.csv_name,
+                       "the path's CSV file: checked exactly as written (plain interpolation) and recorded");
+        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
+                       "how deep D's rigid part may touch into S along the path, in mm (scene units converted)")
+            ->capture_default_str();
         app.add_option("-o,--output", options.output, "verdict (JSON, schemas/verdict.md)")->capture_default_str();
       },
       [&] { return Run(options); });
