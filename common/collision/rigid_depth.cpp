@@ -192,7 +192,6 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   int clusters = 0;
   for (int i = 0; i < n; ++i) {
     if (parts->installed_depth[i] <= tolerance || i == parts->anchor || parts->cluster[i] >= 0) continue;
-    if (!parts->robot_shells[i].convex) continue;  // measured strictly: stays rigid (reported below)
     parts->cluster[i] = clusters;
     open.push(i);
     double deepest = 0;
