@@ -3,29 +3,52 @@
 
 #include "cli/stage_main.h"
 #include "core/log.h"
+#include "scene/box_scenes.h"
 #include "scene/clip_scenes.h"
 #include "scene/generators.h"
 
 int main(int argc, char** argv) {
   using namespace ausbau;
-  std::string family = "rod-in-cage", output = "scene";
+  std::string family = "rod-in-cage", output = "scene", tessellation = "coarse", world = "random";
   std::uint64_t seed = 1;
   std::int64_t triangles = 0;
+  CLI::App* cli = nullptr;
   return RunStage(
       {"ausbau-scene-gen", "Generates a small benchmark scene: meshes and scene.yaml."}, argc, argv,
       [&](CLI::App& app) {
+        cli = &app;
         app.add_option("--family", family,
-                       "rod-in-cage | peg-in-plate | two-boxes | clips-ds1 .. clips-ds5 (InIState scenes)")
+                       "rod-in-cage | peg-in-plate | two-boxes | clips-ds1 .. clips-ds5 (InIState scenes) | "
+                       "panel-tilt-slide | panel-straight-pull | panel-channel (box scenes with an exact checker)")
             ->capture_default_str();
         app.add_option("--seed", seed, "random seed (varies dimensions)")->capture_default_str();
         app.add_option("--triangles", triangles,
                        "clips-ds*: target triangle count of D; 0 = the thesis's (table 14)")
             ->capture_default_str();
+        app.add_option("--tessellation", tessellation,
+                       "panel-*: coarse (12 triangles per box) | fine (faces gridded, <= 2 mm edges)")
+            ->capture_default_str();
+        app.add_option("--world", world,
+                       "panel-*: identity (design frame) | random (random rotation, 2-4 m from the origin)")
+            ->capture_default_str();
         app.add_option("-o,--output", output, "output folder")->capture_default_str();
       },
       [&] {
         std::filesystem::path yaml;
-        if (IsClipSceneFamily(family)) {
+        const bool box_options = cli->count("--tessellation") > 0 || cli->count("--world") > 0;
+        if (IsBoxSceneFamily(family)) {
+          if (triangles != 0) throw InputError("--triangles: does not apply to the panel-* families");
+          BoxSceneOptions options;
+          options.seed = seed;
+          options.tessellation = ParseBoxTessellation(tessellation);
+          options.world = ParseBoxWorld(world);
+          const BoxSceneFiles files = GenerateBoxScene(family, options, output);
+          LogInfo("wrote %s, %s and %s", files.scene_yaml.string().c_str(), files.boxes_json.string().c_str(),
+                  files.known_path.string().c_str());
+          yaml = files.scene_yaml;
+        } else if (box_options) {
+          throw InputError("--tessellation, --world: apply only to the panel-* families");
+        } else if (IsClipSceneFamily(family)) {
           ClipSceneOptions options;
           options.seed = seed;
           options.triangles = triangles;
@@ -38,7 +61,8 @@ int main(int argc, char** argv) {
           if (std::find(known.begin(), known.end(), family) == known.end()) {
             std::string all;
             for (const auto& f : known) all += f + ", ";
-            for (const auto& f : ClipSceneFamilies()) all += f + (f == ClipSceneFamilies().back() ? "" : ", ");
+            for (const auto& f : ClipSceneFamilies()) all += f + ", ";
+            for (const auto& f : BoxSceneFamilies()) all += f + (f == BoxSceneFamilies().back() ? "" : ", ");
             throw InputError("--family: unknown family '" + family + "' (expected one of " + all + ")");
           }
           if (triangles != 0) throw InputError("--triangles: applies only to the clips-ds* families");
