@@ -6,6 +6,7 @@
 #include "geometry/primitives.h"
 #include "geometry/shells.h"
 #include "planning/exact_check.h"
+#include "scene/box_scenes.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -16,40 +17,6 @@ Pose At(double x, double y, double z, double angle = 0, Eigen::Vector3d axis = E
   p.t = {x, y, z};
   p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
   return p;
-}
-
-// A box split into n x n squares per face (a finer tessellation of the same
-// convex solid).
-TriangleMesh FineBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, int n) {
-  TriangleMesh mesh;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int side = 0; side < 2; ++side) {
-      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-      const int base = static_cast<int>(mesh.vertices.size());
-      for (int i = 0; i <= n; ++i) {
-        for (int j = 0; j <= n; ++j) {
-          Eigen::Vector3d p;
-          p[axis] = side ? hi[axis] : lo[axis];
-          p[u] = lo[u] + (hi[u] - lo[u]) * i / n;
-          p[v] = lo[v] + (hi[v] - lo[v]) * j / n;
-          mesh.vertices.push_back(p);
-        }
-      }
-      for (int i = 0; i < n; ++i) {
-        for (int j = 0; j < n; ++j) {
-          const int a = base + i * (n + 1) + j, b = a + n + 1, c = b + 1, d = a + 1;
-          if (side) {
-            mesh.triangles.push_back({a, b, c});
-            mesh.triangles.push_back({a, c, d});
-          } else {
-            mesh.triangles.push_back({a, c, b});
-            mesh.triangles.push_back({a, d, c});
-          }
-        }
-      }
-    }
-  }
-  return mesh;
 }
 
 TEST(Shells, BoxSoupSplitsIntoConvexBoxes) {
@@ -70,7 +37,10 @@ TEST(Shells, BoxSoupSplitsIntoConvexBoxes) {
 
 TEST(Shells, FineTessellationHasTheSameAxesAndDepth) {
   const auto coarse = SplitIntoShells(MakeBox({0, 0, 0}, {4, 2, 1}));
-  const auto fine = SplitIntoShells(FineBox({0, 0, 0}, {4, 2, 1}, 5));
+  OrientedBox box;  // the generators' finely tessellated box: 4 x 4 squares and more per face
+  box.center = {2, 1, 0.5};
+  box.half_extents = {2, 1, 0.5};
+  const auto fine = SplitIntoShells(BoxShell(box, BoxTessellation::kFine));
   ASSERT_EQ(fine.size(), 1u);
   EXPECT_TRUE(fine[0].convex);
   EXPECT_EQ(fine[0].face_normals.size(), 3u);

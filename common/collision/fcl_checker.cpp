@@ -2,25 +2,11 @@
 
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
-#include <fcl/geometry/bvh/BVH_model.h>
+
+#include "collision/fcl_model.h"
 
 namespace ausbau {
 namespace {
-
-using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
-
-std::shared_ptr<Bvh> BuildBvh(const TriangleMesh& mesh) {
-  std::vector<fcl::Vector3d> points(mesh.vertices.begin(), mesh.vertices.end());
-  std::vector<fcl::Triangle> triangles;
-  triangles.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) triangles.emplace_back(t[0], t[1], t[2]);
-  auto model = std::make_shared<Bvh>();
-  model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(points.size()));
-  model->addSubModel(points, triangles);
-  model->endModel();
-  model->computeLocalAABB();
-  return model;
-}
 
 fcl::Transform3d ToFcl(const Pose& pose) {
   fcl::Transform3d tf = fcl::Transform3d::Identity();
@@ -32,14 +18,14 @@ fcl::Transform3d ToFcl(const Pose& pose) {
 }  // namespace
 
 struct FclCollisionChecker::Models {
-  std::shared_ptr<Bvh> robot;
-  std::shared_ptr<Bvh> environment;
+  std::shared_ptr<FclModel> robot;
+  std::shared_ptr<FclModel> environment;
 };
 
 FclCollisionChecker::FclCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment)
     : models_(std::make_unique<Models>()) {
-  models_->robot = BuildBvh(robot);
-  models_->environment = BuildBvh(environment);
+  models_->robot = BuildFclModel(robot);
+  models_->environment = BuildFclModel(environment);
 }
 
 FclCollisionChecker::~FclCollisionChecker() = default;

@@ -1,6 +1,5 @@
 #include "collision/rigid_depth.h"
 
-#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
@@ -9,24 +8,11 @@
 #include <numeric>
 #include <queue>
 
+#include "collision/fcl_model.h"
 #include "core/format.h"
 
 namespace ausbau {
 namespace {
-
-using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
-
-std::shared_ptr<Bvh> BuildShellBvh(const Shell& shell) {
-  std::vector<fcl::Vector3d> points(shell.vertices.begin(), shell.vertices.end());
-  std::vector<fcl::Triangle> triangles;
-  for (const auto& t : shell.triangles) triangles.emplace_back(t[0], t[1], t[2]);
-  auto model = std::make_shared<Bvh>();
-  model->beginModel(static_cast<int>(triangles.size()), static_cast<int>(points.size()));
-  model->addSubModel(points, triangles);
-  model->endModel();
-  model->computeLocalAABB();
-  return model;
-}
 
 // A static bounding-box tree over S's shells: which shells come within a
 // distance of a sphere.
@@ -96,15 +82,13 @@ class ShellTree {
 struct PairMeasure {
   const std::vector<Shell>* robot;
   const std::vector<Shell>* statics;
-  std::vector<std::shared_ptr<Bvh>> robot_bvh, static_bvh;  // filled only for non-convex pairs' shells
+  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;  // filled only for non-convex pairs' shells
 
   double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
-    fcl::Transform3d tf = fcl::Transform3d::Identity();
-    tf.linear() = pose.linear();
-    tf.translation() = pose.translation();
+    const fcl::Transform3d& tf = pose;  // FCL's transform is Eigen's isometry
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
     fcl::collide(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
@@ -147,8 +131,8 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
     return std::any_of(shells.begin(), shells.end(), [](const Shell& s) { return !s.convex; });
   };
   if (!any_non_convex(parts.robot_shells) && !any_non_convex(parts.static_shells)) return;
-  for (const auto& s : parts.robot_shells) measure->robot_bvh.push_back(BuildShellBvh(s));
-  for (const auto& s : parts.static_shells) measure->static_bvh.push_back(BuildShellBvh(s));
+  for (const auto& s : parts.robot_shells) measure->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+  for (const auto& s : parts.static_shells) measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
 }
 
 }  // namespace
@@ -194,12 +178,10 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     if (parts->installed_depth[i] <= tolerance || i == parts->anchor || parts->cluster[i] >= 0) continue;
     parts->cluster[i] = clusters;
     open.push(i);
-    double deepest = 0;
     while (!open.empty()) {
       const int k = open.front();
       open.pop();
       parts->role[k] = ShellRole::kFastener;
-      deepest = std::max(deepest, parts->installed_depth[k]);
       for (int j = 0; j < n; ++j) {
         if (j == parts->anchor || parts->cluster[j] >= 0 || !parts->robot_shells[j].convex) continue;
         const Shell& a = parts->robot_shells[k];
@@ -212,9 +194,7 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
       }
     }
     // Fasteners bend as far as removal needs: their penetration is reported,
-    // not limited (the volume modes bound it by tau instead). The deepest
-    // installed penetration is kept for reports.
-    (void)deepest;
+    // not limited (the volume modes bound it by tau instead).
     parts->cluster_limit.push_back(std::numeric_limits<double>::infinity());
     ++clusters;
   }
@@ -238,7 +218,11 @@ RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, dou
 
 RigidDepthChecker::~RigidDepthChecker() = default;
 
-DepthReport RigidDepthChecker::Measure(const Pose& pose) const {
+DepthReport RigidDepthChecker::Measure(const Pose& pose) const { return MeasurePairs(pose, true); }
+
+double RigidDepthChecker::Slack(const Pose& pose) const { return MeasurePairs(pose, false).slack; }
+
+DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasteners) const {
   DepthReport report;
   report.slack = margin_;
   const Eigen::Isometry3d iso = pose.ToIsometry();
@@ -247,23 +231,17 @@ DepthReport RigidDepthChecker::Measure(const Pose& pose) const {
     const Shell& shell = parts.robot_shells[r];
     const bool rigid = parts.role[r] == ShellRole::kRigid;
     const double allowed = rigid ? limit_ : parts.cluster_limit[parts.cluster[r]] + limit_;
+    // An unlimited fastener cannot lower the slack: measured for reports only.
+    if (!rigid && !report_fasteners && std::isinf(allowed)) continue;
     impl_->tree.Query(iso * shell.center, shell.radius + margin_, [&](int s) {
       const double depth = impl_->measure.Depth(r, iso, s, margin_);
       report.slack = std::min(report.slack, allowed - depth);
-      if (rigid) {
-        if (depth > report.rigid_depth) {
-          report.rigid_depth = depth;
-          report.rigid_shell = r;
-          report.rigid_static_shell = s;
-        }
-      } else {
+      if (!rigid) {
         report.fastener_depth = std::max(report.fastener_depth, depth);
-        const double excess = depth - parts.cluster_limit[parts.cluster[r]];
-        if (excess > report.fastener_excess) {
-          report.fastener_excess = excess;
-          report.fastener_shell = r;
-          report.fastener_static_shell = s;
-        }
+      } else if (depth > report.rigid_depth) {
+        report.rigid_depth = depth;
+        report.rigid_shell = r;
+        report.rigid_static_shell = s;
       }
     });
   }

@@ -72,9 +72,6 @@ struct DepthReport {
   // is within the broad phase margin. +infinity: a non-convex pair intersects.
   double rigid_depth = -std::numeric_limits<double>::infinity();
   int rigid_shell = -1, rigid_static_shell = -1;
-  // Deepest fastener penetration beyond its cluster's installed depth.
-  double fastener_excess = -std::numeric_limits<double>::infinity();
-  int fastener_shell = -1, fastener_static_shell = -1;
   double fastener_depth = 0;  // deepest fastener penetration (reported, not judged)
   // min over measured pairs of (allowed depth - depth); >= 0 valid.
   double slack = 0;
@@ -95,9 +92,10 @@ class RigidDepthChecker : public SlackValidity {
   const PartModel& parts() const { return *parts_; }
 
  protected:
-  double Slack(const Pose& pose) const override { return Measure(pose).slack; }
+  double Slack(const Pose& pose) const override;
 
  private:
+  DepthReport MeasurePairs(const Pose& pose, bool report_fasteners) const;
   struct Impl;
   std::shared_ptr<const PartModel> parts_;
   double limit_, min_step_, margin_;

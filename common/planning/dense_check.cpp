@@ -1,35 +1,20 @@
 #include "planning/dense_check.h"
 
-#include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/narrowphase/collision.h>
 
 #include <cmath>
 #include <memory>
 
+#include "collision/fcl_model.h"
 #include "scene/scene.h"
 
 namespace ausbau {
-namespace {
-
-using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
-
-std::unique_ptr<Bvh> Build(const TriangleMesh& mesh) {
-  auto model = std::make_unique<Bvh>();
-  model->beginModel();
-  for (const auto& t : mesh.triangles) {
-    model->addTriangle(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
-  }
-  model->endModel();
-  return model;
-}
-
-}  // namespace
 
 DenseCheckReport DenseCheckPath(const Scene& scene, const Eigen::Vector3d& reference_point,
                                 const std::vector<Pose>& waypoints, double step_fraction) {
   DenseCheckReport report;
-  const auto robot = Build(scene.dynamic_mesh);  // mesh coordinates, not shifted
-  const auto environment = Build(scene.static_mesh);
+  const auto robot = BuildFclModel(scene.dynamic_mesh);  // mesh coordinates, not shifted
+  const auto environment = BuildFclModel(scene.static_mesh);
   const double step = step_fraction * scene.dynamic_mesh.Bounds().Diagonal();
   double radius = 0;  // farthest vertex from the interpolation centre
   for (const auto& v : scene.dynamic_mesh.vertices) radius = std::max(radius, (v - reference_point).norm());

@@ -4,59 +4,10 @@
 #include <cctype>
 #include <cmath>
 
-#include <fstream>
-#include <sstream>
-
-#include "core/error.h"
 #include "core/format.h"
 #include "scene/scene.h"
 
 namespace ausbau {
-
-std::vector<Pose> ReadPathCsvFile(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputErrorAt(file.string(), "cannot be read");
-  std::string line;
-  std::vector<int> column;  // index of x,y,z,qw,qx,qy,qz
-  std::vector<Pose> poses;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> cells;
-    std::stringstream cells_in(line);
-    for (std::string cell; std::getline(cells_in, cell, ',');) {
-      cell.erase(0, cell.find_first_not_of(" \t"));
-      cell.erase(cell.find_last_not_of(" \t") + 1);
-      cells.push_back(cell);
-    }
-    if (column.empty()) {
-      for (const char* name : {"x", "y", "z", "qw", "qx", "qy", "qz"}) {
-        const auto it = std::find(cells.begin(), cells.end(), name);
-        if (it == cells.end()) throw InputErrorAt(file.string(), Fmt("header lacks column '%s'", name));
-        column.push_back(static_cast<int>(it - cells.begin()));
-      }
-      continue;
-    }
-    double v[7];
-    for (int k = 0; k < 7; ++k) {
-      char* end = nullptr;
-      const std::string& cell = column[k] < static_cast<int>(cells.size()) ? cells[column[k]] : std::string();
-      v[k] = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || *end != '\0' || !std::isfinite(v[k]))
-        throw InputErrorAt(file.string(), Fmt("line %d: not a finite number in column %d", number, column[k] + 1));
-    }
-    Pose pose;
-    pose.t = {v[0], v[1], v[2]};
-    pose.q = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
-    if (std::abs(pose.q.norm() - 1) > 1e-3) throw InputErrorAt(file.string(), Fmt("line %d: not a unit quaternion", number));
-    pose.q.normalize();
-    poses.push_back(pose);
-  }
-  if (column.empty()) throw InputErrorAt(file.string(), "no header (x,y,z,qw,qx,qy,qz)");
-  return poses;
-}
 
 double RigidToleranceInSceneUnits(double millimetres, const std::string& units, bool* assumed) {
   std::string u;
@@ -131,7 +82,6 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
       report.worst_pose = pose;
     }
     report.max_fastener_depth = std::max(report.max_fastener_depth, depth.fastener_depth);
-    report.max_fastener_excess = std::max(report.max_fastener_excess, depth.fastener_excess);
     if (depth.slack < 0 && report.first_bad_segment < 0) report.first_bad_segment = segment;
     return std::max(depth.slack, 0.0);
   };
@@ -169,9 +119,6 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
                            report.max_rigid_depth, tolerance, report.worst_segment,
                            report.parts->Describe(report.rigid_shell, true).c_str(),
                            report.parts->Describe(report.static_shell, false).c_str()));
-  if (report.max_fastener_excess > tolerance)
-    problems.push_back(Fmt("a fastener of D goes %.4g deeper into S than at the installed pose",
-                           report.max_fastener_excess));
   report.valid = problems.empty();
   for (const auto& p : problems) report.reason += (report.reason.empty() ? "" : "; ") + p;
   return report;

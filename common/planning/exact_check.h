@@ -7,8 +7,8 @@
 //  2. at its last waypoint D's world AABB is separated from S's;
 //  3. along the whole interpolated motion, no rigid shell of D penetrates S
 //     deeper than `tolerance` (exact separating-axis depth per shell pair,
-//     collision/rigid_depth.h), and no fastener deeper than at the installed
-//     pose plus `tolerance`. Poses are checked by conservative advancement:
+//     collision/rigid_depth.h); fasteners are measured, not judged. Poses
+//     are checked by conservative advancement:
 //     the next pose is as far as the current slack allows (never less than
 //     `tolerance` / 10), with a rigorous bound on how far a point moves, so
 //     between two checked poses the depth can exceed the checked one by at
@@ -17,7 +17,6 @@
 #pragma once
 
 #include <cstdint>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -38,7 +37,6 @@ struct ExactCheckReport {
   double worst_fraction = 0;
   Pose worst_pose;                     // scene convention
   double max_fastener_depth = 0;       // deepest fastener penetration (reported)
-  double max_fastener_excess = 0;      // beyond the installed depth (judged)
   int first_bad_segment = -1;          // first segment that breaks the limits
   bool starts_at_start = false;
   bool ends_separated = false;
@@ -57,11 +55,6 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,
                                                const Eigen::Vector3d& dynamic_origin, double deviation);
-
-// Reads a path CSV as any tool would: lines starting with '#' skipped, a
-// header naming x,y,z,qw,qx,qy,qz (any order, other columns ignored), one
-// pose per row. Throws InputError naming the file and line.
-std::vector<Pose> ReadPathCsvFile(const std::filesystem::path& file);
 
 // The rigid tolerance in scene units: `millimetres` converted by the scene's
 // `units` (mm, cm, m, in; empty or unknown units are taken as mm, with a

@@ -3,9 +3,13 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace ausbau {
 
@@ -64,8 +68,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
   writer.SetAttribute("", "validity", path.validity);
-  // Volume modes only: rigid-exact paths carry no volumes.
-  if (path.validity != "collision" && path.validity != "rigid-exact") {
+  if (IsVolumeValidity(path.validity)) {
     const std::size_t n = path.waypoints.size();
     if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n) {
       throw std::logic_error("WritePathArtifact: per-waypoint volumes do not match the waypoints");
@@ -133,6 +136,51 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
     }
   }
   return path;
+}
+
+std::vector<Pose> ReadPathCsv(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputErrorAt(file.string(), "cannot be read");
+  std::string line;
+  std::vector<int> column;  // index of x,y,z,qw,qx,qy,qz
+  std::vector<Pose> poses;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream cells_in(line);
+    for (std::string cell; std::getline(cells_in, cell, ',');) {
+      cell.erase(0, cell.find_first_not_of(" \t"));
+      cell.erase(cell.find_last_not_of(" \t") + 1);
+      cells.push_back(cell);
+    }
+    if (column.empty()) {
+      for (const char* name : {"x", "y", "z", "qw", "qx", "qy", "qz"}) {
+        const auto it = std::find(cells.begin(), cells.end(), name);
+        if (it == cells.end()) throw InputErrorAt(file.string(), Fmt("header lacks column '%s'", name));
+        column.push_back(static_cast<int>(it - cells.begin()));
+      }
+      continue;
+    }
+    double v[7];
+    for (int k = 0; k < 7; ++k) {
+      char* end = nullptr;
+      const std::string& cell = column[k] < static_cast<int>(cells.size()) ? cells[column[k]] : std::string();
+      v[k] = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0' || !std::isfinite(v[k]))
+        throw InputErrorAt(file.string(), Fmt("line %d: not a finite number in column %d", number, column[k] + 1));
+    }
+    Pose pose;
+    pose.t = {v[0], v[1], v[2]};
+    pose.q = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
+    if (std::abs(pose.q.norm() - 1) > 1e-3) throw InputErrorAt(file.string(), Fmt("line %d: not a unit quaternion", number));
+    pose.q.normalize();
+    poses.push_back(pose);
+  }
+  if (column.empty()) throw InputErrorAt(file.string(), "no header (x,y,z,qw,qx,qy,qz)");
+  return poses;
 }
 
 void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints) {

@@ -38,6 +38,15 @@ struct PathArtifact {
   std::vector<double> waypoint_deformability;
 };
 
+// The validity of a path planned under the exact rigid check
+// (collision/rigid_depth.h); such paths carry no volumes.
+inline constexpr const char* kRigidExactValidity = "rigid-exact";
+// Whether a path's validity is a volume mode (shrink, iv, mliv, labeled-...):
+// then the artifact carries tau, psi and per-waypoint volumes.
+inline bool IsVolumeValidity(const std::string& validity) {
+  return validity != "collision" && validity != kRigidExactValidity;
+}
+
 // Makes consecutive quaternions lie in the same hemisphere (q and -q are one
 // rotation), so that any reader's interpolation takes the short way.
 void AlignQuaternionSigns(std::vector<Pose>* path);
@@ -53,6 +62,11 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file);
 // CSV with header x,y,z,qw,qx,qy,qz, one waypoint per row, 17 significant
 // digits; written atomically.
 void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
+
+// Reads a path CSV as any tool would: lines starting with '#' skipped, a
+// header naming x,y,z,qw,qx,qy,qz (any order, other columns ignored), one
+// pose per row. Throws InputError naming the file and line.
+std::vector<Pose> ReadPathCsv(const std::filesystem::path& file);
 
 // OMPL's path text format: one state per line, "x y z qx qy qz qw" (the
 // pose of the reference point OMPL.app uses, i.e. the scene convention when

@@ -116,22 +116,20 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
 MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step)
     : problem_(&problem), validity_(&validity), slack_(dynamic_cast<const SlackValidity*>(&validity)), step_(step) {}
 
-double MotionChecker::Advance(const Pose& a, const Pose& b, double s_begin, double s_end, Pose* last_valid) const {
+double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) const {
   // Conservative advancement: from a pose with slack d, any motion in which
   // no point of D moves farther than d stays valid; the straight motion
   // moves a point at most MaxDisplacement per unit of s (slerp turns at a
   // constant rate about one axis), so the next pose to check is d further.
   const double per_unit = MaxDisplacement(a, b, problem_->robot_radius);
-  double s = s_begin;
-  Pose pose = s == 0 ? a : Interpolate(a, b, s);
+  double s = 0;
+  Pose pose = a;
   while (true) {
-    if (!problem_->InBounds(pose)) return s == s_begin ? -1 : s;
-    const double slack = slack_->MeasureSlack(pose);
-    if (slack < 0) return s == s_begin ? -1 : s;
+    const double slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
+    if (slack < 0) return s == 0 ? -1.0 : s;
     if (last_valid) *last_valid = pose;
-    if (s >= s_end) return s_end;
-    const double advance = per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0;
-    s = std::min(s_end, s + advance);
+    if (s >= 1.0) return 1.0;
+    s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));
     pose = s == 1.0 ? b : Interpolate(a, b, s);
   }
 }
@@ -142,7 +140,7 @@ int MotionChecker::Steps(const Pose& a, const Pose& b) const {
 }
 
 bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
-  if (slack_) return Advance(a, b, 0.0, 1.0, nullptr) >= 1.0;
+  if (slack_) return Advance(a, b, nullptr) >= 1.0;
   const int steps = Steps(a, b);
   if (!IsValid(b)) return false;
   // Bisection order (as OMPL's discrete motion validator): a collision in
@@ -164,7 +162,7 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
 double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const {
   if (slack_) {
     Pose last = a;
-    const double reached = Advance(a, b, 0.0, 1.0, &last);
+    const double reached = Advance(a, b, &last);
     if (last_valid) *last_valid = last;
     return std::max(0.0, reached);
   }

@@ -117,10 +117,10 @@ class MotionChecker {
   const PoseValidity& validity() const { return *validity_; }
 
  private:
-  // With a SlackValidity: walks from s_begin towards s_end by conservative
-  // advancement; returns how far it got (s_end when every pose was valid,
-  // -1 when the first pose is invalid) and the last valid pose.
-  double Advance(const Pose& a, const Pose& b, double s_begin, double s_end, Pose* last_valid) const;
+  // With a SlackValidity: walks from a towards b by conservative
+  // advancement; returns how far it got in [0, 1] (1 when every pose was
+  // valid, -1 when a is invalid) and the last valid pose.
+  double Advance(const Pose& a, const Pose& b, Pose* last_valid) const;
 
   const PlanningProblem* problem_;
   const PoseValidity* validity_;

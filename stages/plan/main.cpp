@@ -2,6 +2,7 @@
 // goal pose or, without a goal, out of S (disassembly). See README.md.
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 #include "cli/stage_main.h"
 #include "cli/volume_inputs.h"
@@ -42,7 +43,7 @@ struct PlanStageOptions {
   double rigid_tolerance_mm = 0.05;  // rigid-exact: millimetres, converted by the scene's units
 };
 
-constexpr const char* kRigidExact = "rigid-exact";
+constexpr const char* kRigidExact = kRigidExactValidity;
 
 std::vector<std::string> PlanValidityNames() {
   std::vector<std::string> names = ValidityModeNames();
@@ -216,6 +217,19 @@ PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene,
   return artifact;
 }
 
+// An existing output with the same provenance is the same answer: reused
+// (its CSV and OMPL files written again), and its exit status returned.
+std::optional<int> ReuseCachedPath(const PlanStageOptions& options, const Provenance& provenance) {
+  if (options.force || ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) != provenance.Hash()) {
+    return std::nullopt;
+  }
+  const PathArtifact cached = ReadPathArtifact(options.output);
+  LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
+  if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
+  if (!options.ompl_path.empty() && cached.success) WriteOmplPath(options.ompl_path, cached.waypoints);
+  return cached.success ? kExitOk : kExitNoPath;
+}
+
 // --validity rigid-exact: D's rigid shells never deeper in S than the
 // tolerance (half of it while planning, so that the plain-interpolated,
 // densified file passes the full tolerance), its fasteners free
@@ -292,13 +306,7 @@ int Run(PlanStageOptions options, const std::string& parameters) {
     ResolvedPlanner(options, false).Check();
     const Scene scene = LoadScene(options.scene);
     const Provenance provenance = MakeProvenance(scene, parameters, options);
-    if (!options.force &&
-        ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {
-      const PathArtifact cached = ReadPathArtifact(options.output);
-      LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
-      if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
-      return cached.success ? kExitOk : kExitNoPath;
-    }
+    if (const auto cached = ReuseCachedPath(options, provenance)) return *cached;
     return RunRigidExact(options, scene, provenance);
   }
   const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
@@ -315,14 +323,7 @@ int Run(PlanStageOptions options, const std::string& parameters) {
   const Scene scene = LoadScene(options.scene);
   const Provenance provenance = MakeProvenance(scene, parameters, options);
 
-  // Cache: an existing output with the same provenance is the same answer.
-  if (!options.force && ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) == provenance.Hash()) {
-    const PathArtifact cached = ReadPathArtifact(options.output);
-    LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
-    if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
-    if (!options.ompl_path.empty() && cached.success) WriteOmplPath(options.ompl_path, cached.waypoints);
-    return cached.success ? kExitOk : kExitNoPath;
-  }
+  if (const auto cached = ReuseCachedPath(options, provenance)) return *cached;
 
   const PlanningProblem problem = MakePlanningProblem(scene);
   const PlannerOptions planner = ResolvedPlanner(options, volume_mode);

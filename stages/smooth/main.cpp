@@ -7,9 +7,9 @@
 #include "inistate/volume_smoother.h"
 #include "core/atomic_file.h"
 #include "collision/fcl_checker.h"
+#include "collision/rigid_depth.h"
 #include "core/hash.h"
 #include "core/log.h"
-#include "collision/rigid_depth.h"
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
 #include "planning/path_io.h"
@@ -147,7 +147,7 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
       const PathArtifact cached = ReadPathArtifact(options.output);
       const PlanningProblem problem = MakePlanningProblem(scene);
       std::unique_ptr<VolumeModel> model;
-      if (cached.validity != "collision" && cached.validity != "rigid-exact") {
+      if (IsVolumeValidity(cached.validity)) {
         model = LoadVolumeModel(scene, problem, ParseValidityMode(cached.validity), options.volume);
       }
       std::vector<Pose> path;
@@ -157,7 +157,7 @@ int Run(const SmoothStageOptions& options, const std::string& parameters) {
     return kExitOk;
   }
 
-  if (input.validity == "rigid-exact") return SmoothRigidExact(options, scene, input, provenance);
+  if (input.validity == kRigidExactValidity) return SmoothRigidExact(options, scene, input, provenance);
   PlanningProblem problem = MakePlanningProblem(scene);
   if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
     throw InputErrorAt(options.path, "was planned about another reference point than this scene's");

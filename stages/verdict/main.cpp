@@ -202,10 +202,9 @@ int Run(const VerdictOptions& options) {
   // The independent exact check of the file as written (path.csv when
   // given, interpolated the plain way): the verdict trusts no model.
   std::optional<ExactCheckReport> exact;
-  bool tolerance_assumed = false;
-  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &tolerance_assumed);
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
   if (path.success && !path.waypoints.empty()) {
-    const std::vector<Pose> written = options.csv_name.empty() ? path.waypoints : ReadPathCsvFile(options.csv_name);
+    const std::vector<Pose> written = options.csv_name.empty() ? path.waypoints : ReadPathCsv(options.csv_name);
     exact = ExactCheckPath(scene, written, tolerance);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
