@@ -122,11 +122,12 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   // moves a point at most MaxDisplacement per unit of s (slerp turns at a
   // constant rate about one axis), so the next pose to check is d further.
   const double per_unit = MaxDisplacement(a, b, problem_->robot_radius);
-  double s = 0;
+  double s = 0, valid = -1.0;  // valid: the last valid pose's s
   Pose pose = a;
   while (true) {
     const double slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
-    if (slack < 0) return s == 0 ? -1.0 : s;
+    if (slack < 0) return valid;
+    valid = s;
     if (last_valid) *last_valid = pose;
     if (s >= 1.0) return 1.0;
     s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));

@@ -191,7 +191,7 @@ int Run(const VerdictOptions& options) {
   std::optional<TauArtifact> tau;
   if (!options.tau.empty()) {
     tau = ReadTauArtifact(options.tau);
-    if (path.validity != "collision" && tau->validity != path.validity) {
+    if (IsVolumeValidity(path.validity) && tau->validity != path.validity) {
       LogWarn("%s was estimated for --validity %s, the path was planned under %s", options.tau.c_str(),
               tau->validity.c_str(), path.validity.c_str());
     }
@@ -210,7 +210,7 @@ int Run(const VerdictOptions& options) {
   }
   const bool removable = path.success && !path.waypoints.empty() && exact && exact->valid;
   const std::optional<MaxVolume> max = FindMaxVolume(path);
-  const bool volume_mode = path.validity != "collision";
+  const bool volume_mode = IsVolumeValidity(path.validity);
   // tau and psi: the path's own (what it was planned with), else the tau file's.
   double tau_value = std::nan(""), psi_value = std::nan("");
   if (volume_mode) {
