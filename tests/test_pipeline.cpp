@@ -61,7 +61,7 @@ class PipelineTest : public ::testing::Test {
     const auto start = std::chrono::steady_clock::now();
     root_ = new fs::path(testing::MakeTempDir("pipeline"));
     const Outcome gen = testing::RunStageCommand(
-        "scene-gen", "--family clips-ds4 --triangles 2000 --seed 1 -o " + (*root_ / "scene").string());
+        "scene-gen", "--family clips-ds1 --triangles 2000 --seed 1 -o " + (*root_ / "scene").string());
     ASSERT_EQ(gen.exit_code, 0) << gen.output;
     first_ = new Outcome(RunPipeline(*root_ / "scene/scene.yaml", *root_ / "out"));
     first_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

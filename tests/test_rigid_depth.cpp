@@ -162,6 +162,26 @@ TEST(RigidDepth, ASolidBlockInterferingIsRigid) {
   EXPECT_EQ(parts->rigid_interference[0], 0);
 }
 
+TEST(RigidDepth, ANonConvexShellInterferingIsRigid) {
+  // A panel with a dented (non-convex) lug that intersects S at the installed
+  // pose: its depth is not measured, so it cannot be a fastener.
+  TriangleMesh robot = MakeBox({-20, -20, 0}, {20, 20, 2});
+  const int base = static_cast<int>(robot.vertices.size());
+  for (const Eigen::Vector3d& v : std::vector<Eigen::Vector3d>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, -4}, {0.5, 0.5, -0.5}})
+    robot.vertices.push_back(v);
+  for (auto tri : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 4, 2}, {2, 4, 3}, {3, 4, 1}}) {
+    for (int& i : tri) i += base;
+    robot.triangles.push_back(tri);
+  }
+  const TriangleMesh plate = MakeBox({-30, -30, -3}, {30, 30, -1});
+  const auto parts = ClassifyParts(robot, plate, Pose{}, 0.05);
+  ASSERT_EQ(parts->robot_shells.size(), 2u);
+  EXPECT_FALSE(parts->robot_shells[1].convex);
+  EXPECT_EQ(parts->FastenerCount(), 0);
+  ASSERT_EQ(parts->rigid_interference.size(), 1u);
+  EXPECT_EQ(parts->rigid_interference[0], 1);
+}
+
 TEST(RigidDepth, RotatedAndMovedSceneGivesTheSameClassificationAndDepths) {
   const KeyScene scene;
   Eigen::Isometry3d world = Eigen::Isometry3d::Identity();

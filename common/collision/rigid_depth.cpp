@@ -176,6 +176,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   int clusters = 0;
   for (int i = 0; i < n; ++i) {
     if (parts->installed_depth[i] <= tolerance || i == parts->anchor || parts->cluster[i] >= 0) continue;
+    // A non-convex shell's depth is not measured (only "intersects"): it
+    // stays rigid, and its interference is reported (clips-ds4's open rails).
+    if (!parts->robot_shells[i].convex) continue;
     parts->cluster[i] = clusters;
     open.push(i);
     while (!open.empty()) {
@@ -194,7 +197,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
       }
     }
     // Fasteners bend as far as removal needs: their penetration is reported,
-    // not limited (the volume modes bound it by tau instead).
+    // not limited (the volume modes bound it by tau instead). Bounding it by
+    // the installed depth was measured: it refuses rail-rotate-s11, whose
+    // clips must bend further than installed to pass their rims.
     parts->cluster_limit.push_back(std::numeric_limits<double>::infinity());
     ++clusters;
   }

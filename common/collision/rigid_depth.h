@@ -8,14 +8,16 @@
 // fit) is deformed. So
 //  1. the anchor is D's largest shell (by volume): the body the fasteners
 //     hang from. It is always rigid;
-//  2. a shell of D (convex or not) that penetrates S deeper than the tolerance at the
+//  2. a convex shell of D that penetrates S deeper than the tolerance at the
 //     installed pose is a fastener, and so is every shell of D that overlaps
 //     a fastener (a clip's beam under its hook), growing through overlaps but
 //     never through the anchor;
 //  3. every other shell is rigid: ribs, rails, pins, the panel, and a solid
 //     block or peg (one shell: the anchor). Nothing is deformable unless it
 //     is already deformed at the installed pose.
-// When the anchor penetrates S at the installed pose,
+// When the anchor, or a non-convex shell (its depth is not measured, so a
+// friction fit there cannot be told from a cut), penetrates S at the
+// installed pose,
 // D cannot come out without cutting: `rigid_interference` says which.
 // Fasteners are not limited here: a clip bends as far as its removal needs
 // (passing the rim, its hook overlaps S by its whole reach, more than at the
