@@ -52,6 +52,38 @@ TEST(Shells, FineTessellationHasTheSameAxesAndDepth) {
   EXPECT_NEAR(ConvexSignedDepth(fine[0], identity, other[0]), 0.3, 1e-12);
 }
 
+TEST(Shells, FineBoxesMetresAwayInSinglePrecisionStayConvexShells) {
+  // Two finely tessellated boxes flush along an edge (a rail's leg and foot),
+  // turned and placed 4 m from the origin, every coordinate rounded to float
+  // as an STL file stores it, each triangle with its own corners.
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, -2, 0.5).normalized()).toRotationMatrix();
+  OrientedBox leg, foot;
+  leg.rotation = foot.rotation = turn;
+  leg.half_extents = {1.5, 15, 4};
+  foot.half_extents = {3.5, 15, 1.2};
+  leg.center = Eigen::Vector3d(3000, -2000, 1500);
+  foot.center = leg.center + turn * Eigen::Vector3d(2, 0, -2.8);  // flush at the leg's outer bottom edge
+  TriangleMesh soup;
+  for (const OrientedBox* box : {&leg, &foot}) {
+    const TriangleMesh shell = BoxShell(*box, BoxTessellation::kFine);
+    for (const auto& tri : shell.triangles) {
+      std::array<int, 3> own;
+      for (int k = 0; k < 3; ++k) {
+        own[k] = static_cast<int>(soup.vertices.size());
+        soup.vertices.push_back(shell.vertices[tri[k]].cast<float>().cast<double>());
+      }
+      soup.triangles.push_back(own);
+    }
+  }
+  const auto shells = SplitIntoShells(soup);
+  ASSERT_EQ(shells.size(), 2u);
+  for (const auto& shell : shells) {
+    EXPECT_TRUE(shell.closed);
+    EXPECT_TRUE(shell.convex);
+    EXPECT_EQ(shell.corners.size(), 8u);
+  }
+}
+
 TEST(Shells, NonConvexAndOpenShellsAreFlagged) {
   TriangleMesh open = MakeBox({0, 0, 0}, {1, 1, 1});
   open.triangles.pop_back();

@@ -89,11 +89,19 @@ void Analyse(Shell& shell) {
   shell.volume = shell.closed ? std::abs(signed_volume) : 0.0;
   if (!shell.closed) return;
 
-  // Convex: every vertex on one side of every (non-degenerate) face plane,
-  // within a tolerance for coordinate noise (relative to the shell's size
-  // and to its distance from the origin, as single-precision files lose
-  // digits there).
+  // Convex: every vertex on one side of every face plane, within a
+  // tolerance for coordinate noise (relative to the shell's size and to its
+  // distance from the origin, as single-precision files lose digits there).
+  // Coplanar triangles are tested as one face (their area-weighted normal,
+  // through their mean vertex): a finely tessellated face's small triangles
+  // each tilt by the rounding of their corners, and the far side of a large
+  // shell would then seem to lie on both sides of their planes.
   const double tolerance = 1e-4 * shell.radius + 1e-6 * shell.center.norm();
+  struct Face {
+    Eigen::Vector3d first, sum = Eigen::Vector3d::Zero(), point_sum = Eigen::Vector3d::Zero();
+    int points = 0;
+  };
+  std::vector<Face> faces;  // by signed direction: a box's opposite faces stay apart
   DirectionSet normals;
   std::vector<int> triangle_group(shell.triangles.size(), -1);
   for (std::size_t t = 0; t < shell.triangles.size(); ++t) {
@@ -103,7 +111,17 @@ void Analyse(Shell& shell) {
     const double area2 = cross.norm();
     if (!(area2 > 1e-12 * shell.radius * shell.radius)) continue;
     const Eigen::Vector3d n = cross / area2;
-    const double offset = n.dot(shell.vertices[tri[0]]);
+    auto face = std::find_if(faces.begin(), faces.end(),
+                             [&](const Face& f) { return f.first.dot(n) >= std::cos(kSameDirection); });
+    if (face == faces.end()) face = faces.insert(faces.end(), Face{n});
+    face->sum += area2 * n;
+    for (int k = 0; k < 3; ++k) face->point_sum += shell.vertices[tri[k]];
+    face->points += 3;
+    triangle_group[t] = normals.Add(n, area2);
+  }
+  for (const Face& face : faces) {
+    const Eigen::Vector3d n = face.sum.normalized();
+    const double offset = n.dot(face.point_sum / face.points);
     double lo = 0, hi = 0;
     for (const auto& v : shell.vertices) {
       const double d = n.dot(v) - offset;
@@ -111,7 +129,6 @@ void Analyse(Shell& shell) {
       hi = std::max(hi, d);
     }
     if (lo < -tolerance && hi > tolerance) return;  // vertices on both sides: not convex
-    triangle_group[t] = normals.Add(n, area2);
   }
   shell.face_normals = normals.Directions();
   if (shell.face_normals.empty()) return;
@@ -208,6 +225,10 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
       if (corner(t, k) != a && corner(t, k) != b) return corner(t, k);
     return corner(t, 0);
   };
+  // Two passes: first the unambiguous edges (a finely tessellated face, a
+  // box's own edges where no other solid touches), then the shared ones,
+  // where a candidate already joined to the triangle settles it.
+  for (int pass = 0; pass < 2; ++pass) {
   for (int t = 0; t < triangle_count; ++t) {
     const Eigen::Vector3d normal = (positions[corner(t, 1)] - positions[corner(t, 0)])
                                        .cross(positions[corner(t, 2)] - positions[corner(t, 0)]);
@@ -217,14 +238,18 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
       if (reverse == directed.end()) {
         // Inconsistently oriented: join where the edge has one other triangle.
         const auto& same = directed[key_of(a, b)];
-        if (same.size() == 2) join(same[0], same[1]);
+        if (pass == 0 && same.size() == 2) join(same[0], same[1]);
         continue;
       }
       const auto& candidates = reverse->second;
       if (candidates.size() == 1) {
-        join(t, candidates[0]);
+        if (pass == 0) join(t, candidates[0]);
         continue;
       }
+      if (pass == 0) continue;
+      const bool settled = std::any_of(candidates.begin(), candidates.end(),
+                                       [&](int c) { return Find(parent, c) == Find(parent, t); });
+      if (settled) continue;
       const Eigen::Vector3d axis = (positions[b] - positions[a]).normalized();
       auto inward = [&](int tri) {  // in the triangle's plane, from the edge to its third corner
         const Eigen::Vector3d d = positions[third(tri, a, b)] - positions[a];
@@ -255,6 +280,7 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
       }
       join(t, best);
     }
+  }
   }
   std::vector<Shell> shells;
   std::unordered_map<int, int> shell_of_root;
