@@ -2,6 +2,11 @@
 #
 #   make -f pipelines/inistate.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [TIME_LIMIT=60] ...
 #
+# By default (VALIDITY=rigid-exact, README "Rigid and deformable") only
+# plan -> smooth -> verdict [-> report] run: D's rigid solids are checked
+# exactly, its fasteners are those that intersect S at the installed pose.
+# The volume modes (VALIDITY=labeled-mliv, ...) run the whole chain:
+#
 #   voxelize ----------------------------\
 #   medial-spheres -> pbd-label ----------> tau-estimate -> plan -> smooth -> verdict [-> report]
 #   distfield-build ---------------------------------------/
@@ -42,7 +47,7 @@ TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
-VALIDITY ?= labeled-mliv  # rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
+VALIDITY ?= rigid-exact   # rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
 RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's rigid part may touch into S
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)

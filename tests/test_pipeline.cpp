@@ -37,11 +37,16 @@ Outcome Shell(const std::string& command) {
 
 // The pipeline on `scene` into `out`, with settings that keep it fast (one
 // thread, coarse distance fields, fewer labeling load cases, no report).
-Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "") {
+// Most tests here exercise the volume pipeline (voxels, labels, tau, its
+// caching), so they ask for VALIDITY=labeled-mliv; `validity` empty runs the
+// pipeline's default (rigid-exact).
+Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "",
+                    const std::string& validity = "labeled-mliv") {
   const std::string command = "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
                               " BIN=" + testing::BinDir().string() + " SCENE=" + scene.string() + " OUT=" + out.string() +
                               " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--resolution 64' "
-                              "LABEL_FLAGS='--max-load-cases 300' " + variables;
+                              "LABEL_FLAGS='--max-load-cases 300' " +
+                              (validity.empty() ? "" : "VALIDITY=" + validity + " ") + variables;
   return Shell(command);
 }
 
@@ -54,6 +59,12 @@ bool UpToDate(const Outcome& outcome, const std::string& file) {
 // A member's line of verdict.json ("removable": true) - the file has one key
 // per line.
 bool HasLine(const std::string& json, const std::string& line) { return json.find(line) != std::string::npos; }
+
+// The `exact_check` object's `valid` member (its first line).
+bool ExactCheckValid(const std::string& json) {
+  const auto at = json.find("\"exact_check\": {");
+  return at != std::string::npos && json.find("\"valid\": true", at) == json.find("\"valid\": ", at);
+}
 
 class PipelineTest : public ::testing::Test {
  protected:
@@ -222,6 +233,48 @@ TEST_F(PipelineTest, NoPathStillWritesAVerdictAndMakeFails) {
   EXPECT_FALSE(fs::exists(dir / "out/path.csv")) << "a stale path.csv survived";
   EXPECT_FALSE(fs::exists(dir / "out/path-smooth.h5"));
   EXPECT_NE(run.output.find("not removable"), std::string::npos) << run.output;
+}
+
+TEST_F(PipelineTest, TheDefaultIsTheExactRigidCheckWithoutVoxelsLabelsOrTau) {
+  // A box-soup panel metres from the origin: clips, a rail under a lip, a pin.
+  const fs::path scene = *root_ / "panel";
+  const Outcome gen = testing::RunStageCommand("scene-gen", "--family panel-tilt-slide --seed 1 -o " + scene.string());
+  ASSERT_EQ(gen.exit_code, 0) << gen.output;
+  const fs::path dir = *root_ / "exact";
+  const Outcome run = RunPipeline(scene / "scene.yaml", dir, "", "");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "tau.h5", "distfield-static.h5"}) {
+    EXPECT_FALSE(fs::exists(dir / name)) << name;
+  }
+  const std::string json = testing::ReadTextFile(dir / "verdict.json");
+  EXPECT_TRUE(HasLine(json, "\"removable\": true")) << json;
+  EXPECT_TRUE(HasLine(json, "\"validity\": \"rigid-exact\"")) << json;
+  EXPECT_TRUE(ExactCheckValid(json)) << json;
+
+  // The clip scene's plate is one welded, non-convex mesh: the clips'
+  // interference there is not measured, and the default mode says so
+  // instead of freeing them (a friction-fit rail looks the same).
+  const Outcome refused = RunPipeline(*root_ / "scene/scene.yaml", *root_ / "exact-ds1", "", "");
+  EXPECT_NE(refused.exit_code, 0) << refused.output;
+  EXPECT_NE(refused.output.find("depth is not measured"), std::string::npos) << refused.output;
+  EXPECT_TRUE(HasLine(testing::ReadTextFile(*root_ / "exact-ds1/verdict.json"), "\"removable\": false"));
+}
+
+TEST_F(PipelineTest, TheVerdictChecksThePathCsvAsWritten) {
+  // A path.csv that pushes the panel 20 mm down through the plate before
+  // leaving: the planner's own artifact is fine, the file is not.
+  const fs::path dir = Copy("doctored");
+  std::ofstream(dir / "doctored.csv") << "# edited by hand\nx,y,z,qw,qx,qy,qz\n0,0,0,1,0,0,0\n0,0,-20,1,0,0,0\n"
+                                      << "0,0,-20,1,0,0,0\n0,0,500,1,0,0,0\n";
+  const Outcome run = testing::RunStageCommand(
+      "verdict", "--scene " + (dir / "scene/scene.yaml").string() + " --path " + (dir / "out/path-smooth.h5").string() +
+                     " --csv-name " + (dir / "doctored.csv").string() + " -o " + (dir / "verdict.json").string());
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+  const std::string json = testing::ReadTextFile(dir / "verdict.json");
+  EXPECT_TRUE(HasLine(json, "\"removable\": false")) << json;
+  EXPECT_TRUE(HasLine(json, "\"exact_check\": {")) << json;
+  EXPECT_FALSE(ExactCheckValid(json)) << json;
+  EXPECT_NE(json.find("penetrates S"), std::string::npos) << json;
 }
 
 // ---- ausbau-verdict on its own

@@ -138,7 +138,8 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
 }  // namespace
 
 std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
-                                               const Pose& installed, double tolerance) {
+                                               const Pose& installed, double tolerance,
+                                               UnmeasuredInterference unmeasured) {
   auto parts = std::make_shared<PartModel>();
   parts->tolerance = tolerance;
   parts->robot_shells = SplitIntoShells(robot);
@@ -176,9 +177,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   int clusters = 0;
   for (int i = 0; i < n; ++i) {
     if (parts->installed_depth[i] <= tolerance || i == parts->anchor || parts->cluster[i] >= 0) continue;
-    // A non-convex shell's depth is not measured (only "intersects"): it
-    // stays rigid, and its interference is reported (clips-ds4's open rails).
-    if (!parts->robot_shells[i].convex) continue;
+    // Not measured (infinite: a non-convex pair that intersects): rigid, and
+    // its interference reported, unless a volume model bounds it.
+    if (std::isinf(parts->installed_depth[i]) && unmeasured == UnmeasuredInterference::kRigid) continue;
     parts->cluster[i] = clusters;
     open.push(i);
     while (!open.empty()) {

@@ -8,16 +8,15 @@
 // fit) is deformed. So
 //  1. the anchor is D's largest shell (by volume): the body the fasteners
 //     hang from. It is always rigid;
-//  2. a convex shell of D that penetrates S deeper than the tolerance at the
-//     installed pose is a fastener, and so is every shell of D that overlaps
+//  2. a shell of D that penetrates S deeper than the tolerance at the
+//     installed pose, measured (see UnmeasuredInterference), is a fastener, and so is every shell of D that overlaps
 //     a fastener (a clip's beam under its hook), growing through overlaps but
 //     never through the anchor;
 //  3. every other shell is rigid: ribs, rails, pins, the panel, and a solid
 //     block or peg (one shell: the anchor). Nothing is deformable unless it
 //     is already deformed at the installed pose.
-// When the anchor, or a non-convex shell (its depth is not measured, so a
-// friction fit there cannot be told from a cut), penetrates S at the
-// installed pose,
+// When the anchor, or a shell whose interference is not measured,
+// penetrates S at the installed pose,
 // D cannot come out without cutting: `rigid_interference` says which.
 // Fasteners are not limited here: a clip bends as far as its removal needs
 // (passing the rim, its hook overlaps S by its whole reach, more than at the
@@ -63,10 +62,19 @@ struct PartModel {
   std::string Describe(int shell, bool robot) const;
 };
 
+// An interference at the installed pose whose depth is not measured (a pair
+// with a non-convex or open shell, e.g. a plate with holes welded into one
+// mesh): nothing tells a snap clip there from a friction-fit rail that must
+// not be pushed deeper (clips-ds4). Alone, the exact check must refuse it
+// (kRigid); where a volume model bounded every intersection while planning
+// (the volume modes), the exact check leaves it to that model (kFastener).
+enum class UnmeasuredInterference { kRigid, kFastener };
+
 // Splits D and S into shells and classifies D's shells at `installed` (the
 // start pose, in the robot mesh's frame). `tolerance` in scene units.
 std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
-                                               const Pose& installed, double tolerance);
+                                               const Pose& installed, double tolerance,
+                                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
 
 struct DepthReport {
   // Deepest penetration of a rigid shell into S (> 0), or minus a lower bound

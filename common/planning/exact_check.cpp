@@ -47,7 +47,8 @@ std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoint
   return out;
 }
 
-ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance) {
+ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
+                                UnmeasuredInterference unmeasured) {
   ExactCheckReport report;
   if (waypoints.empty()) {
     report.reason = "the path has no waypoint";
@@ -55,7 +56,7 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   }
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
-  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance);
+  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb robot_box = robot.Bounds();
   const Eigen::Vector3d c = robot_box.Center();
@@ -112,7 +113,8 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   if (!report.starts_at_start) problems.push_back("the first waypoint is not the start (installed) pose");
   if (!report.ends_separated) problems.push_back("at the last waypoint D's AABB still overlaps S's");
   if (!report.parts->rigid_interference.empty())
-    problems.push_back("a rigid part of D penetrates S at the installed pose: " +
+    problems.push_back("a rigid part of D penetrates S at the installed pose (or intersects it where the depth is "
+                       "not measured): " +
                        report.parts->Describe(report.parts->rigid_interference.front(), true));
   if (report.max_rigid_depth > tolerance)
     problems.push_back(Fmt("a rigid part of D penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",

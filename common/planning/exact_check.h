@@ -13,7 +13,8 @@
 //     `tolerance` / 10), with a rigorous bound on how far a point moves, so
 //     between two checked poses the depth can exceed the checked one by at
 //     most that floor.
-// The same shells and roles as the planners (ClassifyParts at the start).
+// The same shells and roles as the planners (ClassifyParts at the start;
+// `unmeasured` as there).
 #pragma once
 
 #include <cstdint>
@@ -43,7 +44,8 @@ struct ExactCheckReport {
   std::shared_ptr<const PartModel> parts;
 };
 
-ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance);
+ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
+                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
 
 // Adds waypoints so that interpolating each segment the plain way (about
 // D's mesh origin shifted by dynamic_origin) stays within `deviation` of

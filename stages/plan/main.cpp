@@ -254,8 +254,15 @@ int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Pro
   artifact.scene = scene.name;
   if (!parts->rigid_interference.empty()) {
     const int shell = parts->rigid_interference.front();
-    LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
-             parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
+    if (std::isinf(parts->installed_depth[shell])) {
+      LogError("not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
+               "non-convex pair whose depth is not measured (README \"Rigid and deformable\"; the volume modes, "
+               "VALIDITY=labeled-mliv, bound such fits by tau)",
+               parts->Describe(shell, true).c_str());
+    } else {
+      LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
+               parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
+    }
     artifact.planner = "none";
     WritePathArtifact(options.output, artifact, provenance);
     return kExitNoPath;

@@ -205,7 +205,11 @@ int Run(const VerdictOptions& options) {
   const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
   if (path.success && !path.waypoints.empty()) {
     const std::vector<Pose> written = options.csv_name.empty() ? path.waypoints : ReadPathCsv(options.csv_name);
-    exact = ExactCheckPath(scene, written, tolerance);
+    // Volume modes bounded every intersection by tau while planning: an
+    // interference the exact check cannot measure is left to that model.
+    exact = ExactCheckPath(scene, written, tolerance,
+                           IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener
+                                                           : UnmeasuredInterference::kRigid);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   const bool removable = path.success && !path.waypoints.empty() && exact && exact->valid;
