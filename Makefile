@@ -54,7 +54,7 @@ build: configure
 # trim panel metres from the origin, clips, a rail under a lip, a locating
 # pin), then path.csv checked by an independent checker where there is one:
 # the external set's oracle.py (boxes.json scenes) or, for the clips-ds*
-# scenes (DEMO_SCENE=scenes/clips-ds1/scene.yaml VALIDITY=labeled-mliv), the
+# scenes (DEMO_SCENE=scenes/clips-ds1/scene.yaml: VALIDITY=auto picks labeled-mliv), the
 # generator's ground truth.
 demo: build
 	@$(MAKE) --no-print-directory -f pipelines/inistate.mk SCENE=$(DEMO_SCENE) OUT=$(DEMO_OUT) BIN=$(BUILD)/bin SEED=$(SEED)

@@ -2,10 +2,11 @@
 #
 #   make -f pipelines/inistate.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [TIME_LIMIT=60] ...
 #
-# By default (VALIDITY=rigid-exact, README "Rigid and deformable") only
+# With VALIDITY=rigid-exact (README "Rigid and deformable") only
 # plan -> smooth -> verdict [-> report] run: D's rigid solids are checked
 # exactly, its fasteners are those that intersect S at the installed pose.
-# The volume modes (VALIDITY=labeled-mliv, ...) run the whole chain:
+# The volume modes (VALIDITY=labeled-mliv, ...) run the whole chain. The
+# default, auto, takes rigid-exact unless the scene needs the volume model.
 #
 #   voxelize ----------------------------\
 #   medial-spheres -> pbd-label ----------> tau-estimate -> plan -> smooth -> verdict [-> report]
@@ -47,7 +48,7 @@ TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
-VALIDITY ?= rigid-exact   # rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
+VALIDITY ?= auto          # auto | rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
 RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's rigid part may touch into S
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
@@ -76,6 +77,13 @@ SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
 TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
 VALIDITY := $(strip $(VALIDITY))
+# auto: rigid-exact, unless D intersects S at the installed pose where the
+# exact check cannot measure the depth (then labeled-mliv; ausbau-plan
+# --choose-validity). A plan stage that cannot answer gets rigid-exact.
+ifeq ($(VALIDITY),auto)
+VALIDITY := $(or $(filter rigid-exact labeled-mliv,$(shell $(PLAN) --scene $(SCENE) --choose-validity --rigid-tolerance $(strip $(RIGID_TOLERANCE)) --log-level error 2>/dev/null)),rigid-exact)
+$(info inistate: VALIDITY=auto: $(VALIDITY))
+endif
 RIGID_TOLERANCE := $(strip $(RIGID_TOLERANCE))
 PLANNER := $(strip $(PLANNER))
 COLLISION := $(strip $(COLLISION))

@@ -39,7 +39,7 @@ Outcome Shell(const std::string& command) {
 // thread, coarse distance fields, fewer labeling load cases, no report).
 // Most tests here exercise the volume pipeline (voxels, labels, tau, its
 // caching), so they ask for VALIDITY=labeled-mliv; `validity` empty runs the
-// pipeline's default (rigid-exact).
+// pipeline's default (auto).
 Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "",
                     const std::string& validity = "labeled-mliv") {
   const std::string command = "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
@@ -235,7 +235,7 @@ TEST_F(PipelineTest, NoPathStillWritesAVerdictAndMakeFails) {
   EXPECT_NE(run.output.find("not removable"), std::string::npos) << run.output;
 }
 
-TEST_F(PipelineTest, TheDefaultIsTheExactRigidCheckWithoutVoxelsLabelsOrTau) {
+TEST_F(PipelineTest, TheDefaultPicksTheExactRigidCheckWhereItCanMeasure) {
   // A box-soup panel metres from the origin: clips, a rail under a lip, a pin.
   const fs::path scene = *root_ / "panel";
   const Outcome gen = testing::RunStageCommand("scene-gen", "--family panel-tilt-slide --seed 1 -o " + scene.string());
@@ -251,13 +251,20 @@ TEST_F(PipelineTest, TheDefaultIsTheExactRigidCheckWithoutVoxelsLabelsOrTau) {
   EXPECT_TRUE(HasLine(json, "\"validity\": \"rigid-exact\"")) << json;
   EXPECT_TRUE(ExactCheckValid(json)) << json;
 
+  EXPECT_NE(run.output.find("VALIDITY=auto: rigid-exact"), std::string::npos) << run.output;
+
   // The clip scene's plate is one welded, non-convex mesh: the clips'
-  // interference there is not measured, and the default mode says so
-  // instead of freeing them (a friction-fit rail looks the same).
-  const Outcome refused = RunPipeline(*root_ / "scene/scene.yaml", *root_ / "exact-ds1", "", "");
+  // interference there is not measured. rigid-exact says so instead of
+  // freeing them (a friction-fit rail looks the same); the default (auto)
+  // hands such a scene to the volume model.
+  const Outcome refused = RunPipeline(*root_ / "scene/scene.yaml", *root_ / "exact-ds1", "", "rigid-exact");
   EXPECT_NE(refused.exit_code, 0) << refused.output;
   EXPECT_NE(refused.output.find("depth is not measured"), std::string::npos) << refused.output;
   EXPECT_TRUE(HasLine(testing::ReadTextFile(*root_ / "exact-ds1/verdict.json"), "\"removable\": false"));
+  const Outcome chosen = Shell((testing::BinDir() / "ausbau-plan").string() + " --scene " +
+                               (*root_ / "scene/scene.yaml").string() + " --choose-validity --log-level error");
+  EXPECT_EQ(chosen.exit_code, 0) << chosen.output;
+  EXPECT_EQ(chosen.output, "labeled-mliv\n");
 }
 
 TEST_F(PipelineTest, TheVerdictChecksThePathCsvAsWritten) {

@@ -1,5 +1,7 @@
 // ausbau-plan: rigid-body planning for one scene, from the start pose to the
 // goal pose or, without a goal, out of S (disassembly). See README.md.
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -29,6 +31,7 @@ struct PlanStageOptions {
   std::string csv;
   std::string ompl_path;
   bool verify = true;
+  bool choose_validity = false;  // print the validity this scene needs, plan nothing
   bool force = false;
   PlannerOptions planner;
   std::string collision = "fcl";  // fcl | farr
@@ -302,7 +305,28 @@ int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Pro
   return kExitOk;
 }
 
+// --choose-validity: rigid-exact, unless D intersects S at the installed
+// pose where the exact check cannot measure the depth (a non-convex or open
+// shell, such as a plate with holes welded into one mesh): that interference
+// needs the volume model, labeled-mliv. The pipeline's VALIDITY=auto asks
+// this before it runs any stage.
+int ChooseValidity(const PlanStageOptions& options) {
+  const Scene scene = LoadScene(options.scene);
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  const bool unmeasured = std::any_of(parts->rigid_interference.begin(), parts->rigid_interference.end(),
+                                      [&](int shell) { return std::isinf(parts->installed_depth[shell]); });
+  if (unmeasured) {
+    LogInfo("%s of D intersects S at the installed pose where the depth is not measured: labeled-mliv",
+            parts->Describe(parts->rigid_interference.front(), true).c_str());
+  }
+  std::printf("%s\n", unmeasured ? "labeled-mliv" : kRigidExact);
+  return kExitOk;
+}
+
 int Run(PlanStageOptions options, const std::string& parameters) {
+  if (options.choose_validity) return ChooseValidity(options);
   if (options.validity == kRigidExact) {
     if (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0) {
       throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
@@ -425,6 +449,9 @@ int main(int argc, char** argv) {
         app.add_option("--ompl-path", options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
         app.add_flag("!--no-verify", options.verify, "skip the dense re-check of the result");
         app.add_flag("--force", options.force, "plan even when the output is up to date");
+        app.add_flag("--choose-validity", options.choose_validity,
+                     "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed "
+                     "interference is not measured) and exit; the pipeline's VALIDITY=auto");
         app.add_option("--collision", options.collision,
                        "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")")
             ->check(CLI::IsMember({"fcl", "farr"}))
