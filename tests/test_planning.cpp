@@ -115,6 +115,21 @@ TEST(Planner, IterationLimitIsAnOutcomeNotAnError) {
   EXPECT_EQ(result.stats.iterations, 3);
 }
 
+TEST(Planner, RestartsSolveAndAnIterationCapIsOneRound) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 9;
+  options.time_limit_s = 60;
+  const PlanResult restarted = PlanWithRestarts(f.problem, f.checker, options);
+  ASSERT_TRUE(restarted.solved());
+  EXPECT_GT(restarted.stats.iterations, 0);
+  // With an iteration cap there are no rounds: the same run as Plan().
+  options.max_iterations = 3;
+  const PlanResult capped = PlanWithRestarts(f.problem, f.checker, options);
+  EXPECT_EQ(capped.status, PlanStatus::kIterationLimit);
+  EXPECT_EQ(capped.stats.iterations, 3);
+}
+
 // A raised cancel flag stops every planner at its next iteration (the tau
 // estimate cancels speculative rounds this way).
 TEST(Planner, CancelFlagStopsThePlanner) {

@@ -82,6 +82,11 @@ TEST(Shells, FineBoxesMetresAwayInSinglePrecisionStayConvexShells) {
     EXPECT_TRUE(shell.convex);
     EXPECT_EQ(shell.corners.size(), 8u);
   }
+  // Moved about its own centre (a planner's frame), the rounding it was
+  // stored with stays: the tolerances follow the stored magnitude.
+  TriangleMesh centred = soup;
+  for (auto& v : centred.vertices) v -= leg.center;
+  for (const auto& shell : SplitIntoShells(centred, leg.center.norm())) EXPECT_TRUE(shell.convex);
 }
 
 TEST(Shells, NonConvexAndOpenShellsAreFlagged) {

@@ -142,7 +142,13 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
                                                UnmeasuredInterference unmeasured) {
   auto parts = std::make_shared<PartModel>();
   parts->tolerance = tolerance;
-  parts->robot_shells = SplitIntoShells(robot);
+  // D is often given about its own centre (the planners' frame) while its
+  // file stored it where it is installed, metres from the origin: the
+  // rounding of those coordinates is what the tolerances must allow for.
+  double installed_magnitude = 0;
+  for (const auto& v : robot.vertices)
+    installed_magnitude = std::max(installed_magnitude, installed.Apply(v).cwiseAbs().maxCoeff());
+  parts->robot_shells = SplitIntoShells(robot, installed_magnitude);
   parts->static_shells = SplitIntoShells(environment);
   const int n = static_cast<int>(parts->robot_shells.size());
   parts->role.assign(n, ShellRole::kRigid);

@@ -63,7 +63,7 @@ class DirectionSet {
   std::vector<Eigen::Vector3d> first_, sum_;
 };
 
-void Analyse(Shell& shell) {
+void Analyse(Shell& shell, double stored_magnitude) {
   for (const auto& v : shell.vertices) shell.box.Extend(v);
   shell.center = shell.box.Center();
   for (const auto& v : shell.vertices) shell.radius = std::max(shell.radius, (v - shell.center).norm());
@@ -96,7 +96,7 @@ void Analyse(Shell& shell) {
   // through their mean vertex): a finely tessellated face's small triangles
   // each tilt by the rounding of their corners, and the far side of a large
   // shell would then seem to lie on both sides of their planes.
-  const double tolerance = 1e-4 * shell.radius + 1e-6 * shell.center.norm();
+  const double tolerance = 1e-4 * shell.radius + 1e-6 * std::max(shell.center.norm(), stored_magnitude);
   struct Face {
     Eigen::Vector3d first, sum = Eigen::Vector3d::Zero(), point_sum = Eigen::Vector3d::Zero();
     int points = 0;
@@ -158,11 +158,11 @@ void Analyse(Shell& shell) {
 
 }  // namespace
 
-std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
+std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magnitude) {
   // Weld positions closer than a few single-precision steps at the mesh's
   // magnitude: an STL export repeats every corner per triangle, and rounds
   // each copy on its own (1e-4 mm apart, metres from the origin).
-  double magnitude = 0;
+  double magnitude = stored_magnitude;
   for (const auto& v : mesh.vertices) magnitude = std::max(magnitude, v.cwiseAbs().maxCoeff());
   const double weld = std::max(1e-6 * magnitude, 1e-12);
   std::unordered_map<PositionKey, std::vector<int>, PositionHash> cells;
@@ -305,7 +305,7 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh) {
     shell.triangles.push_back(out);
     shell.source_triangles.push_back(t);
   }
-  for (auto& shell : shells) Analyse(shell);
+  for (auto& shell : shells) Analyse(shell, stored_magnitude);
   return shells;
 }
 

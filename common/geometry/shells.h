@@ -46,7 +46,11 @@ struct Shell {
 
 // Splits `mesh` into shells, in the order of their first triangle. Triangles
 // of zero area are kept in their shell but do not count for convexity.
-std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh);
+// `stored_magnitude`: how far from the origin the coordinates were when they
+// were stored (rounded), where the mesh has been moved since (a planner's
+// frame about D's centre); the welding and convexity tolerances follow the
+// rounding there. 0: the mesh's own coordinates.
+std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magnitude = 0);
 
 // Signed separating-axis depth of two convex shells, A moved by `pose_a`
 // (rotation + translation applied to A's vertices), B as it is:

@@ -88,4 +88,30 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   return result;
 }
 
+PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
+                            const PlannerOptions& options) {
+  if (options.max_iterations > 0) return Plan(problem, validity, options);
+  const auto begin = std::chrono::steady_clock::now();
+  PlanResult result;
+  PlanStats total;
+  double slice = 1.0;
+  for (int round = 0;; ++round, slice *= 2) {
+    const double left =
+        options.time_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    if (left <= 0) break;
+    PlannerOptions round_options = options;
+    round_options.seed = options.seed + static_cast<std::uint64_t>(round);
+    round_options.time_limit_s = std::min(slice, left);
+    result = Plan(problem, validity, round_options);
+    total.iterations += result.stats.iterations;
+    total.nodes += result.stats.nodes;
+    total.collision_checks += result.stats.collision_checks;
+    total.invalid_checks += result.stats.invalid_checks;
+    if (result.solved() || result.status == PlanStatus::kCancelled) break;
+  }
+  total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  result.stats = total;
+  return result;
+}
+
 }  // namespace ausbau
