@@ -9,9 +9,10 @@
 //  1. the anchor is D's largest shell (by volume): the body the fasteners
 //     hang from. It is always rigid;
 //  2. a shell of D that penetrates S deeper than the tolerance at the
-//     installed pose, measured (see UnmeasuredInterference), is a fastener, and so is every shell of D that overlaps
-//     a fastener (a clip's beam under its hook), growing through overlaps but
-//     never through the anchor;
+//     installed pose, measured (see UnmeasuredInterference), is a fastener,
+//     and so is every shell of D that overlaps a fastener (a clip's beam
+//     under its hook), growing through overlaps but never through the
+//     anchor;
 //  3. every other shell is rigid: ribs, rails, pins, the panel, and a solid
 //     block or peg (one shell: the anchor). Nothing is deformable unless it
 //     is already deformed at the installed pose.
