@@ -11,6 +11,13 @@
 //   build/bin/ausbau-label-bench [--mesh FILE] [--cells N] [--threads N] [--skip-single]
 //   build/bin/ausbau-label-bench --family clips-ds1 [--family ...|all] [--triangles N]
 //                                [--max-load-cases N ...] [--threads N]
+//   build/bin/ausbau-label-bench --scene DIR [--scene DIR ...] [--threads N]
+// With --scene: a scene folder holding scene.yaml and
+// truth/labels_per_triangle.txt (1 clip, 0 rigid per triangle of D, as
+// ausbau-scene-gen's box families and the inistate-external set write it);
+// prints the ROC AUC of each triangle's mean vertex deformability against
+// that truth, and the largest label on a rigid triangle, for the PBD labels
+// and for the solid rule (labeling/solid_labels.h) where it applies.
 #include <omp.h>
 
 #include <CLI/CLI.hpp>
@@ -19,10 +26,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
 
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
+#include "labeling/solid_labels.h"
+#include "planning/exact_check.h"
 #include "scene/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
@@ -121,6 +133,64 @@ void BenchClipScene(const std::string& family, std::int64_t triangles, const std
   std::filesystem::remove_all(dir);
 }
 
+// Labels the part D of a scene folder and compares with its per-triangle truth.
+void BenchSceneFolder(const std::filesystem::path& dir, int threads, const PbdLabelOptions& base) {
+  const Scene scene = LoadScene(dir / "scene.yaml");
+  const auto truth_file = dir / "truth" / "labels_per_triangle.txt";
+  std::ifstream in(truth_file);
+  if (!in) throw InputErrorAt(truth_file, "cannot read the per-triangle truth");
+  std::vector<std::uint8_t> clip;
+  for (int v; in >> v;) clip.push_back(v != 0 ? 1 : 0);
+  if (clip.size() != scene.dynamic_mesh.triangles.size()) {
+    throw InputErrorAt(truth_file, "has " + std::to_string(clip.size()) + " labels for " +
+                                       std::to_string(scene.dynamic_mesh.triangles.size()) + " triangles of D");
+  }
+  // Per triangle: the mean of its vertices' deformability.
+  const auto auc = [&](const std::vector<double>& per_vertex, double* rigid_max, double* clip_min) {
+    std::vector<double> score;
+    *rigid_max = 0.0;
+    *clip_min = 1.0;
+    for (std::size_t t = 0; t < clip.size(); ++t) {
+      double sum = 0.0;
+      for (int v : scene.dynamic_mesh.triangles[t]) sum += per_vertex[v];
+      score.push_back(sum / 3.0);
+      double& bound = clip[t] ? *clip_min : *rigid_max;
+      bound = clip[t] ? std::min(bound, score.back()) : std::max(bound, score.back());
+    }
+    return RocAuc(score, clip);
+  };
+  double rigid_max = 0.0, clip_min = 0.0;
+  auto started = std::chrono::steady_clock::now();
+  const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh);
+  MedialSphereOptions sphere_options;
+  sphere_options.threads = threads;
+  const MedialSpheres spheres = ComputeMedialSpheres(topology, sphere_options);
+  PbdLabelOptions options = base;
+  options.threads = threads;
+  const PbdLabels labels = ComputePbdLabels(topology, spheres, options);
+  std::vector<double> pbd(scene.dynamic_mesh.vertices.size());
+  for (std::size_t i = 0; i < pbd.size(); ++i) pbd[i] = labels.deformability[topology.welded_of_original[i]];
+  const double pbd_auc = auc(pbd, &rigid_max, &clip_min);
+  std::printf("%s: %zu triangles of D (%d components, %lld sphere walks escaped)\n", dir.filename().c_str(),
+              clip.size(), topology.stats.components, static_cast<long long>(spheres.escaped));
+  std::printf("  pbd:    ROC AUC %.4f per triangle; rigid triangles up to %.3f, clip triangles from %.3f; %.2f s\n",
+              pbd_auc, rigid_max, clip_min, Seconds(started));
+  started = std::chrono::steady_clock::now();
+  const SolidLabels solids = LabelBySolids(scene, RigidToleranceInSceneUnits(0.05, scene.units, nullptr));
+  const bool any_clip = std::find(clip.begin(), clip.end(), 1) != clip.end();
+  if (solids.applies && !any_clip) {
+    std::printf("  solids: no clip in the truth; %d of %d solids labelled deformable\n", solids.fasteners,
+                solids.solids);
+  } else if (solids.applies) {
+    const double solid_auc = auc(solids.deformability, &rigid_max, &clip_min);
+    std::printf("  solids: ROC AUC %.4f per triangle; rigid triangles up to %.3f, clip triangles from %.3f; %.2f s\n",
+                solid_auc, rigid_max, clip_min, Seconds(started));
+  } else {
+    std::printf("  solids: does not apply: %s\n", solids.reason.c_str());
+  }
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -141,8 +211,17 @@ int main(int argc, char** argv) {
   app.add_option("--triangles", triangles, "clip scenes: D's triangle target; 0 = the family's default")
       ->capture_default_str();
   app.add_option("--max-load-cases", budgets, "clip scenes: load-case budgets to run (0 = every vertex); repeatable");
+  std::vector<std::string> scene_dirs;
+  app.add_option("--scene", scene_dirs, "scene folder with truth/labels_per_triangle.txt; repeatable");
+  PbdLabelOptions scene_label_options;
+  app.add_option("--refine", scene_label_options.refine, "scenes: PbdLabelOptions::refine")->capture_default_str();
+  app.add_option("--refine-min-length", scene_label_options.refine_min_length, "scenes: PbdLabelOptions::refine_min_length")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (threads <= 0) threads = omp_get_max_threads();
+  if (!scene_dirs.empty()) {
+    for (const auto& dir : scene_dirs) BenchSceneFolder(dir, threads, scene_label_options);
+    return 0;
+  }
   if (!families.empty()) {
     if (budgets.empty()) budgets.push_back(PbdLabelOptions{}.max_load_cases);
     if (families.size() == 1 && families[0] == "all") families = ClipSceneFamilies();

@@ -127,7 +127,7 @@ medial-spheres: start
 
 pbd-label: medial-spheres
 	$(TIMED) pbd-label $(TIMES) $(PBD_LABEL) --scene $(SCENE) --spheres $(OUT)/spheres.h5 --threads $(THREADS) \
-	  -o $(OUT)/labels.h5 $(LABEL_FLAGS)
+	  --rigid-tolerance $(RIGID_TOLERANCE) -o $(OUT)/labels.h5 $(LABEL_FLAGS)
 
 distfield-build: start
 	$(TIMED) distfield-build $(TIMES) $(DISTFIELD_BUILD) --scene $(SCENE) --threads $(THREADS) \

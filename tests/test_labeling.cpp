@@ -16,6 +16,7 @@
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
+#include "labeling/solid_labels.h"
 #include "scene/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
@@ -728,6 +729,28 @@ std::string ReadFile(const std::filesystem::path& path) { return testing::ReadTe
 
 // A scene whose D is the tongue part, given as a triangle soup with random
 // orientations (as CAD exports come), S a box beside it.
+// A coarse CAD export: a 3 mm box panel, a rib and a 12-triangle-box clip
+// beam with its hook, each its own closed box; S is a plate the hook
+// overlaps at the installed pose, turned and metres from the origin.
+Scene BoxSoupClipScene(bool rotated) {
+  Scene scene;
+  scene.units = "mm";
+  TriangleMesh d = MakeBox({0, 0, 0}, {100, 60, 3});  // the panel (anchor)
+  d.Append(MakeBox({10, 10, 3}, {90, 12, 9}));         // a rib as thin as the clip: rigid
+  d.Append(MakeBox({40, 50, 2}, {52, 52, 10}));        // the clip's beam, overlapping the panel
+  d.Append(MakeBox({40, 49, 8}, {52, 54, 10}));        // its hook: reaches into the plate
+  TriangleMesh s = MakeBox({0, 53, 8.5}, {100, 56, 11});
+  if (rotated) {
+    const Eigen::Isometry3d place = Eigen::Translation3d(2500, -800, 1200) *
+                                    Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -0.5).normalized());
+    for (auto& v : d.vertices) v = place * v;
+    for (auto& v : s.vertices) v = place * v;
+  }
+  scene.dynamic_mesh = d;
+  scene.static_mesh = s;
+  return scene;
+}
+
 std::filesystem::path WriteTongueScene(const std::filesystem::path& dir) {
   Scene scene;
   scene.dynamic_mesh = Soup(MakeTonguePart().mesh, 0.3, 9);
@@ -745,13 +768,15 @@ TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
   if (!std::filesystem::exists(testing::BinDir() / "ausbau-pbd-label")) GTEST_SKIP() << "stages not built";
   const auto dir = testing::MakeTempDir("label-stages");
   const auto yaml = WriteTongueScene(dir);
+  // The tongue touches nothing: the solid rule would call it rigid
+  // throughout (SolidLabelsStage below); this test is about PBD.
   const std::string scene = "--scene " + yaml.string();
   const auto spheres = dir / "spheres.h5", labels = dir / "labels.h5";
   const Outcome first = RunStage("medial-spheres", scene + " -o " + spheres.string() + " --csv " +
                                                        (dir / "spheres.csv").string() + " --ply " +
                                                        (dir / "spheres.ply").string() + " --threads 2");
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  const Outcome label = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+  const Outcome label = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
                                                   " --csv " + (dir / "labels.csv").string() + " --ply " +
                                                   (dir / "labels.ply").string());
   ASSERT_EQ(label.exit_code, 0) << label.output;
@@ -783,19 +808,76 @@ TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
 
   // Up to date: reused, byte-identical; other options or --force: recomputed.
   const std::string before = ReadFile(labels);
-  const Outcome again = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+  const Outcome again = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
                                                   " --threads 1");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
-  const Outcome forced = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " + labels.string() +
+  const Outcome forced = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
                                                    " --threads 1 --force");
   ASSERT_EQ(forced.exit_code, 0) << forced.output;
   EXPECT_EQ(forced.output.find("up to date"), std::string::npos);
   EXPECT_EQ(ReadFile(labels), before);  // same labels with 1 thread as with all
-  const Outcome changed = RunStage("pbd-label", scene + " --spheres " + spheres.string() + " -o " +
+  const Outcome changed = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " +
                                                     labels.string() + " --measure self");
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_EQ(changed.output.find("up to date"), std::string::npos);
+}
+
+TEST(LabelStages, SolidRuleByDefaultOnABoxSoupPbdWhereItDoesNotApply) {
+  if (!std::filesystem::exists(testing::BinDir() / "ausbau-pbd-label")) GTEST_SKIP() << "stages not built";
+  const auto dir = testing::MakeTempDir("solid-labels");
+  Scene scene = BoxSoupClipScene(true);
+  scene.name = "box-soup-clip";
+  SaveObj(scene.dynamic_mesh, dir / "part.obj");
+  SaveObj(scene.static_mesh, dir / "environment.obj");
+  scene.dynamic_file = dir / "part.obj";
+  scene.static_files = {dir / "environment.obj"};
+  SaveSceneYaml(scene, dir / "scene.yaml");
+  const std::string args = "--scene " + (dir / "scene.yaml").string() + " --spheres " + (dir / "spheres.h5").string();
+  ASSERT_EQ(RunStage("medial-spheres", "--scene " + (dir / "scene.yaml").string() + " -o " +
+                                           (dir / "spheres.h5").string()).exit_code, 0);
+  const Outcome label = RunStage("pbd-label", args + " -o " + (dir / "labels.h5").string());
+  ASSERT_EQ(label.exit_code, 0) << label.output;
+  EXPECT_NE(label.output.find("labels by solids: 4 closed solids, 2 of them"), std::string::npos) << label.output;
+  const LabelsArtifact labels = ReadLabelsArtifact(dir / "labels.h5");
+  EXPECT_EQ(labels.measure, "solids");
+  const Scene loaded = LoadScene(dir / "scene.yaml");
+  std::vector<std::uint8_t> clip(loaded.dynamic_mesh.vertices.size(), 0);
+  for (std::size_t t = 24; t < loaded.dynamic_mesh.triangles.size(); ++t) {
+    for (int v : loaded.dynamic_mesh.triangles[t]) clip[v] = 1;  // the beam's and the hook's triangles
+  }
+  EXPECT_EQ(RocAuc(labels.deformability, clip), 1.0);
+  // --rule pbd: the thesis's simulation instead.
+  const Outcome pbd = RunStage("pbd-label", args + " -o " + (dir / "pbd.h5").string() + " --rule pbd");
+  ASSERT_EQ(pbd.exit_code, 0) << pbd.output;
+  EXPECT_EQ(ReadLabelsArtifact(dir / "pbd.h5").measure, "sum");
+  // --rule solids where the rule does not apply, and a bad rule: one-line errors.
+  const auto tongue = testing::MakeTempDir("solid-labels-tongue");
+  Scene welded;
+  welded.name = "welded-l";
+  welded.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
+    return i == 0 || k == 0;
+  });
+  welded.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
+  SaveObj(welded.dynamic_mesh, tongue / "part.obj");
+  SaveObj(welded.static_mesh, tongue / "environment.obj");
+  welded.dynamic_file = tongue / "part.obj";
+  welded.static_files = {tongue / "environment.obj"};
+  SaveSceneYaml(welded, tongue / "scene.yaml");
+  const std::string welded_scene = "--scene " + (tongue / "scene.yaml").string();
+  ASSERT_EQ(RunStage("medial-spheres", welded_scene + " -o " + (tongue / "spheres.h5").string()).exit_code, 0);
+  const Outcome refused = RunStage("pbd-label", welded_scene + " --spheres " + (tongue / "spheres.h5").string() +
+                                                    " -o " + (tongue / "labels.h5").string() + " --rule solids");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("--rule solids: does not apply"), std::string::npos) << refused.output;
+  EXPECT_FALSE(std::filesystem::exists(tongue / "labels.h5"));
+  const Outcome fallback = RunStage("pbd-label", welded_scene + " --spheres " + (tongue / "spheres.h5").string() +
+                                                     " -o " + (tongue / "labels.h5").string());
+  ASSERT_EQ(fallback.exit_code, 0) << fallback.output;
+  EXPECT_NE(fallback.output.find("labels by PBD"), std::string::npos) << fallback.output;
+  const Outcome bad = RunStage("pbd-label", args + " -o " + (dir / "x.h5").string() + " --rule volume");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--rule: expected auto, solids or pbd"), std::string::npos) << bad.output;
 }
 
 TEST(LabelStages, BadInputIsAOneLineError) {
@@ -830,6 +912,80 @@ TEST(LabelStages, BadInputIsAOneLineError) {
   const Outcome measure = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
                                                     (other / "spheres.h5").string() + " --measure max");
   EXPECT_EQ(measure.exit_code, 2) << measure.output;
+}
+
+TEST(SolidLabels, ATwelveTriangleBoxClipOnABoxPanelIsSeparated) {
+  for (bool rotated : {false, true}) {
+    const Scene scene = BoxSoupClipScene(rotated);
+    const SolidLabels labels = LabelBySolids(scene, 0.05);
+    ASSERT_TRUE(labels.applies) << labels.reason;
+    EXPECT_EQ(labels.solids, 4);
+    EXPECT_EQ(labels.fasteners, 2);  // the hook, and the beam it overlaps
+    for (int v = 0; v < 8; ++v) EXPECT_EQ(labels.deformability[v], 0.0) << "panel vertex " << v;
+    for (int v = 8; v < 16; ++v) EXPECT_EQ(labels.deformability[v], 0.0) << "rib vertex " << v;
+    for (int v = 16; v < 32; ++v) EXPECT_EQ(labels.deformability[v], 1.0) << "clip vertex " << v;
+  }
+}
+
+TEST(SolidLabels, ASolidBlockOrPegIsRigidAndNothingDeformableIsAnAnswer) {
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-5, -5, 0}, {5, 5, 50});       // a steel peg
+  scene.static_mesh = MakeBox({5.2, -20, 0}, {30, 20, 30});    // the hole's wall, 0.2 mm away
+  SolidLabels labels = LabelBySolids(scene, 0.05);
+  ASSERT_TRUE(labels.applies) << labels.reason;
+  EXPECT_EQ(labels.fasteners, 0);
+  for (double d : labels.deformability) EXPECT_EQ(d, 0.0);
+  // A peg and a separate collar, neither touching S: both rigid.
+  scene.dynamic_mesh.Append(MakeBox({-8, -8, 40}, {8, 8, 44}));
+  labels = LabelBySolids(scene, 0.05);
+  ASSERT_TRUE(labels.applies);
+  EXPECT_EQ(labels.solids, 2);
+  for (double d : labels.deformability) EXPECT_EQ(d, 0.0);
+}
+
+TEST(SolidLabels, AnUnmeasuredInstalledIntersectionLeavesItToPbd) {
+  // D one welded non-convex solid (an L) whose foot is in S: the depth of a
+  // non-convex pair is not measured, so the rule does not apply.
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
+    return i == 0 || k == 0;
+  });
+  scene.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
+  const SolidLabels labels = LabelBySolids(scene, 0.05);
+  EXPECT_FALSE(labels.applies);
+  EXPECT_NE(labels.reason.find("not measured"), std::string::npos) << labels.reason;
+}
+
+TEST(MedialSpheres, AWalkThatLeavesDIsDroppedNotGrownWithoutBound) {
+  // A vertex whose normal points out of its solid (on the inistate-external
+  // box soups: boxes inside the union of others, taken for cavities by the
+  // patch orientation, mesh_topology.h) walks into the empty space around D:
+  // radii of 1e51 were seen. Here the second box's normals are turned
+  // outside in by hand: its walks are dropped and counted, the plate's are
+  // kept, and no sphere is larger than D's bounding box.
+  TriangleMesh soup = MakeBox({0, 0, 0}, {10, 10, 1});
+  soup.Append(MakeBox({20, 0, 0}, {22, 2, 2}));
+  MeshTopology topology = BuildMeshTopology(soup);
+  int turned = 0;
+  for (int v = 0; v < topology.VertexCount(); ++v) {
+    if (topology.vertices[v].x() < 15) continue;
+    topology.vertex_normals[v] = -topology.vertex_normals[v];
+    ++turned;
+  }
+  ASSERT_EQ(turned, 8);
+  const MedialSpheres spheres = ComputeMedialSpheres(topology, MedialSphereOptions{});
+  EXPECT_EQ(spheres.escaped, 8);
+  const Aabb box = soup.Bounds();
+  for (int v = 0; v < topology.VertexCount(); ++v) {
+    const bool plate = topology.vertices[v].x() < 15;
+    EXPECT_EQ(spheres.valid[v], plate ? 1 : 0) << "vertex " << v;
+    if (plate) EXPECT_NEAR(spheres.radii[v], 0.5, 0.03);
+    else EXPECT_EQ(spheres.radii[v], 0.0);
+    EXPECT_LE(spheres.radii[v], 0.5 * (box.max - box.min).maxCoeff()) << "vertex " << v;
+  }
+  EXPECT_NEAR(spheres.MaxRadius(), 0.5, 0.03);
 }
 
 TEST(RocAuc, Basics) {

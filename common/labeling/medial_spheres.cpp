@@ -37,6 +37,16 @@ double MedialSpheres::MaxRadius() const {
   return r;
 }
 
+namespace {
+
+// A sphere inside a closed solid lies inside the solid's bounding box.
+bool BallInsideBox(const Eigen::Vector3d& centre, double radius, const Aabb& box) {
+  return std::isfinite(radius) && (centre.array() - radius >= box.min.array()).all() &&
+         (centre.array() + radius <= box.max.array()).all();
+}
+
+}  // namespace
+
 MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSphereOptions& options) {
   options.Check();
   const auto started = std::chrono::steady_clock::now();
@@ -54,8 +64,11 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   std::atomic<std::int64_t> done{0};
   std::int64_t queries = 0;
+  std::int64_t escaped = 0;
+  Aabb bounds;
+  for (const auto& vertex : topology.vertices) bounds.Extend(vertex);
 
-#pragma omp parallel for schedule(dynamic, 32) num_threads(threads) reduction(+ : queries)
+#pragma omp parallel for schedule(dynamic, 32) num_threads(threads) reduction(+ : queries, escaped)
   for (int v = 0; v < n; ++v) {
     if (topology.referenced[v]) {
       const auto& triangles = topology.triangles;
@@ -87,9 +100,18 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
         if (g >= 3 && !(d > history[(g - 3) % 4] * growth_ratio)) break;
       }
       for (int k = 0; k < cooling; ++k) advance(step * (1.0 - static_cast<double>(k) / cooling));
-      out.centers[v] = p;
-      out.radii[v] = std::sqrt(near.distance_squared);
-      out.valid[v] = 1;
+      const double radius = std::sqrt(near.distance_squared);
+      if (BallInsideBox(p, radius, bounds)) {
+        out.centers[v] = p;
+        out.radii[v] = radius;
+        out.valid[v] = 1;
+      } else {
+        // The walk left D: the vertex's normal points out of the solid it
+        // bounds (a vertex shared by overlapping solids of a soup, an open
+        // or inverted surface), and p grew in the empty space around D
+        // (radii of 1e51 were seen). No thickness is known here.
+        ++escaped;
+      }
     }
     const std::int64_t finished = ++done;
     if (options.progress && omp_get_thread_num() == 0 && (finished % 64 == 0 || finished == n)) {
@@ -98,6 +120,7 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
   }
   if (options.progress) options.progress(n, n);
   out.nearest_queries = queries;
+  out.escaped = escaped;
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   return out;
 }

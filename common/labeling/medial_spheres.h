@@ -68,6 +68,10 @@ struct MedialSpheres {
   // T-junctions, touching parts. Such a sphere measures the gap between the
   // two surfaces, not a thickness; it is kept but left out of MinRadius().
   std::vector<std::uint8_t> contact;
+  // Walks that left D's bounding box (the vertex's normal points out of its
+  // solid: a vertex shared by overlapping solids, an open or inverted
+  // surface): such a vertex gets no sphere (valid 0, radius 0).
+  std::int64_t escaped = 0;
   std::int64_t nearest_queries = 0;
   double seconds = 0.0;  // wall-clock time of the computation
 

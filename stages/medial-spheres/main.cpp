@@ -89,6 +89,12 @@ int Run(const SpheresStageOptions& options, const std::string& parameters) {
           options.spheres.threads > 0 ? options.spheres.threads : omp_get_max_threads(),
           static_cast<long long>(spheres.nearest_queries), spheres.MinRadius(), spheres.MaxRadius(),
           scene.units.empty() ? "" : (" " + scene.units).c_str(), contacts);
+  if (spheres.escaped > 0) {
+    LogWarn("%lld of %d vertices have no sphere: the walk inward left D's bounding box (the vertex's normal points "
+            "out of its solid: a vertex shared by overlapping solids, an open or inverted surface); they are "
+            "stored with radius 0 and valid 0",
+            static_cast<long long>(spheres.escaped), topology.VertexCount());
+  }
 
   SpheresArtifact artifact = ToSpheresArtifact(topology, spheres);
   artifact.units = scene.units;

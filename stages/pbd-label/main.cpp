@@ -4,6 +4,7 @@
 // deformability in [0, 1]. See README.md.
 #include <omp.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -14,6 +15,8 @@
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
+#include "labeling/solid_labels.h"
+#include "planning/exact_check.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -26,6 +29,8 @@ struct LabelStageOptions {
   std::string csv;
   std::string ply;
   bool force = false;
+  std::string rule = "auto";
+  double rigid_tolerance_mm = 0.05;
   double weld_tolerance = MeshTopologyOptions{}.weld_tolerance;
   PbdLabelOptions labels;
 };
@@ -45,6 +50,12 @@ void WriteExtras(const LabelStageOptions& options, const Scene& scene, const Lab
 
 int Run(const LabelStageOptions& options, const std::string& parameters) {
   options.labels.Check();
+  if (options.rule != "auto" && options.rule != "solids" && options.rule != "pbd") {
+    throw InputError("--rule: expected auto, solids or pbd, got '" + options.rule + "'");
+  }
+  if (!(options.rigid_tolerance_mm > 0 && std::isfinite(options.rigid_tolerance_mm))) {
+    throw InputError("--rigid-tolerance: must be a positive number of millimetres");
+  }
   if (!(options.weld_tolerance >= 0 && options.weld_tolerance < 1)) {
     throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
@@ -61,13 +72,34 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
                                               " has different content); run ausbau-medial-spheres on this scene");
     }
   }
-  const Provenance provenance{"ausbau-pbd-label", AUSBAU_VERSION, parameters,
-                              {{"dynamic", dynamic_hash}, {"spheres", spheres_provenance}}};
+  // S is an input too: the solid rule reads the installed intersections.
+  Provenance provenance{"ausbau-pbd-label", AUSBAU_VERSION, parameters, {}};
+  AddSceneInputs(scene, &provenance);
+  provenance.inputs.emplace_back("spheres", spheres_provenance);
   if (!options.force &&
       ExistingProvenanceHash(options.output, kLabelsSchema, kLabelsSchemaVersion) == provenance.Hash()) {
     LogInfo("%s is up to date (same D, spheres and options); use --force to label again", options.output.c_str());
     WriteExtras(options, scene, ReadLabelsArtifact(options.output));
     return kExitOk;
+  }
+
+  if (options.rule != "pbd") {
+    bool assumed = false;
+    const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &assumed);
+    const SolidLabels solids = LabelBySolids(scene, tolerance);
+    if (solids.applies) {
+      LogInfo("labels by solids: %s", solids.reason.c_str());
+      LabelsArtifact artifact;
+      artifact.deformability = solids.deformability;
+      artifact.displacement = solids.deformability;
+      artifact.measure = "solids";
+      WriteLabelsArtifact(options.output, artifact, provenance);
+      LogInfo("wrote %s (%zu vertices of D)", options.output.c_str(), artifact.deformability.size());
+      WriteExtras(options, scene, artifact);
+      return kExitOk;
+    }
+    if (options.rule == "solids") throw InputError("--rule solids: does not apply: " + solids.reason);
+    LogInfo("labels by PBD: %s", solids.reason.c_str());
   }
 
   MeshTopologyOptions topology_options;
@@ -117,7 +149,14 @@ int main(int argc, char** argv) {
       [&](CLI::App& app) {
         app_ptr = &app;
         PbdLabelOptions& l = options.labels;
-        app.add_option("--scene", options.scene, "scene.yaml (only its part D is used)")->required();
+        app.add_option("--scene", options.scene, "scene.yaml (D, and S for the solid rule)")->required();
+        app.add_option("--rule", options.rule,
+                       "auto: by solids where D is made of closed solids whose installed intersections with S are "
+                       "measured, else PBD | solids | pbd (the thesis's simulation)")
+            ->capture_default_str();
+        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
+                       "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener")
+            ->capture_default_str();
         app.add_option("--spheres", options.spheres, "spheres artifact of D (ausbau-medial-spheres)")->required();
         app.add_option("-o,--output", options.output, "labels artifact (HDF5)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write x,y,z,deformability per vertex of D");

@@ -1,0 +1,46 @@
+#include "labeling/solid_labels.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "collision/rigid_depth.h"
+
+namespace ausbau {
+
+SolidLabels LabelBySolids(const Scene& scene, double tolerance) {
+  SolidLabels out;
+  // D in the frame scene.start refers to (as the exact path check has it).
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& v : robot.vertices) v -= scene.dynamic_origin;
+  const auto parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance);
+  out.solids = static_cast<int>(parts->robot_shells.size());
+  for (const Shell& shell : parts->robot_shells) {
+    if (!shell.closed) {
+      out.reason = "D has an open surface (" + std::to_string(shell.triangles.size()) +
+                   " triangles near " + parts->Describe(static_cast<int>(&shell - parts->robot_shells.data()), true) +
+                   "): no solids to label";
+      return out;
+    }
+  }
+  for (int shell : parts->rigid_interference) {
+    if (std::isinf(parts->installed_depth[shell])) {
+      out.reason = parts->Describe(shell, true) +
+                   " intersects S at the installed pose where the depth is not measured (a non-convex solid)";
+      return out;
+    }
+  }
+  out.applies = true;
+  out.fasteners = parts->FastenerCount();
+  out.deformability.assign(scene.dynamic_mesh.vertices.size(), 0.0);
+  for (std::size_t s = 0; s < parts->robot_shells.size(); ++s) {
+    if (parts->role[s] != ShellRole::kFastener) continue;
+    for (int t : parts->robot_shells[s].source_triangles) {
+      for (int v : scene.dynamic_mesh.triangles[t]) out.deformability[v] = 1.0;
+    }
+  }
+  out.reason = std::to_string(out.solids) + " closed solids, " + std::to_string(out.fasteners) +
+               " of them intersecting S at the installed pose (or overlapping one that does): fasteners";
+  return out;
+}
+
+}  // namespace ausbau
