@@ -149,3 +149,16 @@ bench-inistate: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-inistate-bench
 	@$(BUILD)/bin/ausbau-inistate-bench --out $(BENCH_INISTATE_OUT) $(BENCH_INISTATE_ARGS)
 	@echo "bench-inistate: $(BENCH_INISTATE_OUT)/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv"
+
+# The whole pipeline (pipelines/inistate.mk, default VALIDITY=auto) on every
+# family, clips-ds* and panel-* (coarse and fine, turned and metres out),
+# seeds 1-3, and on the external set; each path.csv judged by the external
+# oracle.py or the clip generator's ground truth. About 5 min on 2 cores.
+# Needs python3-numpy (apt-get install python3-numpy) for oracle.py.
+BENCH_E2E_OUT ?= out/inistate-end-to-end
+BENCH_E2E_ARGS ?=
+
+.PHONY: bench-end-to-end
+bench-end-to-end: build
+	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --out $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
+	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"

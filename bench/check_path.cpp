@@ -10,6 +10,18 @@
 #include "planning/path_io.h"
 #include "scene/scene.h"
 
+namespace {
+
+// The check judges the whole path by its voxels: all of S, not only S near
+// D's installed pose.
+ausbau::VoxelizeOptions WholeStatic() {
+  ausbau::VoxelizeOptions options;
+  options.whole_static = true;
+  return options;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace ausbau;
   std::string scene_file, truth_file, path_file, voxels_file, labels_file;
@@ -39,7 +51,7 @@ int main(int argc, char** argv) {
           path = ReadPathArtifact(path_file);
         }
         const SceneVoxels voxels =
-            voxels_file.empty() ? VoxelizeScene(scene, VoxelizeOptions{}) : ReadVoxelArtifact(voxels_file);
+            voxels_file.empty() ? VoxelizeScene(scene, WholeStatic()) : ReadVoxelArtifact(voxels_file);
         const GroundTruthCheck check =
             CheckPathAgainstGroundTruth(scene, truth, voxels, path.reference_point, path.waypoints, step, tolerance);
         std::printf("%s: rigid volume start %.4g max %.4g (segment %d), ends disassembled %s, %lld poses%s%s\n",

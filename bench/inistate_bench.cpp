@@ -45,6 +45,7 @@
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "inistate_end_to_end.h"
 #include "machine.h"
 #include "split_list.h"
 #include "core/log.h"
@@ -326,6 +327,7 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
     start = Clock::now();
     VoxelizeOptions voxelize_options;
     voxelize_options.voxel_budget = options.voxel_budget;
+    voxelize_options.whole_static = true;  // the ground-truth check below judges whole paths by these voxels
     const SceneVoxels voxels = VoxelizeScene(scene, voxelize_options);
     result.voxelize_s = SecondsSince(start);
     result.voxel_size = voxels.dynamic_grid.geometry.spacing;
@@ -601,11 +603,43 @@ int main(int argc, char** argv) {
   app.add_flag("--truth-labels", options.truth_labels,
                "also run Labeled-MLIV with the generator's nominal labels (column labeled-mliv-gt)");
   app.add_flag("--keep-scenes", options.keep_scenes, "keep the generated scenes under OUT/scenes");
+  // --end-to-end (inistate_end_to_end.h).
+  bool end_to_end = false;
+  bench::EndToEndOptions e2e;
+  std::string external = "../shared/benchmarks/inistate-external";
+  e2e.bin = fs::absolute(argv[0]).parent_path();
+  app.add_flag("--end-to-end", end_to_end,
+               "run the whole pipeline (pipelines/inistate.mk) on every family, clips-ds* and panel-* (coarse and "
+               "fine, turned and metres out), and on the external set; paths judged by oracle.py or the ground "
+               "truth; --seeds defaults to 3, --out to out/inistate-end-to-end");
+  app.add_option("--external", external, "end-to-end: folder with scenes/ and oracle.py; 'none' for no external set")
+      ->capture_default_str();
+  app.add_option("--validity", e2e.validity, "end-to-end: the pipeline's VALIDITY (default: its default, auto)");
+  app.add_option("--bin", e2e.bin, "end-to-end: the stages' folder (default: this program's)");
+  app.add_option("--pipeline", e2e.pipeline, "end-to-end: the pipeline Makefile")->capture_default_str();
+  app.add_option("--python", e2e.python, "end-to-end: python with numpy, for oracle.py")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   std::string command = "ausbau-inistate-bench";
   for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
   SetLogProgramName("ausbau-inistate-bench");
   SetLogLevel(LogLevel::kWarn);
+  if (end_to_end) {
+    try {
+      if (!families.empty()) e2e.families = bench::SplitList(families);
+      const int seeds = app.count("--seeds") > 0 ? options.seeds : 3;
+      if (seeds < 1) throw InputError("--seeds: must be >= 1");
+      e2e.seeds.clear();
+      for (int s = 0; s < seeds; ++s) e2e.seeds.push_back(options.first_seed + s);
+      e2e.out = app.count("--out") > 0 ? options.out : "out/inistate-end-to-end";
+      if (external != "none") e2e.external = external;
+      e2e.command = command;
+      fs::create_directories(e2e.out);
+      return bench::RunEndToEnd(e2e);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "ausbau-inistate-bench: error: %s\n", e.what());
+      return 2;
+    }
+  }
   try {
     if (!families.empty()) options.families = bench::SplitList(families);
     for (const std::string& family : options.families) {

@@ -274,7 +274,7 @@ std::pair<std::int64_t, std::int64_t> BruteForce(const VoxelGrid& s, const Voxel
       for (int i = 0; i < gd.dims[0]; ++i) {
         if (d.cells[gd.Index(i, j, k)] == kVoxelEmpty) continue;
         const Vec3 w = pose.q * (gd.Center(i, j, k) - ref) + pose.t;
-        const Vec3 c = ((w - s.geometry.origin) / s.geometry.spacing).array().floor();
+        const Vec3 c = (s.geometry.axes.transpose() * (w - s.geometry.origin) / s.geometry.spacing).array().floor();
         if (s.Occupied(static_cast<int>(c.x()), static_cast<int>(c.y()), static_cast<int>(c.z()))) {
           hit[gd.Index(i, j, k)] = 1;
           ++iv;
@@ -631,7 +631,95 @@ TEST(VoxelArtifact, RoundTrip) {
   EXPECT_EQ(back.static_grid.geometry.dims, data.voxels.static_grid.geometry.dims);
   EXPECT_TRUE(back.static_grid.geometry.origin.isApprox(data.voxels.static_grid.geometry.origin));
   EXPECT_DOUBLE_EQ(back.dynamic_grid.geometry.spacing, data.voxels.dynamic_grid.geometry.spacing);
+  EXPECT_TRUE(back.dynamic_grid.geometry.axes.isApprox(data.voxels.dynamic_grid.geometry.axes, 1e-15));
+  EXPECT_TRUE(back.static_grid.geometry.axes.isApprox(data.voxels.static_grid.geometry.axes, 1e-15));
   EXPECT_THROW(ReadVoxelArtifact(dir / "missing.h5"), InputError);
+}
+
+// ------------------------------------------------------------ grids that fit
+
+// A 60 x 40 x 3 panel with a 2 mm tongue, and a plate the tongue's tip
+// overlaps (IV > 0 at the installed pose, the identity).
+Scene PanelAndPlate() {
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({0, 0, 0}, {60, 40, 3});
+  scene.dynamic_mesh.Append(MakeBox({55, 15, 3}, {57, 25, 12}));
+  scene.static_mesh = MakeBox({50, -10, 9}, {80, 50, 11});
+  return scene;
+}
+
+Scene Turned(const Scene& scene, const Eigen::Isometry3d& place) {
+  Scene out = scene;
+  for (Vec3& v : out.dynamic_mesh.vertices) v = place * v;
+  for (Vec3& v : out.static_mesh.vertices) v = place * v;
+  return out;
+}
+
+TEST(Voxelize, PrincipalAxesAreARightHandedFrameOfATurnedBox) {
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.8, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+  std::vector<Vec3> points;
+  for (const Vec3& v : MakeBox({0, 0, 0}, {60, 40, 3}).vertices) points.push_back(turn * v + Vec3(3000, -200, 900));
+  const Eigen::Matrix3d axes = PrincipalAxes(points);
+  EXPECT_TRUE((axes.transpose() * axes).isIdentity(1e-12));
+  EXPECT_NEAR(axes.determinant(), 1.0, 1e-12);
+  // Largest spread first: the box's 60 mm edge, then its 40 mm edge.
+  EXPECT_NEAR(std::abs(axes.col(0).dot(turn.col(0))), 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(axes.col(1).dot(turn.col(1))), 1.0, 1e-9);
+  EXPECT_NEAR(std::abs(axes.col(2).dot(turn.col(2))), 1.0, 1e-9);
+}
+
+TEST(Voxelize, ATurnedSceneGetsTheGridsAndTheVolumeOfTheAlignedOne) {
+  // Car coordinates: the whole scene turned and 3 m out. D's and S's grids
+  // lie in D's principal frame, so the voxel size, the grids' sizes and the
+  // intersection volume at the installed pose are those of the aligned
+  // scene (a world-aligned grid of the turned panel would be coarser: its
+  // AABB holds many times its volume).
+  const Scene aligned = PanelAndPlate();
+  const Eigen::Isometry3d place =
+      Eigen::Translation3d(3100, -450, 1200) * Eigen::AngleAxisd(2.1, Vec3(0.3, 1, -0.7).normalized());
+  const Scene turned = Turned(aligned, place);
+  VoxelizeOptions options;
+  options.voxel_budget = 200000;
+  const SceneVoxels a = VoxelizeScene(aligned, options), b = VoxelizeScene(turned, options);
+  EXPECT_NEAR(b.dynamic_grid.geometry.spacing, a.dynamic_grid.geometry.spacing, 1e-9);
+  EXPECT_EQ(b.dynamic_grid.geometry.dims, a.dynamic_grid.geometry.dims);
+  EXPECT_EQ(b.static_grid.geometry.dims, a.static_grid.geometry.dims);
+  const double world_aligned = AutomaticVoxelSize(turned.dynamic_mesh.Bounds(), options.voxel_budget);
+  EXPECT_GT(world_aligned, 1.5 * b.dynamic_grid.geometry.spacing);
+  IntersectionVolume volume_a(a.static_grid, a.dynamic_grid, aligned.dynamic_origin);
+  IntersectionVolume volume_b(b.static_grid, b.dynamic_grid, turned.dynamic_origin);
+  const double iv_a = volume_a.Iv(aligned.start), iv_b = volume_b.Iv(turned.start);
+  EXPECT_GT(iv_a, 0);
+  EXPECT_NEAR(iv_b, iv_a, 0.02 * iv_a);
+  // And after the same motion (lift the tongue out by 5 mm along the panel's
+  // normal, turned with the scene): nothing.
+  Pose lifted_a = aligned.start, lifted_b = turned.start;
+  lifted_a.t += Vec3(0, 0, -5);
+  lifted_b.t += place.linear() * Vec3(0, 0, -5);
+  EXPECT_EQ(volume_a.Iv(lifted_a), 0.0);
+  EXPECT_EQ(volume_b.Iv(lifted_b), 0.0);
+}
+
+TEST(Voxelize, SIsVoxelizedWhereDCanReachNotWhereverSExtends) {
+  // S: the plate, and a 20 m floor far from D (a whole vehicle). S's grid
+  // covers D's neighbourhood; whole_static covers all of S.
+  Scene scene = PanelAndPlate();
+  scene.static_mesh.Append(MakeBox({-10000, -10000, -2000}, {10000, 10000, -1990}));
+  VoxelizeOptions options;
+  options.voxel_budget = 200000;
+  const SceneVoxels near = VoxelizeScene(scene, options);
+  const Aabb covered = near.static_grid.geometry.Bounds();
+  const double reach = scene.dynamic_mesh.Bounds().Diagonal();
+  const double h = near.static_grid.geometry.spacing;
+  EXPECT_LT(covered.Size().maxCoeff(), 1.1 * (scene.dynamic_mesh.Bounds().Size().maxCoeff() + 2 * reach) + 4 * h);
+  EXPECT_TRUE(covered.Contains(Vec3(56, 20, 10)));  // where the tongue meets the plate
+  // All of S (at a voxel size that fits it): the floor's corners too.
+  options.whole_static = true;
+  options.voxel_size = 100;
+  const Aabb whole = VoxelizeScene(scene, options).static_grid.geometry.Bounds();
+  EXPECT_TRUE(whole.Contains(Vec3(-9999, -9999, -1995)));
+  EXPECT_TRUE(whole.Contains(Vec3(9999, 9999, -1995)));
 }
 
 std::pair<int, std::string> RunCommand(const std::string& command) {

@@ -167,7 +167,12 @@ TEST_F(PipelineTest, ANewSeedReRunsOnlyThePlanningStages) {
 TEST_F(PipelineTest, TheUnguardedModeReusesVoxelsAndLabels) {
   const fs::path dir = Copy("unguarded");
   const Outcome run = RunPipeline(dir / "scene/scene.yaml", dir / "out", "VALIDITY=labeled-mliv-unguarded");
-  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // Alg. 12 alone lets a rigid part graze S by up to tau / colorValue (less
+  // than a voxel here): its path may fail the verdict's exact check (exit 3,
+  // not removable; make then fails). Either way the run reached its verdict.
+  ASSERT_TRUE(run.exit_code == 0 || run.output.find("FAILED: a rigid part of D penetrates S") != std::string::npos)
+      << run.output;
+  ASSERT_TRUE(fs::exists(dir / "out/verdict.json")) << run.output;
   for (const char* name : {"voxels.h5", "labels.h5"}) {
     EXPECT_TRUE(UpToDate(run, (dir / "out" / name).string())) << name << " was redone:\n" << run.output;
   }
@@ -282,6 +287,11 @@ TEST_F(PipelineTest, TheVerdictChecksThePathCsvAsWritten) {
   EXPECT_TRUE(HasLine(json, "\"exact_check\": {")) << json;
   EXPECT_FALSE(ExactCheckValid(json)) << json;
   EXPECT_NE(json.find("penetrates S"), std::string::npos) << json;
+  // Not removable: what holds D, from straight pulls (README "What the
+  // verdict promises").
+  EXPECT_NE(json.find("\"what_blocks\": {"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"straight_pulls\": ["), std::string::npos) << json;
+  EXPECT_NE(run.output.find("what blocks: "), std::string::npos) << run.output;
 }
 
 // ---- ausbau-verdict on its own

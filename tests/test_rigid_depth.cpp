@@ -283,5 +283,45 @@ TEST(ExactCheck, DensifyKeepsPlainInterpolationNearThePlannersOne) {
   EXPECT_TRUE(assumed);
 }
 
+TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
+  // A rigid peg 2 x 1 x 10 in a pocket: walls 0.5 from it in x and y, a
+  // floor 0.3 under it, open above. Pulls along its axes (z, x, y, both
+  // ways): up gets out; down stops at the floor, sideways at the walls,
+  // each after the clearance plus the tolerance (within a tolerance).
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -0.5, 0}, {1, 0.5, 10});
+  TriangleMesh s = MakeBox({1.5, -5, 0}, {5, 5, 8});
+  s.Append(MakeBox({-5, -5, 0}, {-1.5, 5, 8}));
+  s.Append(MakeBox({-1.5, 1.0, 0}, {1.5, 5, 8}));
+  s.Append(MakeBox({-1.5, -5, 0}, {1.5, -1.0, 8}));
+  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  scene.static_mesh = s;
+  const double tolerance = 0.05;
+  const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
+  ASSERT_EQ(report.probes.size(), 6u);
+  const double expected_clearance[3] = {0.3, 0.5, 0.5};  // along -z (the floor), x, y
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const BlockingProbe& p = report.probes[2 * axis + side];
+      const Eigen::Vector3d along = p.direction.cwiseAbs();
+      const int dominant = axis == 0 ? 2 : axis - 1;  // z, then x, then y
+      ASSERT_NEAR(along[dominant], 1.0, 1e-9) << "probe " << 2 * axis + side << ": " << p.direction.transpose();
+      if (axis == 0 && p.direction.z() > 0) {
+        EXPECT_TRUE(p.separated);
+        continue;
+      }
+      EXPECT_FALSE(p.separated) << p.direction.transpose();
+      EXPECT_NEAR(p.free_distance, expected_clearance[axis] + tolerance, tolerance) << p.direction.transpose();
+      EXPECT_GT(p.depth, tolerance);
+      EXPECT_GE(p.rigid_shell, 0);
+      EXPECT_GE(p.static_shell, 0);
+    }
+  }
+  ASSERT_GE(report.farthest, 0);
+  EXPECT_NEAR(report.probes[report.farthest].free_distance, 0.5 + tolerance, tolerance);
+  EXPECT_NE(report.summary.find("5 of 6 straight pulls"), std::string::npos) << report.summary;
+}
+
 }  // namespace
 }  // namespace ausbau

@@ -25,8 +25,10 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
   } else {
     voxels = ReadVoxelArtifact(inputs.voxels);
     const double h = voxels.dynamic_grid.geometry.spacing;
+    // D's grid covers D; S's grid covers S near D (VoxelizeScene): it
+    // meets S's box.
     if (!Covers(voxels.dynamic_grid.geometry.Bounds(), scene.dynamic_mesh.Bounds(), 1e-6 * h) ||
-        !Covers(voxels.static_grid.geometry.Bounds(), scene.static_mesh.Bounds(), 1e-6 * h)) {
+        voxels.static_grid.geometry.Bounds().SeparatedFrom(scene.static_mesh.Bounds())) {
       throw InputErrorAt(inputs.voxels, "the voxel grids do not cover this scene's D and S (voxels of another scene?)");
     }
     if (voxels.shrink > 0) {

@@ -241,9 +241,13 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
   // D index (i, j, k) -> continuous S index: g0 + m (i, j, k).
   const Eigen::Matrix3d rotation = pose.q.normalized().toRotationMatrix();
   const double hs = d.s_geometry.spacing, hd = d.d_geometry.spacing;
-  const Eigen::Matrix3d m = rotation * (hd / hs);
-  const Eigen::Vector3d first_center = d.d_geometry.origin + Eigen::Vector3d::Constant(0.5 * hd);
-  const Eigen::Vector3d g0 = (rotation * (first_center - d.reference_point) + pose.t - d.s_geometry.origin) / hs;
+  // (Both grids may be turned: D's lies in D's principal frame, S's in that
+  // frame at the installed pose; voxel_grid.h.)
+  const Eigen::Matrix3d to_s = d.s_geometry.axes.transpose();
+  const Eigen::Matrix3d m = to_s * rotation * d.d_geometry.axes * (hd / hs);
+  const Eigen::Vector3d first_center = d.d_geometry.Center(0, 0, 0);
+  const Eigen::Vector3d g0 =
+      to_s * (rotation * (first_center - d.reference_point) + pose.t - d.s_geometry.origin) / hs;
   const int snx = d.s_geometry.dims[0], sny = d.s_geometry.dims[1], snz = d.s_geometry.dims[2];
   const std::int64_t splane = std::int64_t{snx} * sny;
   const std::uint8_t* distance = d.s_distance.data();

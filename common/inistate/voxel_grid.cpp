@@ -12,6 +12,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include <Eigen/Eigenvalues>
+
 #include "core/error.h"
 #include "core/log.h"
 #include "scene/scene.h"
@@ -259,8 +261,10 @@ Vec3 VoxelGridGeometry::Center(std::int64_t index) const {
 
 Aabb VoxelGridGeometry::Bounds() const {
   Aabb box;
-  box.Extend(origin);
-  box.Extend(origin + spacing * Vec3(dims[0], dims[1], dims[2]));
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 along((corner & 1) ? dims[0] : 0, (corner & 2) ? dims[1] : 0, (corner & 4) ? dims[2] : 0);
+    box.Extend(origin + axes * (spacing * along));
+  }
   return box;
 }
 
@@ -450,6 +454,27 @@ VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding) {
   return g;
 }
 
+Eigen::Matrix3d PrincipalAxes(const std::vector<Vec3>& points) {
+  if (points.empty()) return Eigen::Matrix3d::Identity();
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  if (solver.info() != Eigen::Success || !solver.eigenvectors().allFinite()) return Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d axes;
+  for (int k = 0; k < 2; ++k) {  // eigenvalues ascend: largest spread first
+    Vec3 axis = solver.eigenvectors().col(2 - k).normalized();
+    int largest = 0;
+    axis.cwiseAbs().maxCoeff(&largest);
+    if (axis[largest] < 0) axis = -axis;
+    axes.col(k) = axis;
+  }
+  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
+  return axes;
+}
+
 std::int64_t VoxelizeMemoryBytes(const VoxelGridGeometry& g) {
   // A state byte and a 4-byte region label per voxel while voxelizing, and a
   // distance byte per voxel in IntersectionVolume.
@@ -472,6 +497,18 @@ void CheckVoxelMemory(const VoxelGridGeometry& g, std::int64_t limit, const std:
 
 VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options,
                        VoxelizeStats* stats_out, const std::string& phase) {
+  if (!geometry.axes.isIdentity(0)) {
+    // A turned grid: voxelize the mesh in the grid's frame, where the grid
+    // is axis-aligned (the winding number does not depend on the frame).
+    TriangleMesh local = mesh;
+    for (Vec3& v : local.vertices) v = geometry.axes.transpose() * v;
+    VoxelGridGeometry aligned = geometry;
+    aligned.origin = geometry.axes.transpose() * geometry.origin;
+    aligned.axes = Eigen::Matrix3d::Identity();
+    VoxelGrid grid = VoxelizeMesh(local, aligned, options, stats_out, phase);
+    grid.geometry = geometry;
+    return grid;
+  }
   const auto start = std::chrono::steady_clock::now();
   VoxelizeStats stats;
   VoxelGrid grid;
@@ -651,9 +688,43 @@ VoxelGrid ErodeVoxels(const VoxelGrid& grid, double distance) {
 
 SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
   options.Check();
-  const Aabb d_box = scene.dynamic_mesh.Bounds(), s_box = scene.static_mesh.Bounds();
+  // D in its principal frame (voxel_grid.h).
+  const std::vector<Vec3>& d_points = scene.dynamic_mesh.vertices;
+  const Eigen::Matrix3d d_axes = PrincipalAxes(d_points);
+  Aabb d_box;
+  for (const Vec3& p : d_points) d_box.Extend(d_axes.transpose() * p);
+  // S in the frame of D's principal axes at the installed pose (S is mostly
+  // what D is fitted into, turned with it), where D can reach in the volume
+  // phase: within D's diagonal of D's installed box in that frame (scene
+  // convention: world = start (p - dynamic_origin)).
+  const Eigen::Matrix3d s_axes = scene.start.q.normalized().toRotationMatrix() * d_axes;
+  Aabb s_box;
+  for (const Vec3& p : scene.static_mesh.vertices) s_box.Extend(s_axes.transpose() * p);
+  if (!options.whole_static && !d_box.Empty() && !s_box.Empty()) {
+    Aabb installed;
+    for (const Vec3& p : d_points) installed.Extend(s_axes.transpose() * scene.start.Apply(p - scene.dynamic_origin));
+    const Vec3 reach = Vec3::Constant(installed.Diagonal());
+    Aabb near;
+    near.min = s_box.min.cwiseMax(installed.min - reach);
+    near.max = s_box.max.cwiseMin(installed.max + reach);
+    if ((near.min.array() <= near.max.array()).all()) {
+      if (near.min != s_box.min || near.max != s_box.max) {
+        LogInfo("S voxelized within D's diagonal (%g) of D's installed box: %g x %g x %g of S's %g x %g x %g",
+                installed.Diagonal(), near.Size().x(), near.Size().y(), near.Size().z(), s_box.Size().x(),
+                s_box.Size().y(), s_box.Size().z());
+      }
+      s_box = near;
+    }
+  }
+  // A grid with the given axes around a box in the axes' frame.
+  const auto grid_in = [](const Aabb& local, const Eigen::Matrix3d& axes, double spacing) {
+    VoxelGridGeometry g = GridAround(local, spacing);
+    g.origin = axes * g.origin;
+    g.axes = axes;
+    return g;
+  };
   double h = options.voxel_size > 0 ? options.voxel_size : AutomaticVoxelSize(d_box, options.voxel_budget);
-  VoxelGridGeometry gd = GridAround(d_box, h), gs = GridAround(s_box, h);
+  VoxelGridGeometry gd = grid_in(d_box, d_axes, h), gs = grid_in(s_box, s_axes, h);
   if (options.voxel_size <= 0) {
     // The automatic size is a wish, not a demand: where S is much larger than
     // D its grid may not fit the memory limit at the budget's size; then
@@ -663,8 +734,8 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
     // At most 2^30 times fewer cells; a limit below even that is refused below.
     for (int k = 0; k < 90 && VoxelizeMemoryBytes(gd) + VoxelizeMemoryBytes(gs) > options.memory_limit; ++k) {
       h *= std::cbrt(2.0);
-      gd = GridAround(d_box, h);
-      gs = GridAround(s_box, h);
+      gd = grid_in(d_box, d_axes, h);
+      gs = grid_in(s_box, s_axes, h);
     }
     if (h != wished) {
       LogWarn("automatic voxel size %g coarsened to %g to fit the memory limit of %.2f GiB (--memory-limit)", wished, h,
@@ -723,6 +794,12 @@ void WriteGrid(ArtifactWriter& w, const std::string& group, const VoxelGrid& gri
   w.SetAttribute(group + "/spacing", "units", units);
   w.WriteInts(group + "/dims", {g.dims[0], g.dims[1], g.dims[2]}, {3});
   w.SetAttribute(group + "/dims", "order", std::string("nx,ny,nz"));
+  std::vector<double> axes;
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 3; ++col) axes.push_back(g.axes(row, col));
+  }
+  w.WriteDoubles(group + "/axes", axes, {3, 3});
+  w.SetAttribute(group + "/axes", "meaning", std::string("columns: the grid's x, y, z axes in mesh coordinates"));
 }
 
 VoxelGrid ReadGrid(const ArtifactReader& r, const std::string& group) {
@@ -739,6 +816,17 @@ VoxelGrid ReadGrid(const ArtifactReader& r, const std::string& group) {
   grid.geometry.origin = {origin.data[0], origin.data[1], origin.data[2]};
   if (!grid.geometry.origin.allFinite()) throw InputErrorAt(where, "dataset '" + group + "/origin' is not finite");
   grid.geometry.spacing = spacing.data[0];
+  if (r.Has(group + "/axes")) {  // absent in artifacts written before turned grids: identity
+    const Array<double> axes = r.ReadDoubles(group + "/axes", 2);
+    if (axes.dims != std::vector<size_t>{3, 3}) throw InputErrorAt(where, "dataset '" + group + "/axes' must be 3 x 3");
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 3; ++col) grid.geometry.axes(row, col) = axes.data[3 * row + col];
+    }
+    const Eigen::Matrix3d& a = grid.geometry.axes;
+    if (!a.allFinite() || !(a.transpose() * a).isIdentity(1e-9) || !(a.determinant() > 0)) {
+      throw InputErrorAt(where, "dataset '" + group + "/axes' is not a rotation");
+    }
+  }
   for (int k = 0; k < 3; ++k) {
     if (dims.data[k] < 1 || dims.data[k] > 1000000000) {
       throw InputErrorAt(where, "dataset '" + group + "/dims' holds an invalid size");

@@ -68,6 +68,12 @@ struct VoxelGridGeometry {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // corner of voxel (0, 0, 0)
   double spacing = 1.0;                              // voxel edge length
   std::array<int, 3> dims{0, 0, 0};                  // nx, ny, nz
+  // The grid's axes (columns, orthonormal, right-handed) in the coordinates
+  // of the mesh it voxelizes: voxel (i, j, k) is origin + axes (spacing
+  // ([i, i+1] x [j, j+1] x [k, k+1])). VoxelizeScene puts D's grid in D's
+  // principal frame and S's in that frame at the installed pose, so that a
+  // part turned in car coordinates gets the voxels it would get aligned.
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();
 
   std::int64_t Count() const { return static_cast<std::int64_t>(dims[0]) * dims[1] * dims[2]; }
   std::int64_t Index(int i, int j, int k) const { return (static_cast<std::int64_t>(k) * dims[1] + j) * dims[0] + i; }
@@ -81,11 +87,11 @@ struct VoxelGridGeometry {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2];
   }
   Eigen::Vector3d Center(int i, int j, int k) const {
-    return origin + spacing * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+    return origin + axes * (spacing * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5));
   }
   Eigen::Vector3d Center(std::int64_t index) const;
   double VoxelVolume() const { return spacing * spacing * spacing; }
-  Aabb Bounds() const;
+  Aabb Bounds() const;  // of the grid's 8 corners, in the mesh's coordinates
 };
 
 struct VoxelGrid {
@@ -151,6 +157,9 @@ struct VoxelizeOptions {
   std::int64_t memory_limit = std::int64_t{2} << 30;
   double shrink = 0;                                  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
+  // S's grid: all of S instead of S near D (VoxelizeScene). For checkers
+  // that judge a whole path by its voxels (ausbau-check-path).
+  bool whole_static = false;
   bool progress = false;  // report progress through core/log.h
   void Check() const;     // throws InputError
 };
@@ -177,6 +186,11 @@ double AutomaticVoxelSize(const Aabb& dynamic_box, std::int64_t budget);
 // of margin on every side (the grid is centred on the box), so that a face of
 // the box never touches the outermost voxels.
 VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding = 1);
+// The principal axes of a point set (eigenvectors of the covariance of the
+// points, largest spread first; each turned so that its largest component is
+// positive, the third the cross product of the first two): a deterministic,
+// right-handed frame in which a turned box is axis-aligned again.
+Eigen::Matrix3d PrincipalAxes(const std::vector<Eigen::Vector3d>& points);
 
 // Bytes VoxelizeMesh needs for a grid (the cells, region labels and the
 // intersection volume's distance grid). Throws InputError naming `what` when
@@ -203,8 +217,18 @@ struct SceneVoxels {
 };
 
 // Voxelizes a scene's S and D at one voxel size (options.voxel_size, or the
-// automatic size). S's grid covers S's AABB, D's grid D's AABB, each padded by
-// one voxel. Throws InputError when a grid exceeds the memory limit.
+// automatic size). D's grid lies in D's principal frame (PrincipalAxes) and
+// covers D's box there; the automatic size is taken from that box, so a
+// panel turned arbitrarily in car coordinates gets the voxels it gets
+// aligned (its world AABB can hold 10-50 times its volume). S's grid lies in
+// the same frame at the installed pose (S is mostly what D is fitted into,
+// turned with it) and covers S where D can reach in the volume phase:
+// within D's diagonal of D's installed box (the volume model governs
+// sigma_1, the fasteners' release near the installed pose; S farther out is
+// left to FCL and the exact check; options.whole_static for all of S), so
+// memory follows D's neighbourhood, not the size of S (a whole vehicle).
+// Each grid is padded by one voxel. Throws InputError when a grid exceeds
+// the memory limit.
 SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options);
 
 // Per cell of D's grid, colorValue in [0 = deformable, 1 = rigid] (thesis

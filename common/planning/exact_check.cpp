@@ -1,5 +1,7 @@
 #include "planning/exact_check.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -45,6 +47,95 @@ std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoint
     out.push_back(waypoints[i + 1]);
   }
   return out;
+}
+
+BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured) {
+  BlockingReport report;
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& v : robot.vertices) v -= scene.dynamic_origin;
+  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
+  const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
+  const Aabb static_box = scene.static_mesh.Bounds();
+  // D's principal axes in the world at the installed pose.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> world;
+  for (const auto& v : robot.vertices) world.push_back(scene.start.Apply(v));
+  for (const auto& w : world) mean += w;
+  mean /= std::max<std::size_t>(1, world.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const auto& w : world) covariance += (w - mean) * (w - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  Aabb robot_box;
+  for (const auto& w : world) robot_box.Extend(w);
+  const double reach = (robot_box.max - robot_box.min).norm() + (static_box.max - static_box.min).norm();
+  const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
+  for (int axis = 2; axis >= 0; --axis) {
+    for (double sign : {1.0, -1.0}) {
+      BlockingProbe probe;
+      probe.direction = sign * solver.eigenvectors().col(axis).normalized();
+      double s = 0;
+      for (int step = 0; step < 1000000 && s <= reach; ++step) {
+        Pose pose = scene.start;
+        pose.t += s * probe.direction;
+        DepthReport depth = checker.Measure(pose);
+        if (depth.rigid_depth > tolerance) {
+          // Blocked between the last free pose and this one: bisect, so
+          // that the distance does not depend on where the steps fell.
+          double free = probe.free_distance, stuck = s;
+          for (int k = 0; k < 30 && stuck - free > 1e-3 * tolerance; ++k) {
+            const double mid = 0.5 * (free + stuck);
+            pose.t = scene.start.t + mid * probe.direction;
+            const DepthReport at = checker.Measure(pose);
+            if (at.rigid_depth > tolerance) {
+              stuck = mid;
+              depth = at;
+            } else {
+              free = mid;
+            }
+          }
+          probe.free_distance = free;
+          probe.depth = depth.rigid_depth;
+          probe.rigid_shell = depth.rigid_shell;
+          probe.static_shell = depth.rigid_static_shell;
+          break;
+        }
+        probe.free_distance = s;
+        Aabb moved = robot_box;
+        moved.min += s * probe.direction;
+        moved.max += s * probe.direction;
+        if (moved.SeparatedFrom(static_box)) {
+          probe.separated = true;
+          break;
+        }
+        s += std::min(largest_step, std::max(depth.slack, tolerance / 10));
+      }
+      report.probes.push_back(probe);
+    }
+  }
+  for (std::size_t i = 0; i < report.probes.size(); ++i) {
+    const BlockingProbe& p = report.probes[i];
+    if (p.separated || p.rigid_shell < 0) continue;
+    if (report.farthest < 0 || p.free_distance > report.probes[report.farthest].free_distance) {
+      report.farthest = static_cast<int>(i);
+    }
+  }
+  int blocked = 0;
+  for (const auto& p : report.probes) blocked += !p.separated;
+  if (!report.parts->rigid_interference.empty()) {
+    report.summary = "rigid " + report.parts->Describe(report.parts->rigid_interference.front(), true) +
+                     " already penetrates S at the installed pose";
+  } else if (report.farthest >= 0) {
+    const BlockingProbe& p = report.probes[report.farthest];
+    report.summary = Fmt("%d of %zu straight pulls along D's principal axes are blocked; the farthest, towards "
+                         "[%.3f, %.3f, %.3f], after %.4g: rigid %s of D against %s of S, %.4g deep",
+                         blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(),
+                         p.free_distance, report.parts->Describe(p.rigid_shell, true).c_str(),
+                         report.parts->Describe(p.static_shell, false).c_str(), p.depth);
+  } else {
+    report.summary = "every straight pull along D's principal axes gets D out; what holds it is a fastener or a "
+                     "motion the planner did not find";
+  }
+  return report;
 }
 
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,

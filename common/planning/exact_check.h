@@ -17,7 +17,9 @@
 // `unmeasured` as there).
 #pragma once
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,32 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
 // an arc of radius |reference_point - dynamic_origin|, at most
 // |c| (1 - cos(angle / 2)) per segment, so long turns far from the origin
 // are split.
+// What blocks D, for a verdict of "not removable": straight pulls from the
+// installed pose along D's principal axes (both ways; the eigenvectors of
+// the covariance of D's vertices, in the world at the installed pose), each
+// advanced conservatively like the exact check until a rigid shell of D
+// penetrates S deeper than the tolerance (blocked: which shell of D, which
+// of S, how deep, after how far) or D's AABB clears S's (the pull gets D
+// out). Where no path was found this names the parts that hold D; it is
+// not a search (a pull that comes out does not make D removable: a planner
+// would have found it, unless a fastener that the pull drags through S may
+// not go so far).
+struct BlockingProbe {
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // world, unit
+  double free_distance = 0;  // how far D moved within the tolerance (scene units)
+  bool separated = false;    // the pull got D's AABB clear of S's
+  double depth = 0;          // the rigid penetration that stopped it
+  int rigid_shell = -1, static_shell = -1;
+};
+struct BlockingReport {
+  std::vector<BlockingProbe> probes;  // +axis 0, -axis 0, +axis 1, ... (largest spread first)
+  int farthest = -1;                  // the blocked probe that got farthest (-1: none blocked)
+  std::shared_ptr<const PartModel> parts;
+  std::string summary;                // one line for a user
+};
+BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance,
+                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,
                                                const Eigen::Vector3d& dynamic_origin, double deviation);

@@ -213,6 +213,13 @@ int Run(const VerdictOptions& options) {
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   const bool removable = path.success && !path.waypoints.empty() && exact && exact->valid;
+  // Not removable: what holds D (straight pulls from the installed pose).
+  std::optional<BlockingReport> blocking;
+  if (!removable) {
+    blocking = ProbeWhatBlocks(scene, tolerance,
+                               IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener
+                                                               : UnmeasuredInterference::kRigid);
+  }
   const std::optional<MaxVolume> max = FindMaxVolume(path);
   const bool volume_mode = IsVolumeValidity(path.validity);
   // tau and psi: the path's own (what it was planned with), else the tau file's.
@@ -294,6 +301,26 @@ int Run(const VerdictOptions& options) {
   } else {
     json.Null("exact_check");
   }
+  if (blocking) {
+    std::string probes = "[";
+    for (const BlockingProbe& p : blocking->probes) {
+      const auto& parts = *blocking->parts;
+      probes += std::string(probes.size() > 1 ? ", " : "") +
+                JsonObject()
+                    .Add("direction", "[" + JsonNumber(p.direction.x()) + ", " + JsonNumber(p.direction.y()) + ", " +
+                                          JsonNumber(p.direction.z()) + "]")
+                    .Number("free_distance", p.free_distance)
+                    .Bool("gets_out", p.separated)
+                    .Number("depth", p.separated ? std::nan("") : p.depth)
+                    .String("rigid_part", p.separated ? "" : parts.Describe(p.rigid_shell, true))
+                    .String("static_part", p.separated ? "" : parts.Describe(p.static_shell, false))
+                    .Text();
+    }
+    probes += "]";
+    json.Add("what_blocks", JsonObject().String("summary", blocking->summary).Add("straight_pulls", probes).Text());
+  } else {
+    json.Null("what_blocks");
+  }
   json.Add("length", JsonObject()
                          .Number("normalized", removable ? path.length_normalized : std::nan(""))
                          .Number("translation", removable ? translation : std::nan(""))
@@ -333,6 +360,7 @@ int Run(const VerdictOptions& options) {
                 exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth,
                 scene.units.c_str(), tolerance, exact->max_fastener_depth, scene.units.c_str());
   }
+  if (blocking) std::printf("  what blocks: %s\n", blocking->summary.c_str());
   std::printf("  time: %.2f s%s", total, options.times.empty() ? " (planner only)" : "");
   if (options.budget >= 0) std::printf(" (budget %.6g s: %s)", options.budget, total <= options.budget ? "within" : "exceeded");
   std::printf("\n  verdict: %s\n", options.output.c_str());
