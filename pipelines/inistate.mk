@@ -100,7 +100,7 @@ EXACT_MODE := $(filter rigid-exact,$(VALIDITY))
 # Stages that only sigma_1's volume validity needs, and FARR's fields.
 GEOMETRY_STAGES := $(if $(VOLUME_MODE),voxelize medial-spheres pbd-label) $(if $(EXACT_MODE),,$(if $(filter farr,$(COLLISION)),distfield-build))
 VOLUME_INPUTS := --voxels $(OUT)/voxels.h5 --labels $(OUT)/labels.h5
-PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))$(if $(EXACT_MODE),--validity rigid-exact --rigid-tolerance $(RIGID_TOLERANCE))
+PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))$(if $(EXACT_MODE),--validity rigid-exact) --rigid-tolerance $(RIGID_TOLERANCE)
 COMMA := ,
 PLAN_COLLISION := $(if $(EXACT_MODE),,--collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(OUT)/distfield-static.h5$(COMMA)$(OUT)/distfield-dynamic.h5))
 
@@ -135,7 +135,7 @@ distfield-build: start
 
 # Exit 3 (no round found sigma_1) still writes tau.h5 with the last tau
 # tried; the planner gets its chance with it.
-TAU_CMD = $(TAU_ESTIMATE) --scene $(SCENE) --validity $(VALIDITY) $(VOLUME_INPUTS) --seed $(SEED) \
+TAU_CMD = $(TAU_ESTIMATE) --scene $(SCENE) --validity $(VALIDITY) $(VOLUME_INPUTS) --rigid-tolerance $(RIGID_TOLERANCE) --seed $(SEED) \
   --time-limit $(TAU_TIME_LIMIT) --threads $(THREADS) -o $(OUT)/tau.h5 --csv $(OUT)/tau-trace.csv $(TAU_FLAGS)
 tau-estimate: start $(if $(VOLUME_MODE),voxelize pbd-label)
 ifneq ($(VOLUME_MODE),)

@@ -13,6 +13,7 @@
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "geometry/primitives.h"
+#include "geometry/principal_axes.h"
 #include "inistate/intersection_volume.h"
 #include "inistate/voxel_grid.h"
 #include "planning/random.h"

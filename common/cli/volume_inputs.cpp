@@ -4,6 +4,7 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "labeling/pbd_label.h"
+#include "planning/exact_check.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -47,7 +48,11 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
     throw InputError("--validity " + ValidityModeName(mode) +
                      " needs --labels (ausbau-medial-spheres, then ausbau-pbd-label)");
   }
-  return std::make_unique<VolumeModel>(problem, scene.dynamic_mesh, std::move(voxels), deformability, mode);
+  auto model = std::make_unique<VolumeModel>(problem, scene.dynamic_mesh, std::move(voxels), deformability, mode);
+  if (mode == ValidityMode::kLabeledMliv) {
+    model->GuardRigidParts(problem, RigidToleranceInSceneUnits(inputs.rigid_tolerance_mm, scene.units, nullptr));
+  }
+  return model;
 }
 
 void AddVolumeInputs(const VolumeInputs& inputs, Provenance* provenance) {

@@ -17,6 +17,9 @@ struct Scene;
 struct VolumeInputs {
   std::string voxels;  // ausbau-voxels artifact; empty = voxelize now (defaults)
   std::string labels;  // ausbau-labels artifact; required for labeled-mliv
+  // labeled-mliv: the rigid guard's tolerance (VolumeModel::GuardRigidParts),
+  // millimetres, converted by the scene's units; as --rigid-tolerance.
+  double rigid_tolerance_mm = 0.05;
 };
 
 // Throws InputError naming the file: missing, wrong schema, made for another

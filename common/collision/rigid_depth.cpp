@@ -99,6 +99,19 @@ struct PairMeasure {
                   distance_result);
     return -std::max(0.0, distance_result.min_distance);
   }
+
+  // Depth(r, pose, s) > allowed (>= 0), without the distance a separated
+  // non-convex pair would cost: a plain validity question.
+  bool Exceeds(int r, const Eigen::Isometry3d& pose, int s, double allowed) const {
+    const Shell& a = (*robot)[r];
+    const Shell& b = (*statics)[s];
+    if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
+    const fcl::Transform3d& tf = pose;
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    fcl::collide(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
+    return result.isCollision();
+  }
 };
 
 }  // namespace
@@ -233,6 +246,23 @@ RigidDepthChecker::~RigidDepthChecker() = default;
 DepthReport RigidDepthChecker::Measure(const Pose& pose) const { return MeasurePairs(pose, true); }
 
 double RigidDepthChecker::Slack(const Pose& pose) const { return MeasurePairs(pose, false).slack; }
+
+bool RigidDepthChecker::CheckValid(const Pose& pose) const {
+  const Eigen::Isometry3d iso = pose.ToIsometry();
+  const PartModel& parts = *parts_;
+  bool valid = true;
+  for (int r = 0; r < static_cast<int>(parts.robot_shells.size()) && valid; ++r) {
+    const bool rigid = parts.role[r] == ShellRole::kRigid;
+    const double allowed = rigid ? limit_ : parts.cluster_limit[parts.cluster[r]] + limit_;
+    if (std::isinf(allowed)) continue;
+    const Shell& shell = parts.robot_shells[r];
+    // Only pairs that can touch: those within the shell's radius.
+    impl_->tree.Query(iso * shell.center, shell.radius, [&](int s) {
+      if (valid && impl_->measure.Exceeds(r, iso, s, allowed)) valid = false;
+    });
+  }
+  return valid;
+}
 
 DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasteners) const {
   DepthReport report;

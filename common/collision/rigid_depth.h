@@ -104,6 +104,9 @@ class RigidDepthChecker : public SlackValidity {
 
  protected:
   double Slack(const Pose& pose) const override;
+  // Slack(pose) >= 0, answered without distances (a non-convex pair that
+  // does not intersect is valid; its distance only matters for the slack).
+  bool CheckValid(const Pose& pose) const override;
 
  private:
   DepthReport MeasurePairs(const Pose& pose, bool report_fasteners) const;

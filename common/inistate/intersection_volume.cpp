@@ -194,7 +194,11 @@ IntersectionVolume::IntersectionVolume(IntersectionVolume&&) noexcept = default;
 IntersectionVolume& IntersectionVolume::operator=(IntersectionVolume&&) noexcept = default;
 IntersectionVolume::~IntersectionVolume() = default;
 
-IntersectionVolume IntersectionVolume::Clone() const { return IntersectionVolume(data_); }
+IntersectionVolume IntersectionVolume::Clone() const {
+  IntersectionVolume clone(data_);
+  clone.rigid_guard_ = rigid_guard_;
+  return clone;
+}
 
 IntersectionVolume IntersectionVolume::Reweighted(const std::vector<float>& color_values) const {
   if (static_cast<std::int64_t>(color_values.size()) != data_->d_geometry.Count()) {
@@ -207,7 +211,9 @@ IntersectionVolume IntersectionVolume::Reweighted(const std::vector<float>& colo
     data->weight[n] = Weight(color_values[data->d_geometry.Index(c[0], c[1], c[2])]);
   }
   data->color_grid = color_values;
-  return IntersectionVolume(std::move(data));
+  IntersectionVolume out(std::move(data));
+  out.rigid_guard_ = rigid_guard_;
+  return out;
 }
 
 std::int64_t IntersectionVolume::voxel_count() const { return static_cast<std::int64_t>(data_->cells.size()); }
@@ -385,6 +391,15 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
 }
 
 double IntersectionVolume::Measure(VolumeMeasure measure, const Pose& pose, double tau, VolumeQuery* query) {
+  if (rigid_guard_ && !rigid_guard_->IsValid(pose)) {
+    if (query != nullptr) {
+      const bool record = query->record_cells;
+      *query = VolumeQuery{};
+      query->record_cells = record;
+      query->value = std::numeric_limits<double>::infinity();
+    }
+    return std::numeric_limits<double>::infinity();
+  }
   switch (measure) {
     case VolumeMeasure::kIv:
       return Iv(pose, query);

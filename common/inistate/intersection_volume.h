@@ -90,8 +90,17 @@ class IntersectionVolume {
   double LabeledMliv(const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
                      VolumeQuery* query = nullptr);
   // One of the three; tau is used by Labeled-MLIV's early out only.
+  // +infinity where the rigid guard (below) refuses the pose.
   double Measure(VolumeMeasure measure, const Pose& pose, double tau = std::numeric_limits<double>::infinity(),
                  VolumeQuery* query = nullptr);
+
+  // The rigid guard: an exact check of D's rigid part (collision/
+  // rigid_depth.h) that Measure consults first; a pose it refuses measures
+  // +infinity, beyond every tau, so validity, smoothing and tau estimation
+  // all keep the rigid part out of S, however thin S is and whatever the
+  // voxels see. Shared by clones. Empty: none.
+  void SetRigidGuard(std::shared_ptr<const PoseValidity> guard) { rigid_guard_ = std::move(guard); }
+  const PoseValidity* rigid_guard() const { return rigid_guard_.get(); }
 
   std::int64_t voxel_count() const;  // D's voxels
   double voxel_volume() const;       // of D's voxels
@@ -108,6 +117,7 @@ class IntersectionVolume {
 
   std::shared_ptr<const Data> data_;
   std::unique_ptr<Buffers> buffers_;
+  std::shared_ptr<const PoseValidity> rigid_guard_;
 };
 
 // The InIState validity test (5.4.4): a pose is valid when its volume

@@ -8,6 +8,7 @@
 #include <queue>
 
 #include "core/error.h"
+#include "collision/rigid_depth.h"
 #include "core/log.h"
 
 namespace ausbau {
@@ -238,6 +239,25 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
 }
 
 VolumeModel::~VolumeModel() = default;
+
+int VolumeModel::GuardRigidParts(const PlanningProblem& problem, double tolerance) {
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kFastener);
+  if (!parts->rigid_interference.empty()) {
+    LogWarn("rigid guard off: %s of D already penetrates S %.4g deep at the start (the verdict's exact check will "
+            "refuse any path)",
+            parts->Describe(parts->rigid_interference.front(), true).c_str(),
+            parts->installed_depth[parts->rigid_interference.front()]);
+    return 0;
+  }
+  int rigid = 0;
+  for (ShellRole role : parts->role) rigid += role == ShellRole::kRigid;
+  if (rigid == 0) return 0;
+  volume_->SetRigidGuard(std::make_shared<RigidDepthChecker>(parts, tolerance / 2, tolerance / 4));
+  LogInfo("rigid guard: %d of %zu solids of D kept within %.4g of S exactly (the rest: fasteners)", rigid,
+          parts->robot_shells.size(), tolerance / 2);
+  return rigid;
+}
 
 double VolumeModel::Measure(const Pose& pose) { return volume_->Measure(measure(), pose); }
 

@@ -114,6 +114,17 @@ class VolumeModel {
   static constexpr float kDeformableColor = 0.25f;
   double EstimatePsi() const;
 
+  // The rigid guard (labeled-mliv; intersection_volume.h): D's solids that
+  // the exact check calls rigid (ClassifyParts at the start, an installed
+  // intersection it cannot measure left to the volume model) may not go
+  // deeper into S than half of `tolerance` (scene units; the final check
+  // allows all of it), checked exactly at every pose the volume is measured
+  // at. A volume threshold cannot forbid a rail grazing a 2 mm plate by a
+  // few tenths of a mm (under a voxel); this does. Returns the number of
+  // rigid solids guarded (0: none; also when a rigid solid already
+  // penetrates S at the start, which the verdict then refuses).
+  int GuardRigidParts(const PlanningProblem& problem, double tolerance);
+
  private:
   ValidityMode mode_;
   SceneVoxels voxels_;

@@ -12,10 +12,9 @@
 #include <numeric>
 #include <unordered_map>
 
-#include <Eigen/Eigenvalues>
-
 #include "core/error.h"
 #include "core/log.h"
+#include "geometry/principal_axes.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -452,27 +451,6 @@ VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding) {
   }
   g.origin = box.Center() - 0.5 * spacing * Vec3(g.dims[0], g.dims[1], g.dims[2]);
   return g;
-}
-
-Eigen::Matrix3d PrincipalAxes(const std::vector<Vec3>& points) {
-  if (points.empty()) return Eigen::Matrix3d::Identity();
-  Vec3 mean = Vec3::Zero();
-  for (const Vec3& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Vec3& p : points) covariance += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
-  if (solver.info() != Eigen::Success || !solver.eigenvectors().allFinite()) return Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d axes;
-  for (int k = 0; k < 2; ++k) {  // eigenvalues ascend: largest spread first
-    Vec3 axis = solver.eigenvectors().col(2 - k).normalized();
-    int largest = 0;
-    axis.cwiseAbs().maxCoeff(&largest);
-    if (axis[largest] < 0) axis = -axis;
-    axes.col(k) = axis;
-  }
-  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
-  return axes;
 }
 
 std::int64_t VoxelizeMemoryBytes(const VoxelGridGeometry& g) {

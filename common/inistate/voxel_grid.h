@@ -186,11 +186,7 @@ double AutomaticVoxelSize(const Aabb& dynamic_box, std::int64_t budget);
 // of margin on every side (the grid is centred on the box), so that a face of
 // the box never touches the outermost voxels.
 VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding = 1);
-// The principal axes of a point set (eigenvectors of the covariance of the
-// points, largest spread first; each turned so that its largest component is
-// positive, the third the cross product of the first two): a deterministic,
-// right-handed frame in which a turned box is axis-aligned again.
-Eigen::Matrix3d PrincipalAxes(const std::vector<Eigen::Vector3d>& points);
+
 
 // Bytes VoxelizeMesh needs for a grid (the cells, region labels and the
 // intersection volume's distance grid). Throws InputError naming `what` when

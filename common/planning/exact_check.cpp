@@ -1,12 +1,11 @@
 #include "planning/exact_check.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 
 #include "core/format.h"
+#include "geometry/principal_axes.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -57,22 +56,17 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb static_box = scene.static_mesh.Bounds();
   // D's principal axes in the world at the installed pose.
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   std::vector<Eigen::Vector3d> world;
   for (const auto& v : robot.vertices) world.push_back(scene.start.Apply(v));
-  for (const auto& w : world) mean += w;
-  mean /= std::max<std::size_t>(1, world.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const auto& w : world) covariance += (w - mean) * (w - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
+  const Eigen::Matrix3d axes = PrincipalAxes(world);
   Aabb robot_box;
   for (const auto& w : world) robot_box.Extend(w);
   const double reach = (robot_box.max - robot_box.min).norm() + (static_box.max - static_box.min).norm();
   const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
-  for (int axis = 2; axis >= 0; --axis) {
+  for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {1.0, -1.0}) {
       BlockingProbe probe;
-      probe.direction = sign * solver.eigenvectors().col(axis).normalized();
+      probe.direction = sign * axes.col(axis);
       double s = 0;
       for (int step = 0; step < 1000000 && s <= reach; ++step) {
         Pose pose = scene.start;

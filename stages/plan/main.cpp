@@ -43,7 +43,6 @@ struct PlanStageOptions {
   double psi = 0;                      // 0: from --tau-file, else from the labels
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
-  double rigid_tolerance_mm = 0.05;  // rigid-exact: millimetres, converted by the scene's units
 };
 
 constexpr const char* kRigidExact = kRigidExactValidity;
@@ -240,10 +239,10 @@ std::optional<int> ReuseCachedPath(const PlanStageOptions& options, const Proven
 // without fasteners: plain rigid planning with a tolerance.
 int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Provenance& provenance) {
   bool assumed = false;
-  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &assumed);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
   if (assumed) {
     LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
-            options.rigid_tolerance_mm);
+            options.volume.rigid_tolerance_mm);
   }
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
@@ -313,7 +312,7 @@ int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Pro
 // this before it runs any stage.
 int ChooseValidity(const PlanStageOptions& options) {
   const Scene scene = LoadScene(options.scene);
-  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
   const bool unmeasured = std::any_of(parts->rigid_interference.begin(), parts->rigid_interference.end(),
@@ -332,7 +331,7 @@ int Run(PlanStageOptions options, const std::string& parameters) {
     if (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0) {
       throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
     }
-    if (!(options.rigid_tolerance_mm > 0) || !std::isfinite(options.rigid_tolerance_mm)) {
+    if (!(options.volume.rigid_tolerance_mm > 0) || !std::isfinite(options.volume.rigid_tolerance_mm)) {
       throw InputError("--rigid-tolerance: must be a positive number (mm)");
     }
     ResolvedPlanner(options, false).Check();
@@ -462,9 +461,9 @@ int main(int argc, char** argv) {
                        "but collision: the start may collide; README \"InIState planning\", \"Rigid and deformable\")")
             ->check(CLI::IsMember(PlanValidityNames()))
             ->capture_default_str();
-        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
-                       "rigid-exact: how deep D's rigid part may touch into S, in mm (converted by the scene's "
-                       "units)")
+        app.add_option("--rigid-tolerance", options.volume.rigid_tolerance_mm,
+                       "rigid-exact, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in "
+                       "mm (converted by the scene's units)")
             ->capture_default_str();
         app.add_option("--tau", options.tau,
                        "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)");

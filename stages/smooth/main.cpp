@@ -28,7 +28,6 @@ struct SmoothStageOptions {
   bool force = false;
   SmoothOptions smooth;
   VolumeInputs volume;  // InIState paths: the voxels and labels they were planned with
-  double rigid_tolerance_mm = 0.05;  // rigid-exact paths
 };
 
 // Poses along a path (planning convention), densely: between two of them no
@@ -89,7 +88,7 @@ void WriteProfile(const std::filesystem::path& file, const PlanningProblem& prob
 // and checked exactly as written; the input is kept when that fails.
 int SmoothRigidExact(const SmoothStageOptions& options, const Scene& scene, const PathArtifact& input,
                      const Provenance& provenance) {
-  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
     throw InputErrorAt(options.path, "was planned about another reference point than this scene's");
@@ -282,8 +281,9 @@ int main(int argc, char** argv) {
                        "InIState paths: voxels they were planned with (ausbau-voxelize); default: voxelized here");
         app.add_option("--labels", options.volume.labels, "InIState paths: labels of D (the labeled modes)");
         app.add_flag("--force", options.force, "smooth even when the output is up to date");
-        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
-                       "rigid-exact paths: how deep D's rigid part may touch into S, in mm (scene units converted)")
+        app.add_option("--rigid-tolerance", options.volume.rigid_tolerance_mm,
+                       "rigid-exact paths, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, "
+                       "in mm (scene units converted)")
             ->capture_default_str();
       },
       [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "path", "output", "csv", "profile", "force", "voxels", "labels"})); });

@@ -90,6 +90,10 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--voxels", options.volume.voxels, "voxels of S and D (ausbau-voxelize); default: voxelized here");
         app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by the labeled modes");
+        app.add_option("--rigid-tolerance", options.volume.rigid_tolerance_mm,
+                       "labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in mm (scene units "
+                       "converted)")
+            ->capture_default_str();
         app.add_option("-o,--output", options.output, "tau artifact (HDF5, schema ausbau-tau)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write the search's trace as CSV");
         app.add_option("--psi", options.psi, "scene units; 0 = from the labels (largest deformable component)")
