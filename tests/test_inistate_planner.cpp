@@ -52,6 +52,45 @@ TEST(ValidityModes, NamesRoundTripAndUnknownNamesAreRefused) {
   EXPECT_THROW(ParseValidityMode("labelled-mliv"), InputError);
 }
 
+// A box-soup panel: a rigid key (its own solid) 2 mm above a 2 mm plate,
+// near a long clip whose tip sits in the plate at the start (so the key is
+// within the fasteners' reach psi and the voxel fastener guard lets it be).
+// Pushing the key 1.5 mm into the plate costs a volume far under a generous
+// tau: Labeled-MLIV cannot forbid it. The rigid guard refuses it whatever
+// tau is, and leaves the clip's own overlap to the volume.
+TEST(VolumeModel, ARigidKeyCrossingA2mmPlateIsRefusedWhateverTauIs) {
+  TriangleMesh d = MakeBox({0, 0, 10}, {60, 40, 13});  // the panel
+  d.Append(MakeBox({10, 10, 4}, {14, 30, 10}));        // the rigid key, 2 mm above the plate
+  d.Append(MakeBox({20, 18, 0.5}, {52, 22, 10}));      // the clip, its tip in the plate
+  const Scene scene = MakeScene("key-over-plate", MakeBox({-20, -20, 0}, {80, 60, 2}), d);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.5;
+  const SceneVoxels voxels = VoxelizeScene(scene, voxelize);
+  std::vector<double> deformability(scene.dynamic_mesh.vertices.size(), 0.0);
+  for (const auto& tri : scene.dynamic_mesh.triangles) {
+    bool clip = true;
+    for (int v : tri) clip = clip && scene.dynamic_mesh.vertices[v].x() > 19 && scene.dynamic_mesh.vertices[v].z() < 10.5;
+    if (clip) for (int v : tri) deformability[v] = 1.0;
+  }
+  VolumeModel model(problem, scene.dynamic_mesh, voxels, deformability, ValidityMode::kLabeledMliv);
+  Pose pushed = problem.start;
+  pushed.t.z() -= 3.5;  // the key 1.5 mm into the plate (the clip deeper too)
+  const double unguarded = model.Measure(pushed);
+  EXPECT_TRUE(std::isfinite(unguarded));
+  const double tau = 1e6;
+  EXPECT_TRUE(VolumeValidity(model.volume(), model.measure(), tau).IsValid(pushed));
+  EXPECT_EQ(model.GuardRigidParts(problem, 0.05), 2);  // the panel and the key; the clip is a fastener
+  EXPECT_TRUE(std::isinf(model.Measure(pushed)));
+  EXPECT_FALSE(VolumeValidity(model.volume(), model.measure(), tau).IsValid(pushed));
+  // The start (only the clip in the plate) and a pose with the key just
+  // touching stay as they were.
+  EXPECT_TRUE(std::isfinite(model.Measure(problem.start)));
+  Pose touching = problem.start;
+  touching.t.z() -= 1.99;
+  EXPECT_TRUE(std::isfinite(model.Measure(touching)));
+}
+
 // S: a 10 mm cube; D: a 10 x 10 x 4 slab overlapping its top by 1 mm at the
 // start (a 10 x 10 x 1 = 100 mm^3 overlap, plus the voxels' surface margin).
 TEST(VolumeModel, ModesMeasureTheOverlapAndShrinkFreesTheStart) {
