@@ -4,21 +4,17 @@
 #include <cmath>
 
 #include "collision/rigid_depth.h"
+#include "planning/exact_check.h"
 
 namespace ausbau {
 
 SolidLabels LabelBySolids(const Scene& scene, double tolerance) {
   SolidLabels out;
-  // D in the frame scene.start refers to (as the exact path check has it).
-  TriangleMesh robot = scene.dynamic_mesh;
-  for (auto& v : robot.vertices) v -= scene.dynamic_origin;
-  const auto parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance);
+  const auto parts = ClassifySceneParts(scene, tolerance, UnmeasuredInterference::kRigid);
   out.solids = static_cast<int>(parts->robot_shells.size());
-  for (const Shell& shell : parts->robot_shells) {
-    if (!shell.closed) {
-      out.reason = "D has an open surface (" + std::to_string(shell.triangles.size()) +
-                   " triangles near " + parts->Describe(static_cast<int>(&shell - parts->robot_shells.data()), true) +
-                   "): no solids to label";
+  for (int shell = 0; shell < out.solids; ++shell) {
+    if (!parts->robot_shells[shell].closed) {
+      out.reason = "D has an open surface (" + parts->Describe(shell, true) + "): no solids to label";
       return out;
     }
   }

@@ -48,16 +48,21 @@ std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoint
   return out;
 }
 
-BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured) {
-  BlockingReport report;
+std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double tolerance,
+                                                    UnmeasuredInterference unmeasured) {
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
-  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
+  return ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
+}
+
+BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured) {
+  BlockingReport report;
+  report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb static_box = scene.static_mesh.Bounds();
   // D's principal axes in the world at the installed pose.
   std::vector<Eigen::Vector3d> world;
-  for (const auto& v : robot.vertices) world.push_back(scene.start.Apply(v));
+  for (const auto& v : scene.dynamic_mesh.vertices) world.push_back(scene.start.Apply(v - scene.dynamic_origin));
   const Eigen::Matrix3d axes = PrincipalAxes(world);
   Aabb robot_box;
   for (const auto& w : world) robot_box.Extend(w);
@@ -139,10 +144,10 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     report.reason = "the path has no waypoint";
     return report;
   }
+  report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
+  const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
-  report.parts = ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
-  const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb robot_box = robot.Bounds();
   const Eigen::Vector3d c = robot_box.Center();
   double radius_c = 0;

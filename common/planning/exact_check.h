@@ -46,6 +46,12 @@ struct ExactCheckReport {
   std::shared_ptr<const PartModel> parts;
 };
 
+// ClassifyParts for a scene's D and S at its start pose, in the scene's pose
+// convention (D's mesh shifted by dynamic_origin), as the checks below and
+// the solid labels (labeling/solid_labels.h) use it.
+std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double tolerance,
+                                                    UnmeasuredInterference unmeasured);
+
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
                                 UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
 
