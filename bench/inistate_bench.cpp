@@ -614,6 +614,9 @@ int main(int argc, char** argv) {
                "truth; --seeds defaults to 3, --out to out/inistate-end-to-end");
   app.add_option("--external", external, "end-to-end: folder with scenes/ and oracle.py; 'none' for no external set")
       ->capture_default_str();
+  bool skip_external = false;
+  app.add_flag("--skip-external-scenes", skip_external,
+               "end-to-end: use the external folder's oracle.py only, not its scenes");
   app.add_option("--validity", e2e.validity, "end-to-end: the pipeline's VALIDITY (default: its default, auto)");
   app.add_option("--bin", e2e.bin, "end-to-end: the stages' folder (default: this program's)");
   app.add_option("--pipeline", e2e.pipeline, "end-to-end: the pipeline Makefile")->capture_default_str();
@@ -632,6 +635,7 @@ int main(int argc, char** argv) {
       for (int s = 0; s < seeds; ++s) e2e.seeds.push_back(options.first_seed + s);
       e2e.out = app.count("--out") > 0 ? options.out : "out/inistate-end-to-end";
       if (external != "none") e2e.external = external;
+      e2e.external_scenes = !skip_external;
       e2e.command = command;
       fs::create_directories(e2e.out);
       return bench::RunEndToEnd(e2e);

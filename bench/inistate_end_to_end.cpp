@@ -177,9 +177,9 @@ int RunEndToEnd(const EndToEndOptions& options) {
     families = ClipSceneFamilies();
     for (const auto& f : BoxSceneFamilies()) families.push_back(f);
   }
-  const bool needs_oracle = !options.external.empty() || std::any_of(families.begin(), families.end(), [](auto& f) {
-    return IsBoxSceneFamily(f);
-  });
+  const bool needs_oracle =
+      (options.external_scenes && !options.external.empty()) ||
+      std::any_of(families.begin(), families.end(), [](const std::string& f) { return IsBoxSceneFamily(f); });
   if (needs_oracle) {
     if (options.external.empty() || !fs::is_regular_file(options.external / "oracle.py")) {
       throw InputError("--external: the panel-* families and the external set are judged by its oracle.py, not found "
@@ -223,7 +223,7 @@ int RunEndToEnd(const EndToEndOptions& options) {
       }
     }
   }
-  if (!options.external.empty() && fs::is_directory(options.external / "scenes")) {
+  if (options.external_scenes && !options.external.empty() && fs::is_directory(options.external / "scenes")) {
     std::vector<fs::path> dirs;
     for (const auto& entry : fs::directory_iterator(options.external / "scenes")) {
       if (fs::is_regular_file(entry.path() / "scene.yaml")) dirs.push_back(entry.path());

@@ -28,6 +28,7 @@ struct EndToEndOptions {
   std::vector<std::string> families;  // empty: every clips-ds* and panel-* family
   std::vector<int> seeds = {1, 2, 3};
   std::filesystem::path external;     // folder with scenes/<name>/ and oracle.py; empty: none
+  bool external_scenes = true;        // also run the scenes under external/scenes (else only its oracle)
   std::string validity;               // pipeline VALIDITY; empty: the pipeline's default
   std::filesystem::path bin;          // the stages
   std::filesystem::path pipeline = "pipelines/inistate.mk";

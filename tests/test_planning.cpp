@@ -135,7 +135,7 @@ TEST(Planner, RestartsSolveAndAnIterationCapIsOneRound) {
 TEST(Planner, CancelFlagStopsThePlanner) {
   Fixture f("rod-in-cage");
   const std::atomic<bool> cancel{true};
-  for (const std::string& planner : {"rrt", "rrtc", "cr-rrtc", "est", "prm"}) {
+  for (const char* planner : {"rrt", "rrtc", "cr-rrtc", "est", "prm"}) {
     SCOPED_TRACE(planner);
     PlannerOptions options;
     options.planner = planner;

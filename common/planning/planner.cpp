@@ -94,20 +94,21 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
   const auto begin = std::chrono::steady_clock::now();
   PlanResult result;
   PlanStats total;
-  double slice = 1.0;
-  for (int round = 0;; ++round, slice *= 2) {
+  std::int64_t budget = kFirstRestartIterations;
+  for (int round = 0;; ++round, budget *= 2) {
     const double left =
         options.time_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     if (left <= 0) break;
     PlannerOptions round_options = options;
     round_options.seed = options.seed + static_cast<std::uint64_t>(round);
-    round_options.time_limit_s = std::min(slice, left);
+    round_options.max_iterations = budget;
+    round_options.time_limit_s = left;  // the whole run's limit, a safety net
     result = Plan(problem, validity, round_options);
     total.iterations += result.stats.iterations;
     total.nodes += result.stats.nodes;
     total.collision_checks += result.stats.collision_checks;
     total.invalid_checks += result.stats.invalid_checks;
-    if (result.solved() || result.status == PlanStatus::kCancelled) break;
+    if (result.status != PlanStatus::kIterationLimit) break;  // solved, cancelled or out of time
   }
   total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   result.stats = total;

@@ -61,14 +61,17 @@ const std::vector<std::string>& PlannerNames();
 // it does not run into the time limit.
 PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options);
 
-// Plan() in rounds with restarts: round k uses seed + k and at most 2^k
-// seconds (1, 2, 4, ...; the last round gets what is left of
-// options.time_limit_s). A tree stuck in a narrow passage is given up for a
-// fresh one: sampling planners' run times are heavy-tailed, and restarting
-// on a doubling schedule bounds the expected time (measured: one seed of a
-// tight L-channel scene needed more than 60 s, the next 1 s). With
-// options.max_iterations set, one round (the iteration cap is the budget).
-// Statistics are summed over the rounds.
+// Plan() in rounds with restarts: round k uses seed + k and at most
+// kFirstRestartIterations x 2^k iterations (4096, 8192, ...), all rounds
+// together at most options.time_limit_s. A tree stuck in a narrow passage is
+// given up for a fresh one: sampling planners' run times are heavy-tailed,
+// and restarting on a doubling schedule bounds the expected time (measured:
+// one seed of a tight L-channel scene needed more than 60 s, the next 1 s).
+// The schedule counts iterations, not seconds, so the result depends on the
+// seed only, not on the machine or its load (unless the time limit ends
+// the run). With options.max_iterations set, one round (the iteration cap is
+// the budget). Statistics are summed over the rounds.
+inline constexpr std::int64_t kFirstRestartIterations = 4096;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 

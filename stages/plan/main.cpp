@@ -272,7 +272,7 @@ int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Pro
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
   CheckEndpoints(problem, checker, scene.file.string());
   const PlannerOptions planner = ResolvedPlanner(options, false);
-  LogInfo("planning with %s, seeds from %llu (restarts on 1, 2, 4, ... s), time limit %.1f s (%s start)",
+  LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
           planner.planner.c_str(),
           static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
           parts->FastenerCount() > 0 ? "fastened" : "collision-free");
