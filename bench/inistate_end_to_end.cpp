@@ -32,6 +32,15 @@ struct SceneRun {
   double seconds = 0;
 };
 
+SceneRun MakeRun(const std::string& family, const std::string& name, const fs::path& dir, Checker checker) {
+  SceneRun run;
+  run.family = family;
+  run.name = name;
+  run.dir = dir;
+  run.checker = checker;
+  return run;
+}
+
 // Paths go into a shell command between single quotes.
 std::string Quoted(const fs::path& path) {
   const std::string text = path.string();
@@ -155,6 +164,7 @@ std::string Summary(const std::vector<SceneRun>& runs, const EndToEndOptions& op
       if (r.removable && std::isfinite(r.rigid_penetration)) depth = std::max(depth, r.rigid_penetration);
       seconds.push_back(r.seconds);
     }
+    if (seconds.empty()) continue;
     md << "| " << family << " | " << scenes << " | " << correct << " | " << wrong << " | " << refused << " | "
        << Number(depth, "%.4f") << " | " << Number(Median(seconds), "%.1f") << " | "
        << Number(*std::max_element(seconds.begin(), seconds.end()), "%.1f") << " |\n";
@@ -196,8 +206,8 @@ int RunEndToEnd(const EndToEndOptions& options) {
   for (const std::string& family : families) {
     for (int seed : options.seeds) {
       if (IsClipSceneFamily(family)) {
-        SceneRun r{family, family + "-" + std::to_string(seed), scenes / (family + "-" + std::to_string(seed)),
-                   Checker::kGroundTruth};
+        SceneRun r = MakeRun(family, family + "-" + std::to_string(seed),
+                             scenes / (family + "-" + std::to_string(seed)), Checker::kGroundTruth);
         if (!fs::exists(r.dir / "scene.yaml")) {
           ClipSceneOptions clip;
           clip.seed = static_cast<std::uint64_t>(seed);
@@ -208,7 +218,7 @@ int RunEndToEnd(const EndToEndOptions& options) {
       } else if (IsBoxSceneFamily(family)) {
         for (const char* tessellation : {"coarse", "fine"}) {
           const std::string name = family + "-" + tessellation + "-" + std::to_string(seed);
-          SceneRun r{family + "-" + tessellation, name, scenes / name, Checker::kOracle};
+          SceneRun r = MakeRun(family + "-" + tessellation, name, scenes / name, Checker::kOracle);
           if (!fs::exists(r.dir / "scene.yaml")) {
             BoxSceneOptions box;
             box.seed = static_cast<std::uint64_t>(seed);
@@ -229,9 +239,12 @@ int RunEndToEnd(const EndToEndOptions& options) {
       if (fs::is_regular_file(entry.path() / "scene.yaml")) dirs.push_back(entry.path());
     }
     std::sort(dirs.begin(), dirs.end());
-    for (const fs::path& dir : dirs) runs.push_back({"external", "external-" + dir.filename().string(), dir});
+    for (const fs::path& dir : dirs) {
+      runs.push_back(MakeRun("external", "external-" + dir.filename().string(), dir, Checker::kOracle));
+    }
   }
 
+  if (runs.empty()) throw InputError("no scene to run (no --families and no external scenes)");
   MachineInfo machine = DescribeMachine();
   int wrong = 0;
   for (std::size_t i = 0; i < runs.size(); ++i) {

@@ -294,6 +294,33 @@ TEST_F(PipelineTest, TheVerdictChecksThePathCsvAsWritten) {
   EXPECT_NE(run.output.find("what blocks: "), std::string::npos) << run.output;
 }
 
+// ---- the end-to-end benchmark (ausbau-inistate-bench --end-to-end)
+
+TEST(EndToEndBench, RunsThePipelineAndJudgesEachPathWithTheOracle) {
+  const fs::path external = testing::SourceDir() / "../shared/benchmarks/inistate-external";
+  if (!fs::exists(external / "oracle.py")) GTEST_SKIP() << "no " << external / "oracle.py";
+  if (Shell("/usr/bin/python3 -c 'import numpy'").exit_code != 0) GTEST_SKIP() << "python3 without numpy";
+  const fs::path out = testing::MakeTempDir("end-to-end");
+  const Outcome run = Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
+                            " --end-to-end --families panel-straight-pull --seeds 1 --skip-external-scenes --external " +
+                            external.string() + " --pipeline " +
+                            (testing::SourceDir() / "pipelines/inistate.mk").string() + " --bin " +
+                            testing::BinDir().string() + " --out " + out.string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string summary = testing::ReadTextFile(out / "end-to-end-summary.md");
+  EXPECT_NE(summary.find("| panel-straight-pull-coarse | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("| panel-straight-pull-fine | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
+  const std::string csv = testing::ReadTextFile(out / "end-to-end-results.csv");
+  EXPECT_EQ(csv.rfind("family,scene,verdict,checker,result,rigid_penetration,seconds\n", 0), 0u) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
+  // A bad family is one line and exit 2, before any work.
+  const Outcome bad = Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
+                            " --end-to-end --families panel-nothing --out " + out.string() + " --pipeline " +
+                            (testing::SourceDir() / "pipelines/inistate.mk").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("unknown family 'panel-nothing'"), std::string::npos) << bad.output;
+}
+
 // ---- ausbau-verdict on its own
 
 void ExpectOneLineError(const Outcome& outcome, const std::string& fragment) {
