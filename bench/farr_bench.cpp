@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "parse_args.h"
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
@@ -394,6 +395,7 @@ int main(int argc, char** argv) {
   BenchOptions options;
   std::string scenes;
   CLI::App app("FARR against FCL on the configurations a planner checks (thesis 4.3)", "ausbau-farr-bench");
+  app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app.add_option("--scenes", scenes, "comma-separated scene names (see the top of bench/farr_bench.cpp)");
   app.add_option("--resolution", options.resolution, "distance field resolution")->capture_default_str();
   app.add_option("--planner", options.planner, "planner that generates the samples")->capture_default_str();
@@ -405,7 +407,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str();
   app.add_option("--output-dir", options.output_dir, "where farr-summary.md and farr-results.csv go")
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
   if (!scenes.empty()) {
     options.scenes.clear();
     std::stringstream list(scenes);

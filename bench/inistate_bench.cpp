@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "parse_args.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -576,6 +577,7 @@ int main(int argc, char** argv) {
                "InIState planning, "
                "paths checked against the ground truth",
                "ausbau-inistate-bench");
+  app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app.add_option("--families", families, "comma-separated, default all: clips-ds1,...,clips-ds5");
   app.add_option("--seeds", options.seeds, "number of seeds per family (scene seed = planner seed)")
       ->capture_default_str();
@@ -621,7 +623,7 @@ int main(int argc, char** argv) {
   app.add_option("--bin", e2e.bin, "end-to-end: the stages' folder (default: this program's)");
   app.add_option("--pipeline", e2e.pipeline, "end-to-end: the pipeline Makefile")->capture_default_str();
   app.add_option("--python", e2e.python, "end-to-end: python with numpy, for oracle.py")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
   std::string command = "ausbau-inistate-bench";
   for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
   SetLogProgramName("ausbau-inistate-bench");

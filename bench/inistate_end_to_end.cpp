@@ -187,6 +187,11 @@ int RunEndToEnd(const EndToEndOptions& options) {
     families = ClipSceneFamilies();
     for (const auto& f : BoxSceneFamilies()) families.push_back(f);
   }
+  for (const std::string& family : families) {
+    if (!IsClipSceneFamily(family) && !IsBoxSceneFamily(family)) {
+      throw InputError("--families: unknown family '" + family + "' (clips-ds1 .. clips-ds5, panel-*)");
+    }
+  }
   const bool needs_oracle =
       (options.external_scenes && !options.external.empty()) ||
       std::any_of(families.begin(), families.end(), [](const std::string& f) { return IsBoxSceneFamily(f); });
@@ -228,8 +233,6 @@ int RunEndToEnd(const EndToEndOptions& options) {
           }
           runs.push_back(r);
         }
-      } else {
-        throw InputError("--families: unknown family '" + family + "' (clips-ds1 .. clips-ds5, panel-*)");
       }
     }
   }

@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "parse_args.h"
 #include "core/error.h"
 
 #include "labeling/medial_spheres.h"
@@ -195,6 +196,7 @@ void BenchSceneFolder(const std::filesystem::path& dir, int threads, const PbdLa
 
 int main(int argc, char** argv) {
   CLI::App app("Times the deformability labeling (medial spheres + PBD load cases).", "ausbau-label-bench");
+  app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   std::string mesh_file;
   int cells = 42;
   int threads = 0;
@@ -216,7 +218,7 @@ int main(int argc, char** argv) {
   PbdLabelOptions scene_label_options;
   app.add_option("--refine", scene_label_options.refine, "scenes: PbdLabelOptions::refine")->capture_default_str();
   app.add_option("--refine-min-length", scene_label_options.refine_min_length, "scenes: PbdLabelOptions::refine_min_length")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
   if (threads <= 0) threads = omp_get_max_threads();
   if (!scene_dirs.empty()) {
     for (const auto& dir : scene_dirs) BenchSceneFolder(dir, threads, scene_label_options);

@@ -3,6 +3,7 @@
 // on uniform poses and on planner-like trees. Prints a markdown table.
 //
 //   ausbau-nn-bench [--queries N] [--max-n N] [--repetitions R]
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "parse_args.h"
 #include "planning/nearest_neighbors.h"
 #include "planning/random.h"
 #include "planning/state_space.h"
@@ -168,11 +170,14 @@ int main(int argc, char** argv) {
   int queries = 2000;
   int max_n = 100000;
   int repetitions = 3;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--queries")) queries = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--max-n")) max_n = std::atoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--repetitions")) repetitions = std::max(1, std::atoi(argv[i + 1]));
-  }
+  CLI::App app("The nearest-neighbour index against a linear scan (planning/nearest_neighbors.h).", "ausbau-nn-bench");
+  app.set_version_flag("--version", std::string(AUSBAU_VERSION));
+  app.add_option("--queries", queries, "queries per size")->capture_default_str()->check(CLI::Range(1, 100000000));
+  app.add_option("--max-n", max_n, "largest index size")->capture_default_str()->check(CLI::Range(1, 100000000));
+  app.add_option("--repetitions", repetitions, "runs per size (the fastest counts)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
   const Metric metric{kSide * std::sqrt(3.0)};
 
   std::printf("# ausbau-nn-bench\n\n");

@@ -244,6 +244,24 @@ TEST(PlanStage, BadOptionsAreUsageErrors) {
   EXPECT_NE(o.output.find("--scene"), std::string::npos);
 }
 
+// The benchmarks answer like the stages: --help and --version exit 0 (and
+// do no work), a bad flag or value exits 2.
+TEST(Benchmarks, HelpVersionAndBadFlagsExitLikeTheStages) {
+  for (const char* bench : {"farr-bench", "inistate-bench", "label-bench", "nn-bench"}) {
+    SCOPED_TRACE(bench);
+    Outcome o = RunStage(bench, "--version");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_EQ(o.output, std::string(AUSBAU_VERSION) + "\n");
+    o = RunStage(bench, "--help");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("Usage: ausbau-"), std::string::npos) << o.output;
+    o = RunStage(bench, "--bogus");
+    EXPECT_EQ(o.exit_code, 2) << o.output;
+  }
+  const Outcome o = RunStage("nn-bench", "--queries 0");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+}
+
 TEST(SmoothStage, RejectsAFileThatIsNotAPathArtifact) {
   const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
   Outcome o = RunStage("smooth", "--scene " + yaml.string() + " --path " + yaml.string());
