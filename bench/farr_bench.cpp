@@ -40,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/stage_main.h"
 #include "parse_args.h"
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
@@ -404,7 +405,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-samples", options.max_samples, "samples replayed per scene (evenly thinned)")
       ->capture_default_str();
   app.add_option("--reps", options.reps, "timing repetitions")->capture_default_str();
-  app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str();
+  app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
   app.add_option("--output-dir", options.output_dir, "where farr-summary.md and farr-results.csv go")
       ->capture_default_str();
   if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;

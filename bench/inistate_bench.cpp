@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/stage_main.h"
 #include "parse_args.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
@@ -591,7 +592,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--out", options.out, "output folder")->capture_default_str();
   app.add_option("--threads", options.threads, "threads for voxelization, labels and tau probes; 0 = all cores")
-      ->capture_default_str();
+      ->capture_default_str()->check(ThreadCount());
   app.add_option("--resolution", options.resolution,
                  "edge check step of every planner (fraction of D's diagonal; library default)")
       ->capture_default_str();

@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli/stage_main.h"
 #include "parse_args.h"
 #include "core/error.h"
 
@@ -204,7 +205,7 @@ int main(int argc, char** argv) {
   app.add_option("--mesh", mesh_file, "label this mesh instead of the generated panel");
   app.add_option("--cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
       ->capture_default_str();
-  app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str();
+  app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str()->check(ThreadCount());
   app.add_flag("--skip-single", skip_single, "skip the single-thread run");
   std::vector<std::string> families;
   std::int64_t triangles = 0;

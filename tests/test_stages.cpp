@@ -262,6 +262,23 @@ TEST(Benchmarks, HelpVersionAndBadFlagsExitLikeTheStages) {
   EXPECT_EQ(o.exit_code, 2) << o.output;
 }
 
+// --threads is bounded everywhere (OpenMP crashed on 100000 and read -1 as
+// huge): a usage error naming the flag, before any work.
+TEST(Stages, ThreadCountsOutOfRangeAreUsageErrors) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  for (const char* stage : {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "plan", "tau-estimate"}) {
+    for (const char* threads : {"-1", "100000"}) {
+      SCOPED_TRACE(std::string(stage) + " --threads " + threads);
+      const Outcome o = RunStage(stage, "--scene " + yaml.string() + " --threads " + threads);
+      EXPECT_EQ(o.exit_code, 2) << o.output;
+      ExpectOneLineError(o, stage, "--threads: Value " + std::string(threads) + " not in range 0 to 1024");
+    }
+  }
+  for (const char* bench : {"farr-bench", "inistate-bench", "label-bench"}) {
+    EXPECT_EQ(RunStage(bench, "--threads -1").exit_code, 2) << bench;
+  }
+}
+
 TEST(SmoothStage, RejectsAFileThatIsNotAPathArtifact) {
   const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
   Outcome o = RunStage("smooth", "--scene " + yaml.string() + " --path " + yaml.string());

@@ -23,6 +23,11 @@ struct StageInfo {
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run);
 
+// --threads of every stage and benchmark: 0 = all cores, at most this many
+// (OpenMP crashed inside libgomp on --threads 100000 and took -1 as huge).
+inline constexpr int kMaxThreads = 1024;
+inline CLI::Validator ThreadCount() { return CLI::Range(0, kMaxThreads); }
+
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded = {});

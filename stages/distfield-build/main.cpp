@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
         app.add_option("--scene", options.scene, "scene.yaml")->required();
         app.add_option("--resolution", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
             ->capture_default_str();
-        app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")->capture_default_str();
+        app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
         app.add_option("--memory-budget", options.memory_budget_gib, "GiB; larger fields are refused")
             ->capture_default_str();
         app.add_option("-o,--output-dir", options.output_dir,

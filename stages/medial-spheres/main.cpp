@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
         app.add_option("-o,--output", options.output, "spheres artifact (HDF5)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write x,y,z,radius per vertex of D");
         app.add_option("--ply", options.ply, "also write D as PLY coloured by sphere radius");
-        app.add_option("--threads", options.spheres.threads, "0 = all cores")->capture_default_str();
+        app.add_option("--threads", options.spheres.threads, "0 = all cores")->capture_default_str()->check(ThreadCount());
         app.add_option("--delta", options.spheres.delta, "start offset inside, fraction of D's AABB diagonal")
             ->capture_default_str();
         app.add_option("--step", options.spheres.step, "push factor eps while growing, in (0, 1)")

@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
         app.add_option("-o,--output", options.output, "labels artifact (HDF5)")->capture_default_str();
         app.add_option("--csv", options.csv, "also write x,y,z,deformability per vertex of D");
         app.add_option("--ply", options.ply, "also write D as PLY coloured by deformability (blue rigid, red deformable)");
-        app.add_option("--threads", l.threads, "0 = all cores")->capture_default_str();
+        app.add_option("--threads", l.threads, "0 = all cores")->capture_default_str()->check(ThreadCount());
         app.add_option("--measure", l.measure, "sum (thesis: displacements summed over all load cases) | self")
             ->capture_default_str();
         app.add_option("--max-load-cases", l.max_load_cases,

@@ -433,7 +433,7 @@ int main(int argc, char** argv) {
                        "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)")
             ->capture_default_str();
         app.add_option("--threads", options.planner.threads, "prm edge verification (and farr distance-field) threads; 0 = all cores")
-            ->capture_default_str();
+            ->capture_default_str()->check(ThreadCount());
         app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str();
         app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str();
         app.add_option("--max-iterations", options.planner.max_iterations, "0 = unlimited")->capture_default_str();

@@ -112,7 +112,7 @@ int main(int argc, char** argv) {
         app.add_option("--rounds", options.estimate.max_rounds, "planning rounds at most")->capture_default_str();
         app.add_option("--probe-attempts", options.estimate.probe_attempts, "expansion attempts per speed probe")
             ->capture_default_str();
-        app.add_option("--threads", options.estimate.threads, "parallel probes; 0 = all cores")->capture_default_str();
+        app.add_option("--threads", options.estimate.threads, "parallel probes; 0 = all cores")->capture_default_str()->check(ThreadCount());
         app.add_flag("--force", options.force, "estimate even when the output is up to date");
       },
       [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "force", "threads", "voxels", "labels"})); });

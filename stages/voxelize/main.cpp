@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--memory-limit", options.memory_limit_gib, "GiB; larger grids are refused")
             ->capture_default_str();
-        app.add_option("--threads", options.threads, "OpenMP threads; 0 = all cores")->capture_default_str();
+        app.add_option("--threads", options.threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
         app.add_flag("--force", options.force, "voxelize even when the output is up to date");
       },
       [&] {
