@@ -263,17 +263,33 @@ TEST(Benchmarks, HelpVersionAndBadFlagsExitLikeTheStages) {
 }
 
 // --threads is bounded everywhere (OpenMP crashed on 100000 and read -1 as
-// huge): a usage error naming the flag, before any work.
-TEST(Stages, ThreadCountsOutOfRangeAreUsageErrors) {
+// huge), and so are --seed, --time-limit and --tau (-1 wrapped to 2^64 - 1,
+// 1e308 s overflowed the deadline, -5 meant "estimate"): a usage error
+// naming the flag, before any work.
+TEST(Stages, ThreadsSeedsTimeLimitsAndTauOutOfRangeAreUsageErrors) {
   const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
   for (const char* stage : {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "plan", "tau-estimate"}) {
     for (const char* threads : {"-1", "100000"}) {
       SCOPED_TRACE(std::string(stage) + " --threads " + threads);
       const Outcome o = RunStage(stage, "--scene " + yaml.string() + " --threads " + threads);
       EXPECT_EQ(o.exit_code, 2) << o.output;
-      ExpectOneLineError(o, stage, "--threads: Value " + std::string(threads) + " not in range 0 to 1024");
+      ExpectOneLineError(o, stage, "--threads: must lie in 0 .. 1024, got " + std::string(threads));
     }
   }
+  // Values that used to wrap or overflow silently.
+  Outcome o = RunStage("plan", "--scene " + yaml.string() + " --seed -1");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  ExpectOneLineError(o, "plan", "--seed: must lie in 0 .. ");
+  o = RunStage("plan", "--scene " + yaml.string() + " --time-limit 1e308");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  ExpectOneLineError(o, "plan", "--time-limit: must lie in 0.001 .. 604800, got 1e308");
+  o = RunStage("plan", "--scene " + yaml.string() + " --tau -5");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  ExpectOneLineError(o, "plan", "--tau: must lie in 0 .. ");
+  o = RunStage("tau-estimate", "--scene " + yaml.string() + " --seed -2");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
+  o = RunStage("smooth", "--scene " + yaml.string() + " --path x.h5 --time-limit 0");
+  EXPECT_EQ(o.exit_code, 2) << o.output;
   for (const char* bench : {"farr-bench", "inistate-bench", "label-bench"}) {
     EXPECT_EQ(RunStage(bench, "--threads -1").exit_code, 2) << bench;
   }

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <sstream>
 #include <string>
 
 #include "artifact/artifact.h"
@@ -23,10 +24,31 @@ struct StageInfo {
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run);
 
+// A number in [low, high], with a message that names the range in plain
+// numbers ("must lie in 0 .. 1024, got -1"); for flags whose type would
+// otherwise wrap (-1 as an unsigned seed) or overflow (1e308 seconds).
+inline CLI::Validator Within(double low, double high) {
+  return CLI::Validator(
+      [low, high](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value)) return "not a number: " + text;
+        if (value >= low && value <= high) return std::string();
+        std::ostringstream message;
+        message << "must lie in " << low << " .. " << high << ", got " << text;
+        return message.str();
+      },
+      "NUMBER");
+}
 // --threads of every stage and benchmark: 0 = all cores, at most this many
 // (OpenMP crashed inside libgomp on --threads 100000 and took -1 as huge).
 inline constexpr int kMaxThreads = 1024;
-inline CLI::Validator ThreadCount() { return CLI::Range(0, kMaxThreads); }
+inline CLI::Validator ThreadCount() { return Within(0, kMaxThreads); }
+// --time-limit: seconds, positive and at most a week (1e308 overflowed the
+// planners' deadline into an instant "no path").
+inline CLI::Validator TimeLimit() { return Within(1e-3, 7 * 24 * 3600.0); }
+// --seed (unsigned: "-1" would wrap to 2^64 - 1) and other counts and
+// amounts that cannot be negative.
+inline CLI::Validator NonNegative() { return Within(0, 1.8e19); }
 
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.

@@ -434,8 +434,8 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--threads", options.planner.threads, "prm edge verification (and farr distance-field) threads; 0 = all cores")
             ->capture_default_str()->check(ThreadCount());
-        app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str();
-        app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str();
+        app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str()->check(NonNegative());
+        app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str()->check(TimeLimit());
         app.add_option("--max-iterations", options.planner.max_iterations, "0 = unlimited")->capture_default_str();
         app.add_option("--u", options.planner.u, "rrtc: metric weight of translation, (0, 1)")
             ->capture_default_str();
@@ -466,7 +466,7 @@ int main(int argc, char** argv) {
                        "mm (converted by the scene's units)")
             ->capture_default_str();
         app.add_option("--tau", options.tau,
-                       "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)");
+                       "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")->check(NonNegative());
         app.add_option("--tau-file", options.tau_file, "tau and psi from ausbau-tau-estimate (HDF5)");
         app.add_option("--psi", options.psi,
                        "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");

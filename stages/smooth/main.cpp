@@ -266,10 +266,10 @@ int main(int argc, char** argv) {
         app_ptr = &app;
         app.add_option("--scene", options.scene, "scene.yaml")->required();
         app.add_option("--path", options.path, "path artifact from ausbau-plan")->required();
-        app.add_option("--seed", options.smooth.seed, "random seed")->capture_default_str();
+        app.add_option("--seed", options.smooth.seed, "random seed")->capture_default_str()->check(NonNegative());
         app.add_option("--attempts", options.smooth.attempts, "shortcut attempts, 0 = automatic")
             ->capture_default_str();
-        app.add_option("--time-limit", options.smooth.time_limit_s, "seconds")->capture_default_str();
+        app.add_option("--time-limit", options.smooth.time_limit_s, "seconds")->capture_default_str()->check(TimeLimit());
         app.add_option("--resolution", options.smooth.resolution,
                        "edge check step as a fraction of D's AABB diagonal")
             ->capture_default_str();

@@ -99,9 +99,9 @@ int main(int argc, char** argv) {
         app.add_option("--psi", options.psi, "scene units; 0 = from the labels (largest deformable component)")
             ->capture_default_str();
         app.add_option("--seed", options.estimate.planner.seed, "random seed of the probes and rounds")
-            ->capture_default_str();
+            ->capture_default_str()->check(NonNegative());
         app.add_option("--time-limit", options.estimate.planner.time_limit_s, "seconds per planning round")
-            ->capture_default_str();
+            ->capture_default_str()->check(TimeLimit());
         app.add_option("--planner", options.estimate.planner.planner, "local planner of sigma_1 (est, rrt, cr-rrtc, ...)")
             ->capture_default_str();
         app.add_option("--initial-speed", options.estimate.initial_speed, "s_init, nodes per reference second")
