@@ -647,7 +647,16 @@ TEST(PbdLabels, RejectsBadOptions) {
   options = {};
   options.time_step = 0;
   EXPECT_THROW(ComputePbdLabels(topo, spheres, options), InputError);
+  options = {};
+  options.solver_iterations = 1000000000;  // hung before it was bounded
+  EXPECT_THROW(ComputePbdLabels(topo, spheres, options), InputError);
   EXPECT_THROW(ComputePbdLabels(topo, std::vector<double>(3, 1.0), {}, PbdLabelOptions{}), InputError);
+  MedialSphereOptions sphere_options;
+  sphere_options.cooling_iterations = 1000000000;
+  EXPECT_THROW(ComputeMedialSpheres(topo, sphere_options), InputError);
+  sphere_options = {};
+  sphere_options.growth_iterations = 1000000000;
+  EXPECT_THROW(ComputeMedialSpheres(topo, sphere_options), InputError);
 }
 
 // ------------------------------------------------------------ clip scenes

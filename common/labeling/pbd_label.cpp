@@ -22,7 +22,9 @@ void PbdLabelOptions::Check() const {
   if (!(time_step > 0)) throw InputError("--time-step: must be positive");
   if (!(duration > 0)) throw InputError("--duration: must be positive");
   if (Steps() > 100000) throw InputError("--duration: more than 100000 steps of --time-step");
-  if (solver_iterations < 1) throw InputError("--iterations: must be at least 1");
+  if (solver_iterations < 1 || solver_iterations > 1000) {
+    throw InputError("--iterations: must lie in 1 .. 1000 (solver iterations per step; the thesis uses 3)");
+  }
   if (!(damping >= 0 && damping <= 1)) throw InputError("--damping: must lie in [0, 1]");
   if (!(stiffness >= 0 && stiffness <= 1)) throw InputError("--stiffness: must lie in [0, 1]");
   if (stiffness_formula != "thesis" && stiffness_formula != "mueller") {
