@@ -6,16 +6,12 @@
 #include "geometry/primitives.h"
 #include "planning/random.h"
 #include "planning/state_space.h"
+#include "test_poses.h"
 
 namespace ausbau {
 namespace {
 
-Pose MakePose(double x, double y, double z, double angle = 0, Eigen::Vector3d axis = Eigen::Vector3d::UnitZ()) {
-  Pose p;
-  p.t = {x, y, z};
-  p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
-  return p;
-}
+using testing::PoseAt;
 
 TEST(Metric, TranslationIsScaledByTheBoundsExtent) {
   Metric metric{10.0};
@@ -25,17 +21,17 @@ TEST(Metric, TranslationIsScaledByTheBoundsExtent) {
 
 TEST(Metric, RotationIsHalfAngleOverPi) {
   // A rotation by angle a about any axis: q1.q2 = cos(a/2), d'_q = (a/2)/pi.
-  EXPECT_NEAR(Metric::Rotation(MakePose(0, 0, 0).q, MakePose(0, 0, 0, M_PI / 2).q), 0.25, 1e-12);
-  EXPECT_NEAR(Metric::Rotation(MakePose(0, 0, 0).q, MakePose(0, 0, 0, M_PI).q), 0.5, 1e-12);
+  EXPECT_NEAR(Metric::Rotation(PoseAt(0, 0, 0).q, PoseAt(0, 0, 0, M_PI / 2).q), 0.25, 1e-12);
+  EXPECT_NEAR(Metric::Rotation(PoseAt(0, 0, 0).q, PoseAt(0, 0, 0, M_PI).q), 0.5, 1e-12);
   // q and -q are the same rotation: distance 0.
-  Eigen::Quaterniond q = MakePose(0, 0, 0, 1.0, {1, 2, 3}).q;
+  Eigen::Quaterniond q = PoseAt(0, 0, 0, 1.0, {1, 2, 3}).q;
   Eigen::Quaterniond minus_q(-q.w(), -q.x(), -q.y(), -q.z());
   EXPECT_NEAR(Metric::Rotation(q, minus_q), 0.0, 1e-7);
 }
 
 TEST(Metric, ConvexCombinationOfTranslationAndRotation) {
   Metric metric{10.0};
-  const Pose a = MakePose(0, 0, 0), b = MakePose(3, 4, 0, M_PI / 2);
+  const Pose a = PoseAt(0, 0, 0), b = PoseAt(3, 4, 0, M_PI / 2);
   // d'_t = 0.5, d'_q = 0.25
   EXPECT_NEAR(metric.Distance(a, b, 0.5), 0.375, 1e-12);
   EXPECT_NEAR(metric.Distance(a, b, 0.2), 0.2 * 0.5 + 0.8 * 0.25, 1e-12);
@@ -45,13 +41,13 @@ TEST(Metric, ConvexCombinationOfTranslationAndRotation) {
 
 TEST(Metric, RangeIsTheLargerOfTranslationAndRotation) {
   Metric metric{10.0};
-  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(3, 4, 0, M_PI / 2)), 0.5, 1e-12);
-  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(1, 0, 0, M_PI)), 0.5, 1e-12);
-  EXPECT_NEAR(metric.Range(MakePose(0, 0, 0), MakePose(1, 0, 0, M_PI / 2)), 0.25, 1e-12);
+  EXPECT_NEAR(metric.Range(PoseAt(0, 0, 0), PoseAt(3, 4, 0, M_PI / 2)), 0.5, 1e-12);
+  EXPECT_NEAR(metric.Range(PoseAt(0, 0, 0), PoseAt(1, 0, 0, M_PI)), 0.5, 1e-12);
+  EXPECT_NEAR(metric.Range(PoseAt(0, 0, 0), PoseAt(1, 0, 0, M_PI / 2)), 0.25, 1e-12);
 }
 
 TEST(Interpolation, LinearInTranslationAndSlerpInRotation) {
-  const Pose a = MakePose(0, 0, 0), b = MakePose(2, 4, 6, M_PI / 2, {1, 0, 0});
+  const Pose a = PoseAt(0, 0, 0), b = PoseAt(2, 4, 6, M_PI / 2, {1, 0, 0});
   const Pose mid = Interpolate(a, b, 0.5);
   EXPECT_TRUE(mid.t.isApprox(Eigen::Vector3d(1, 2, 3)));
   EXPECT_NEAR(RotationAngle(a.q, mid.q), M_PI / 4, 1e-12);
@@ -61,15 +57,15 @@ TEST(Interpolation, LinearInTranslationAndSlerpInRotation) {
 }
 
 TEST(Interpolation, TakesTheShorterArcWhateverTheSign) {
-  const Pose a = MakePose(0, 0, 0, 0.2);
-  Pose b = MakePose(0, 0, 0, 0.6);
+  const Pose a = PoseAt(0, 0, 0, 0.2);
+  Pose b = PoseAt(0, 0, 0, 0.6);
   b.q.coeffs() = -b.q.coeffs();  // same rotation, other hemisphere
   EXPECT_NEAR(RotationAngle(a.q, Interpolate(a, b, 0.5).q), 0.2, 1e-12);
 }
 
 TEST(Interpolation, MaxDisplacementBoundsEveryVertexMotion) {
   // A unit-radius point turned by 90 degrees moves sqrt(2) (chord) <= pi/2 (arc).
-  const Pose a = MakePose(0, 0, 0), b = MakePose(1, 0, 0, M_PI / 2);
+  const Pose a = PoseAt(0, 0, 0), b = PoseAt(1, 0, 0, M_PI / 2);
   EXPECT_NEAR(MaxDisplacement(a, b, 1.0), 1.0 + M_PI / 2, 1e-12);
   Random random(3);
   for (int i = 0; i < 100; ++i) {
@@ -107,12 +103,12 @@ PlanningProblem BoxProblem() {
 
 TEST(GoalRegion, SeparatedBoundingBoxes) {
   const PlanningProblem problem = BoxProblem();
-  EXPECT_FALSE(problem.InGoalRegion(MakePose(0, 0, 0)));
-  EXPECT_FALSE(problem.InGoalRegion(MakePose(3.0, 0, 0)));  // robot spans x in [2, 4]: touches
-  EXPECT_TRUE(problem.InGoalRegion(MakePose(3.01, 0, 0)));
+  EXPECT_FALSE(problem.InGoalRegion(PoseAt(0, 0, 0)));
+  EXPECT_FALSE(problem.InGoalRegion(PoseAt(3.0, 0, 0)));  // robot spans x in [2, 4]: touches
+  EXPECT_TRUE(problem.InGoalRegion(PoseAt(3.01, 0, 0)));
   // Turned by 90 degrees about z the robot is 1 wide in x: x in [2.01, 3.01].
-  EXPECT_TRUE(problem.InGoalRegion(MakePose(2.51, 0, 0, M_PI / 2)));
-  EXPECT_FALSE(problem.InGoalRegion(MakePose(2.49, 0, 0, M_PI / 2)));
+  EXPECT_TRUE(problem.InGoalRegion(PoseAt(2.51, 0, 0, M_PI / 2)));
+  EXPECT_FALSE(problem.InGoalRegion(PoseAt(2.49, 0, 0, M_PI / 2)));
 }
 
 TEST(GoalRegion, RobotBoxIsConservative) {
@@ -132,7 +128,7 @@ TEST(StateSpace, SceneAndPlanningConventionsRoundTrip) {
   PlanningProblem problem = BoxProblem();
   problem.reference_point = {5, 6, 7};
   problem.dynamic_origin = {0, 0, 0};
-  const Pose scene_pose = MakePose(1, 2, 3, 0.7, {1, 1, 0});
+  const Pose scene_pose = PoseAt(1, 2, 3, 0.7, {1, 1, 0});
   const Pose planning = problem.SceneToPlanning(scene_pose);
   // The same mesh point lands in the same place in both conventions.
   const Eigen::Vector3d x(1.5, -2, 0.25);

@@ -760,17 +760,34 @@ Scene BoxSoupClipScene(bool rotated) {
   return scene;
 }
 
-std::filesystem::path WriteTongueScene(const std::filesystem::path& dir) {
+// D one welded non-convex solid (an L) whose foot is in a plate S.
+Scene WeldedLInAPlate() {
   Scene scene;
-  scene.dynamic_mesh = Soup(MakeTonguePart().mesh, 0.3, 9);
-  scene.static_mesh = MakeBox({3, 0, 0}, {4, 1, 1});
-  scene.name = "tongue";
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
+    return i == 0 || k == 0;
+  });
+  scene.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
+  return scene;
+}
+
+// Writes the scene's meshes and a scene.yaml naming them into `dir`; returns
+// the scene.yaml.
+std::filesystem::path WriteScene(Scene scene, const std::string& name, const std::filesystem::path& dir) {
+  scene.name = name;
   SaveObj(scene.dynamic_mesh, dir / "part.obj");
   SaveObj(scene.static_mesh, dir / "environment.obj");
   scene.dynamic_file = dir / "part.obj";
   scene.static_files = {dir / "environment.obj"};
   SaveSceneYaml(scene, dir / "scene.yaml");
   return dir / "scene.yaml";
+}
+
+std::filesystem::path WriteTongueScene(const std::filesystem::path& dir) {
+  Scene scene;
+  scene.dynamic_mesh = Soup(MakeTonguePart().mesh, 0.3, 9);
+  scene.static_mesh = MakeBox({3, 0, 0}, {4, 1, 1});
+  return WriteScene(scene, "tongue", dir);
 }
 
 TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
@@ -835,13 +852,7 @@ TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
 TEST(LabelStages, SolidRuleByDefaultOnABoxSoupPbdWhereItDoesNotApply) {
   if (!std::filesystem::exists(testing::BinDir() / "ausbau-pbd-label")) GTEST_SKIP() << "stages not built";
   const auto dir = testing::MakeTempDir("solid-labels");
-  Scene scene = BoxSoupClipScene(true);
-  scene.name = "box-soup-clip";
-  SaveObj(scene.dynamic_mesh, dir / "part.obj");
-  SaveObj(scene.static_mesh, dir / "environment.obj");
-  scene.dynamic_file = dir / "part.obj";
-  scene.static_files = {dir / "environment.obj"};
-  SaveSceneYaml(scene, dir / "scene.yaml");
+  WriteScene(BoxSoupClipScene(true), "box-soup-clip", dir);
   const std::string args = "--scene " + (dir / "scene.yaml").string() + " --spheres " + (dir / "spheres.h5").string();
   ASSERT_EQ(RunStage("medial-spheres", "--scene " + (dir / "scene.yaml").string() + " -o " +
                                            (dir / "spheres.h5").string()).exit_code, 0);
@@ -862,17 +873,7 @@ TEST(LabelStages, SolidRuleByDefaultOnABoxSoupPbdWhereItDoesNotApply) {
   EXPECT_EQ(ReadLabelsArtifact(dir / "pbd.h5").measure, "sum");
   // --rule solids where the rule does not apply, and a bad rule: one-line errors.
   const auto tongue = testing::MakeTempDir("solid-labels-tongue");
-  Scene welded;
-  welded.name = "welded-l";
-  welded.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
-    return i == 0 || k == 0;
-  });
-  welded.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
-  SaveObj(welded.dynamic_mesh, tongue / "part.obj");
-  SaveObj(welded.static_mesh, tongue / "environment.obj");
-  welded.dynamic_file = tongue / "part.obj";
-  welded.static_files = {tongue / "environment.obj"};
-  SaveSceneYaml(welded, tongue / "scene.yaml");
+  WriteScene(WeldedLInAPlate(), "welded-l", tongue);
   const std::string welded_scene = "--scene " + (tongue / "scene.yaml").string();
   ASSERT_EQ(RunStage("medial-spheres", welded_scene + " -o " + (tongue / "spheres.h5").string()).exit_code, 0);
   const Outcome refused = RunStage("pbd-label", welded_scene + " --spheres " + (tongue / "spheres.h5").string() +
@@ -954,15 +955,8 @@ TEST(SolidLabels, ASolidBlockOrPegIsRigidAndNothingDeformableIsAnAnswer) {
 }
 
 TEST(SolidLabels, AnUnmeasuredInstalledIntersectionLeavesItToPbd) {
-  // D one welded non-convex solid (an L) whose foot is in S: the depth of a
-  // non-convex pair is not measured, so the rule does not apply.
-  Scene scene;
-  scene.units = "mm";
-  scene.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
-    return i == 0 || k == 0;
-  });
-  scene.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
-  const SolidLabels labels = LabelBySolids(scene, 0.05);
+  // The depth of a non-convex pair is not measured, so the rule does not apply.
+  const SolidLabels labels = LabelBySolids(WeldedLInAPlate(), 0.05);
   EXPECT_FALSE(labels.applies);
   EXPECT_NE(labels.reason.find("not measured"), std::string::npos) << labels.reason;
 }

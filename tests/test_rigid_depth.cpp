@@ -8,16 +8,12 @@
 #include "planning/exact_check.h"
 #include "scene/box_scenes.h"
 #include "scene/scene.h"
+#include "test_poses.h"
 
 namespace ausbau {
 namespace {
 
-Pose At(double x, double y, double z, double angle = 0, Eigen::Vector3d axis = Eigen::Vector3d::UnitZ()) {
-  Pose p;
-  p.t = {x, y, z};
-  p.q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
-  return p;
-}
+using testing::PoseAt;
 
 TEST(Shells, BoxSoupSplitsIntoConvexBoxes) {
   TriangleMesh soup = MakeBox({0, 0, 0}, {10, 10, 1});
@@ -111,10 +107,10 @@ TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
   const auto a = SplitIntoShells(MakeBox({-1, -1, -1}, {1, 1, 1}));
   const auto b = SplitIntoShells(MakeBox({-1, -1, -1}, {1, 1, 1}));
   // Side by side with a gap of 0.25 along x.
-  EXPECT_NEAR(ConvexSignedDepth(a[0], At(2.25, 0, 0).ToIsometry(), b[0]), -0.25, 1e-12);
+  EXPECT_NEAR(ConvexSignedDepth(a[0], PoseAt(2.25, 0, 0).ToIsometry(), b[0]), -0.25, 1e-12);
   // Turned 45 degrees about z: its corner reaches sqrt(2) from its centre.
   const double reach = std::sqrt(2.0);
-  EXPECT_NEAR(ConvexSignedDepth(a[0], At(1 + reach - 0.1, 0, 0, M_PI / 4).ToIsometry(), b[0]), 0.1, 1e-9);
+  EXPECT_NEAR(ConvexSignedDepth(a[0], PoseAt(1 + reach - 0.1, 0, 0, M_PI / 4).ToIsometry(), b[0]), 0.1, 1e-9);
   // Edge against edge: A turned 45 degrees about z (its leftmost feature an
   // edge along z at x - sqrt 2), B about y (its rightmost an edge along y at
   // sqrt 2): the edges cross, 0.2 deep along x.
@@ -123,7 +119,7 @@ TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
   for (auto* list : {&b_moved[0].corners, &b_moved[0].vertices}) for (auto& p : *list) p = b_turned * p;
   for (auto& n : b_moved[0].face_normals) n = b_turned.linear() * n;
   for (auto& e : b_moved[0].edge_directions) e = b_turned.linear() * e;
-  EXPECT_NEAR(ConvexSignedDepth(a[0], At(2 * reach - 0.2, 0, 0, M_PI / 4).ToIsometry(), b_moved[0]), 0.2, 1e-9);
+  EXPECT_NEAR(ConvexSignedDepth(a[0], PoseAt(2 * reach - 0.2, 0, 0, M_PI / 4).ToIsometry(), b_moved[0]), 0.2, 1e-9);
 }
 
 // A rigid key (a bar) hanging from a panel into a slot in a 2 mm plate.
@@ -148,13 +144,13 @@ TEST(RigidDepth, ARigidKeyCannotCrossATwoMillimetrePlate) {
   EXPECT_TRUE(checker.IsValid(Pose{}));
   EXPECT_NEAR(checker.Measure(Pose{}).rigid_depth, -0.5, 1e-12);  // the slot's clearance
   // Sideways by 1 mm: the key cuts 0.5 mm into the plate, whatever any volume threshold says.
-  const DepthReport cut = checker.Measure(At(1.0, 0, 0));
+  const DepthReport cut = checker.Measure(PoseAt(1.0, 0, 0));
   EXPECT_NEAR(cut.rigid_depth, 0.5, 1e-12);
-  EXPECT_FALSE(checker.IsValid(At(1.0, 0, 0)));
-  EXPECT_TRUE(checker.IsValid(At(0.52, 0, 0)));  // 0.02 deep: within the limit 0.05
-  EXPECT_FALSE(checker.IsValid(At(0.56, 0, 0)));
+  EXPECT_FALSE(checker.IsValid(PoseAt(1.0, 0, 0)));
+  EXPECT_TRUE(checker.IsValid(PoseAt(0.52, 0, 0)));  // 0.02 deep: within the limit 0.05
+  EXPECT_FALSE(checker.IsValid(PoseAt(0.56, 0, 0)));
   // Pulled straight up it stays clear.
-  EXPECT_TRUE(checker.IsValid(At(0, 0, 30)));
+  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 30)));
 }
 
 TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
@@ -181,11 +177,11 @@ TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   EXPECT_NEAR(parts->installed_depth[2], 0.5, 1e-12);  // hook 0.5 mm into the plate's underside
   const RigidDepthChecker checker(parts, 0.025, 0.01);
   EXPECT_TRUE(checker.IsValid(Pose{}));
-  const DepthReport pulled = checker.Measure(At(0, 0, 1.0));  // the hook passes the rim: the clip bends 1 mm
-  EXPECT_TRUE(checker.IsValid(At(0, 0, 1.0)));
+  const DepthReport pulled = checker.Measure(PoseAt(0, 0, 1.0));  // the hook passes the rim: the clip bends 1 mm
+  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 1.0)));
   EXPECT_NEAR(pulled.fastener_depth, 1.0, 1e-12);  // reported, not judged
-  EXPECT_FALSE(checker.IsValid(At(-1.5, 0, 0)));   // sideways: the rib hits its hole
-  EXPECT_EQ(checker.Measure(At(-1.5, 0, 0)).rigid_shell, 3);
+  EXPECT_FALSE(checker.IsValid(PoseAt(-1.5, 0, 0)));   // sideways: the rib hits its hole
+  EXPECT_EQ(checker.Measure(PoseAt(-1.5, 0, 0)).rigid_shell, 3);
 }
 
 TEST(RigidDepth, ASolidBlockInterferingIsRigid) {
@@ -244,13 +240,13 @@ TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
   scene.static_mesh = key.environment;
   scene.units = "mm";
   // Straight up and out: valid.
-  std::vector<Pose> up = {Pose{}, At(0, 0, 40)};
+  std::vector<Pose> up = {Pose{}, PoseAt(0, 0, 40)};
   const ExactCheckReport ok = ExactCheckPath(scene, up, 0.05);
   EXPECT_TRUE(ok.valid) << ok.reason;
   EXPECT_TRUE(ok.ends_separated);
   EXPECT_LT(ok.max_rigid_depth, 0.05);
   // Sideways through the plate, then up: refused, with the depth and where.
-  std::vector<Pose> cut = {Pose{}, At(40, 0, 0), At(40, 0, 40)};
+  std::vector<Pose> cut = {Pose{}, PoseAt(40, 0, 0), PoseAt(40, 0, 40)};
   const ExactCheckReport bad = ExactCheckPath(scene, cut, 0.05);
   EXPECT_FALSE(bad.valid);
   EXPECT_GT(bad.max_rigid_depth, 1.0);
@@ -258,7 +254,7 @@ TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
   EXPECT_EQ(bad.rigid_shell, 1);  // the key
   EXPECT_NE(bad.reason.find("penetrates"), std::string::npos);
   // Not ending separated.
-  std::vector<Pose> short_path = {Pose{}, At(0, 0, 3)};
+  std::vector<Pose> short_path = {Pose{}, PoseAt(0, 0, 3)};
   EXPECT_FALSE(ExactCheckPath(scene, short_path, 0.05).valid);
 }
 

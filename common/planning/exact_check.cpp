@@ -55,9 +55,63 @@ std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double t
   return ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
 }
 
-BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured) {
+namespace {
+
+// One straight pull of ProbeWhatBlocks from `start` along `direction`:
+// conservative steps (the slack, at least a tenth of the tolerance, at most
+// `largest_step`) until a rigid shell goes deeper than the tolerance (then
+// bisected between the last free pose and that one, so that the distance
+// does not depend on where the steps fell) or D's box clears S's.
+BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const RigidDepthChecker& checker,
+                   const Aabb& robot_box, const Aabb& static_box, double tolerance, double reach,
+                   double largest_step) {
+  BlockingProbe probe;
+  probe.direction = direction;
+  const auto at = [&](double distance) {
+    Pose pose = start;
+    pose.t += distance * direction;
+    return checker.Measure(pose);
+  };
+  double s = 0;
+  for (int step = 0; step < 1000000 && s <= reach; ++step) {
+    DepthReport depth = at(s);
+    if (depth.rigid_depth > tolerance) {
+      double free = probe.free_distance, stuck = s;
+      for (int k = 0; k < 30 && stuck - free > 1e-3 * tolerance; ++k) {
+        const double mid = 0.5 * (free + stuck);
+        const DepthReport there = at(mid);
+        if (there.rigid_depth > tolerance) {
+          stuck = mid;
+          depth = there;
+        } else {
+          free = mid;
+        }
+      }
+      probe.free_distance = free;
+      probe.depth = depth.rigid_depth;
+      probe.rigid_shell = depth.rigid_shell;
+      probe.static_shell = depth.rigid_static_shell;
+      return probe;
+    }
+    probe.free_distance = s;
+    Aabb moved = robot_box;
+    moved.min += s * direction;
+    moved.max += s * direction;
+    if (moved.SeparatedFrom(static_box)) {
+      probe.separated = true;
+      return probe;
+    }
+    s += std::min(largest_step, std::max(depth.slack, tolerance / 10));
+  }
+  return probe;
+}
+
+}  // namespace
+
+BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured,
+                               std::shared_ptr<const PartModel> parts) {
   BlockingReport report;
-  report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
+  report.parts = parts ? std::move(parts) : ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb static_box = scene.static_mesh.Bounds();
   // D's principal axes in the world at the installed pose.
@@ -70,45 +124,8 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {1.0, -1.0}) {
-      BlockingProbe probe;
-      probe.direction = sign * axes.col(axis);
-      double s = 0;
-      for (int step = 0; step < 1000000 && s <= reach; ++step) {
-        Pose pose = scene.start;
-        pose.t += s * probe.direction;
-        DepthReport depth = checker.Measure(pose);
-        if (depth.rigid_depth > tolerance) {
-          // Blocked between the last free pose and this one: bisect, so
-          // that the distance does not depend on where the steps fell.
-          double free = probe.free_distance, stuck = s;
-          for (int k = 0; k < 30 && stuck - free > 1e-3 * tolerance; ++k) {
-            const double mid = 0.5 * (free + stuck);
-            pose.t = scene.start.t + mid * probe.direction;
-            const DepthReport at = checker.Measure(pose);
-            if (at.rigid_depth > tolerance) {
-              stuck = mid;
-              depth = at;
-            } else {
-              free = mid;
-            }
-          }
-          probe.free_distance = free;
-          probe.depth = depth.rigid_depth;
-          probe.rigid_shell = depth.rigid_shell;
-          probe.static_shell = depth.rigid_static_shell;
-          break;
-        }
-        probe.free_distance = s;
-        Aabb moved = robot_box;
-        moved.min += s * probe.direction;
-        moved.max += s * probe.direction;
-        if (moved.SeparatedFrom(static_box)) {
-          probe.separated = true;
-          break;
-        }
-        s += std::min(largest_step, std::max(depth.slack, tolerance / 10));
-      }
-      report.probes.push_back(probe);
+      report.probes.push_back(
+          Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box, tolerance, reach, largest_step));
     }
   }
   for (std::size_t i = 0; i < report.probes.size(); ++i) {

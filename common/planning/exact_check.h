@@ -85,8 +85,11 @@ struct BlockingReport {
   std::shared_ptr<const PartModel> parts;
   std::string summary;                // one line for a user
 };
+// `parts`: D's solids as ClassifySceneParts(scene, tolerance, unmeasured)
+// gives them, when the caller has them already (null: classified here).
 BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance,
-                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
+                               std::shared_ptr<const PartModel> parts = nullptr);
 
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,

@@ -202,23 +202,22 @@ int Run(const VerdictOptions& options) {
   // The independent exact check of the file as written (path.csv when
   // given, interpolated the plain way): the verdict trusts no model.
   std::optional<ExactCheckReport> exact;
+  // Volume modes bounded every intersection by tau while planning: an
+  // interference the exact check cannot measure is left to that model.
+  const UnmeasuredInterference unmeasured =
+      IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener : UnmeasuredInterference::kRigid;
   const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
   if (path.success && !path.waypoints.empty()) {
     const std::vector<Pose> written = options.csv_name.empty() ? path.waypoints : ReadPathCsv(options.csv_name);
-    // Volume modes bounded every intersection by tau while planning: an
-    // interference the exact check cannot measure is left to that model.
-    exact = ExactCheckPath(scene, written, tolerance,
-                           IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener
-                                                           : UnmeasuredInterference::kRigid);
+    exact = ExactCheckPath(scene, written, tolerance, unmeasured);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   const bool removable = path.success && !path.waypoints.empty() && exact && exact->valid;
   // Not removable: what holds D (straight pulls from the installed pose).
   std::optional<BlockingReport> blocking;
   if (!removable) {
-    blocking = ProbeWhatBlocks(scene, tolerance,
-                               IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener
-                                                               : UnmeasuredInterference::kRigid);
+    // The exact check classified D's solids the same way: reused.
+    blocking = ProbeWhatBlocks(scene, tolerance, unmeasured, exact ? exact->parts : nullptr);
   }
   const std::optional<MaxVolume> max = FindMaxVolume(path);
   const bool volume_mode = IsVolumeValidity(path.validity);
