@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Golden outputs: the same seed gives byte-identical paths and verdicts.
+#
+#   tests/golden/run.sh BIN_DIR WORK_DIR [record]
+#
+# Runs the pipelines on six fixed cases (the demo scene, two clips-ds*
+# scenes, three OMPL.app scenes) and compares path.csv, path-smooth.csv and
+# the verdict (wall times and the output folder's name removed) with the
+# files recorded in tests/golden/expected/. With `record`, writes them
+# instead: do that only for a change that is meant to change the answers,
+# and say why in the commit. The OMPL cases are skipped where
+# ../shared/benchmarks/ompl/ is not there.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+bin=$(cd "$1" && pwd)
+work=$2
+mode=${3:-check}
+expected=$here/expected
+ompl=$root/../shared/benchmarks/ompl
+mkdir -p "$work"
+work=$(cd "$work" && pwd)
+failed=0
+
+# The verdict without what changes from run to run: wall times, and the
+# output folder's absolute name.
+normalize_verdict() {
+  grep -v -E '"(seconds|total_seconds|plan|smooth|voxelize|medial-spheres|pbd-label|distfield-build|tau-estimate)": [0-9.e+-]+,?$' "$1" \
+    | sed -e "s#$2/##g" -e "s#$work/##g" -e "s#$root/##g"
+}
+
+compare() {  # case file-in-work file-name-in-expected
+  local name=$1 produced=$2 recorded=$expected/$1/$3
+  if [ "$mode" = record ]; then
+    mkdir -p "$expected/$name"; cp "$produced" "$recorded"; return
+  fi
+  if [ ! -f "$recorded" ]; then echo "golden $name: nothing recorded at $recorded"; failed=1; return; fi
+  if ! cmp -s "$produced" "$recorded"; then
+    echo "golden $name: $3 differs from the recorded one:"; diff "$recorded" "$produced" | head -20; failed=1
+  fi
+}
+
+inistate_case() {  # name scene.yaml
+  local name=$1 scene=$2 out=$work/$1
+  rm -rf "$out"
+  make --no-print-directory -s -f "$root/pipelines/inistate.mk" SCENE="$scene" OUT="$out" BIN="$bin" SEED=1 \
+    THREADS=${GOLDEN_THREADS:-2} WITH_REPORT=0 > "$work/$name.log" 2>&1 || true
+  [ -f "$out/verdict.json" ] || { echo "golden $name: no verdict ($work/$name.log)"; failed=1; return; }
+  normalize_verdict "$out/verdict.json" "$out" > "$out/verdict.normalized.json"
+  compare "$name" "$out/verdict.normalized.json" verdict.json
+  if [ -f "$out/path.csv" ]; then compare "$name" "$out/path.csv" path.csv; fi
+}
+
+rigid_case() {  # name scene.yaml
+  local name=$1 scene=$2 out=$work/$1
+  rm -rf "$out"
+  make --no-print-directory -s -f "$root/pipelines/plan.mk" SCENE="$scene" OUT="$out" BIN="$bin" SEED=1 \
+    smooth > "$work/$name.log" 2>&1 || { echo "golden $name: the pipeline failed ($work/$name.log)"; failed=1; return; }
+  compare "$name" "$out/path.csv" path.csv
+  compare "$name" "$out/path-smooth.csv" path-smooth.csv
+}
+
+inistate_case demo "$root/scenes/panel-tilt-slide-1/scene.yaml"
+inistate_case clips-ds1 "$root/scenes/clips-ds1/scene.yaml"
+"$bin/ausbau-scene-gen" --family clips-ds2 --seed 2 -o "$work/clips-ds2-scene" > /dev/null 2>&1
+inistate_case clips-ds2 "$work/clips-ds2-scene/scene.yaml"
+for scene in Easy alpha-1.5 Apartment; do
+  if [ -f "$ompl/$scene.yaml" ]; then rigid_case "ompl-$scene" "$ompl/$scene.yaml"
+  else echo "golden ompl-$scene: skipped ($ompl/$scene.yaml not there)"; fi
+done
+if [ "$failed" != 0 ]; then echo "golden: FAILED (outputs in $work)"; exit 1; fi
+echo "golden: all cases match ($mode)"
