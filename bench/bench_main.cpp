@@ -18,7 +18,7 @@
 #include "core/error.h"
 #include "planning/dense_check.h"
 #include "planning/planner.h"
-#include "planning/random.h"
+#include "core/random.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
 #include "ompl_rrtc.h"

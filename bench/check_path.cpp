@@ -1,12 +1,12 @@
 // ausbau-check-path: checks a path on a generated clip scene against the
-// generator's ground truth (inistate/ground_truth_check.h). Exit 0 correct,
+// generator's ground truth (fixtures/ground_truth_check.h). Exit 0 correct,
 // 3 incorrect, 2 bad input.
 #include <cstdio>
 
 #include "cli/stage_main.h"
 #include "inistate/intersection_volume.h"
 #include "labeling/pbd_label.h"
-#include "inistate/ground_truth_check.h"
+#include "fixtures/ground_truth_check.h"
 #include "planning/path_io.h"
 #include "scene/scene.h"
 

@@ -23,7 +23,7 @@
 //                     [--reps 2] [--threads 0] [--output-dir out/bench-farr]
 //
 // Scene names: OMPL.app scenes by name (../shared/benchmarks/ompl/<name>.yaml),
-// flange-1.00 / flange-0.95 / flange-0.90 (generated, common/scene/flange.h),
+// flange-1.00 / flange-0.95 / flange-0.90 (generated, common/fixtures/flange.h),
 // parasol-flange-1.0 (../shared/benchmarks/parasol/flange-1.0/, if present).
 
 #include <CLI/CLI.hpp>
@@ -50,7 +50,7 @@
 #include "machine.h"
 #include "core/log.h"
 #include "planning/planner.h"
-#include "scene/flange.h"
+#include "fixtures/flange.h"
 #include "scene/scene.h"
 
 namespace {

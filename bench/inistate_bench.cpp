@@ -51,7 +51,7 @@
 #include "machine.h"
 #include "split_list.h"
 #include "core/log.h"
-#include "inistate/ground_truth_check.h"
+#include "fixtures/ground_truth_check.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/intersection_volume.h"
 #include "inistate/tau_estimate.h"
@@ -64,7 +64,7 @@
 #include "planning/path_io.h"
 #include "planning/planner.h"
 #include "planning/state_space.h"
-#include "scene/clip_scenes.h"
+#include "fixtures/clip_scenes.h"
 #include "scene/scene.h"
 
 namespace ausbau {

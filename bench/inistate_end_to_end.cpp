@@ -11,8 +11,8 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "machine.h"
-#include "scene/box_scenes.h"
-#include "scene/clip_scenes.h"
+#include "fixtures/box_scenes.h"
+#include "fixtures/clip_scenes.h"
 
 namespace ausbau::bench {
 namespace {

@@ -3,7 +3,7 @@
 // or on a mesh file. Prints the medial-sphere time, the labeling time with
 // one thread and with all threads, the time per load case, and (generated
 // panel) how well the labels separate the tongues (ROC AUC).
-// With --family: the generated clip scenes (scene/clip_scenes.h) instead,
+// With --family: the generated clip scenes (fixtures/clip_scenes.h) instead,
 // labelled once per --max-load-cases budget with --threads, printing the time
 // and the ROC AUC of clip vertices against rigid ones (over the exposed
 // vertices, as tests/test_labeling.cpp measures it, and over all).
@@ -34,10 +34,11 @@
 
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
+#include "fixtures/roc.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
 #include "planning/exact_check.h"
-#include "scene/clip_scenes.h"
+#include "fixtures/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 

@@ -20,7 +20,7 @@
 
 #include "parse_args.h"
 #include "planning/nearest_neighbors.h"
-#include "planning/random.h"
+#include "core/random.h"
 #include "planning/state_space.h"
 
 namespace {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Generates the panel-* box scenes (ausbau-scene-gen, common/scene/box_scenes.h)
+# Generates the panel-* box scenes (ausbau-scene-gen, common/fixtures/box_scenes.h)
 # into a temporary folder and judges them with the external benchmark set's
 # exact checker (oracle.py, which reads boxes.json): each known path must
 # pass (exit 0) and an obviously wrong path must fail (exit 1): a straight

@@ -1,4 +1,4 @@
-// The panel-* box scenes (scene/box_scenes.h): the box shells, the exact
+// The panel-* box scenes (fixtures/box_scenes.h): the box shells, the exact
 // separating-axis test, and per family and tessellation the written files
 // (deterministic, counts, labels), the installed state (clips and only clips
 // in S, rigid parts clear by the family's minimum), the known path against a
@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scene/box_scenes.h"
+#include "fixtures/box_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"

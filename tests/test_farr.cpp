@@ -22,8 +22,8 @@
 #include "core/error.h"
 #include "geometry/primitives.h"
 #include "planning/planner.h"
-#include "planning/random.h"
-#include "scene/flange.h"
+#include "core/random.h"
+#include "fixtures/flange.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
 
@@ -678,7 +678,7 @@ TEST(Farr, FieldsMustMatchTheMeshes) {
 }
 
 // ---------------------------------------------------------------------------
-// The flange scene generator (common/scene/flange.h)
+// The flange scene generator (common/fixtures/flange.h)
 
 TEST(FlangeScene, ClosedMeshesAndAFreeStartInThreeClearances) {
   double previous = 0;

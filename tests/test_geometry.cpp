@@ -4,7 +4,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
-#include "planning/random.h"
+#include "core/random.h"
 #include "planning/state_space.h"
 #include "test_poses.h"
 

@@ -15,9 +15,10 @@
 #include "geometry/primitives.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
+#include "fixtures/roc.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
-#include "scene/clip_scenes.h"
+#include "fixtures/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
@@ -662,7 +663,7 @@ TEST(PbdLabels, RejectsBadOptions) {
 // ------------------------------------------------------------ clip scenes
 
 TEST(ClipScenes, LabelsSeparateClipsFromRigidParts) {
-  // The generated InIState scenes (scene/clip_scenes.h): clips (nominal
+  // The generated InIState scenes (fixtures/clip_scenes.h): clips (nominal
   // deformability 1; ds5's thick clips 0.35) against the panel, rims and
   // rails (0). The thesis separates the clips of its datasets 1-4 and fails
   // on dataset 5's thick clips; ds5 is reported, not required.

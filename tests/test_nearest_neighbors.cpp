@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "planning/nearest_neighbors.h"
-#include "planning/random.h"
+#include "core/random.h"
 #include "planning/state_space.h"
 
 namespace ausbau {

@@ -6,7 +6,7 @@
 #include "geometry/primitives.h"
 #include "geometry/shells.h"
 #include "planning/exact_check.h"
-#include "scene/box_scenes.h"
+#include "fixtures/box_scenes.h"
 #include "scene/scene.h"
 #include "test_poses.h"
 

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "scene/generators.h"
+#include "fixtures/generators.h"
 
 namespace ausbau::testing {
 

@@ -9,7 +9,7 @@ namespace ausbau::testing {
 // A new empty folder under the system's temporary directory, unique per call.
 std::filesystem::path MakeTempDir(const std::string& prefix);
 
-// Generates `family` (see scene/generators.h) into a fresh folder and
+// Generates `family` (see fixtures/generators.h) into a fresh folder and
 // returns the scene.yaml path.
 std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_t seed = 1);
 

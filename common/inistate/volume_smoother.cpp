@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "planning/random.h"
+#include "core/random.h"
 
 namespace ausbau {
 namespace {

@@ -1063,30 +1063,4 @@ void WriteLabelsCsv(const std::filesystem::path& path, const std::vector<Eigen::
   WriteTextFileAtomically(path, text);
 }
 
-double RocAuc(const std::vector<double>& score, const std::vector<std::uint8_t>& positive) {
-  std::vector<int> order(score.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return score[a] < score[b]; });
-  // Mann-Whitney U with average ranks for ties.
-  double rank_sum = 0.0;
-  std::int64_t positives = 0, negatives = 0;
-  for (std::size_t i = 0; i < order.size();) {
-    std::size_t j = i;
-    while (j < order.size() && score[order[j]] == score[order[i]]) ++j;
-    const double average_rank = 0.5 * (static_cast<double>(i + 1) + static_cast<double>(j));
-    for (std::size_t k = i; k < j; ++k) {
-      if (positive[order[k]]) {
-        rank_sum += average_rank;
-        ++positives;
-      } else {
-        ++negatives;
-      }
-    }
-    i = j;
-  }
-  if (positives == 0 || negatives == 0) return 0.5;
-  return (rank_sum - 0.5 * static_cast<double>(positives) * (positives + 1)) /
-         (static_cast<double>(positives) * negatives);
-}
-
 }  // namespace ausbau

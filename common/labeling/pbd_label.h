@@ -209,8 +209,4 @@ LabelsArtifact ReadLabelsArtifact(const std::filesystem::path& path);
 void WriteLabelsCsv(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& vertices,
                     const std::vector<double>& deformability);
 
-// Area under the ROC curve of `score` separating positives (label 1) from
-// negatives (label 0); ties count one half. Used by tests and benchmarks.
-double RocAuc(const std::vector<double>& score, const std::vector<std::uint8_t>& positive);
-
 }  // namespace ausbau

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "planning/random.h"
+#include "core/random.h"
 
 namespace ausbau {
 

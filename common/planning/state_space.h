@@ -15,7 +15,7 @@
 #include "collision/validity.h"
 #include "geometry/mesh.h"
 #include "geometry/pose.h"
-#include "planning/random.h"
+#include "core/random.h"
 
 namespace ausbau {
 

@@ -15,6 +15,7 @@
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "labeling/pbd_label.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
 #include "core/format.h"
@@ -517,12 +518,12 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
   std::string labels_json = "null";
   if (!labels_file.empty()) {
     try {
-      const ArtifactReader reader(labels_file, kLabelsSchema, kLabelsSchemaVersion);
-      // ausbau-pbd-label writes doubles; the viewer needs floats (colours).
-      const Array<double> stored = reader.ReadDoubles("deformability", 1);
+      // The labels' schema has one owner (labeling/pbd_label.h); the viewer
+      // needs floats (colours).
+      const LabelsArtifact stored = ReadLabelsArtifact(labels_file);
       Array<float> values;
-      values.dims = stored.dims;
-      values.data.assign(stored.data.begin(), stored.data.end());
+      values.dims = {stored.deformability.size()};
+      values.data.assign(stored.deformability.begin(), stored.deformability.end());
       if (values.data.size() != scene.dynamic_mesh.vertices.size()) {
         throw InputErrorAt(labels_file.string(), Fmt("dataset 'deformability' has %zu values (expected one per vertex of D: %zu)",
                                                      values.data.size(), scene.dynamic_mesh.vertices.size()));

@@ -18,11 +18,6 @@
 
 namespace ausbau {
 
-// Labels of D's vertices (provisional schema, see stages/report/README.md):
-// dataset `deformability`, float, [n_vertices of D].
-inline constexpr char kLabelsSchema[] = "ausbau-labels";
-inline constexpr int kLabelsSchemaVersion = 1;
-
 struct ReportOptions {
   std::filesystem::path scene;     // required
   std::filesystem::path path;      // the planned path (ausbau-path); optional

@@ -3,9 +3,9 @@
 
 #include "cli/stage_main.h"
 #include "core/log.h"
-#include "scene/box_scenes.h"
-#include "scene/clip_scenes.h"
-#include "scene/generators.h"
+#include "fixtures/box_scenes.h"
+#include "fixtures/clip_scenes.h"
+#include "fixtures/generators.h"
 
 int main(int argc, char** argv) {
   using namespace ausbau;

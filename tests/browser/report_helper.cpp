@@ -19,6 +19,7 @@
 
 #include "artifact/artifact.h"
 #include "core/hash.h"
+#include "labeling/pbd_label.h"
 #include "report/report.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
@@ -58,15 +59,14 @@ int Labels(const fs::path& scene_file, const fs::path& output) {
   int axis = 0;
   box.Size().maxCoeff(&axis);
   const double extent = box.Size()[axis] > 0 ? box.Size()[axis] : 1.0;
-  std::vector<float> values;
+  LabelsArtifact labels;
+  labels.measure = "test: position along D's longest axis";
   for (const auto& v : scene.dynamic_mesh.vertices) {
-    values.push_back(static_cast<float>((v[axis] - box.min[axis]) / extent));
+    labels.deformability.push_back((v[axis] - box.min[axis]) / extent);
   }
   Provenance provenance{"ausbau-test-report-helper", AUSBAU_VERSION, "", {}};
   provenance.inputs.emplace_back("scene", HashFile(scene.file));
-  ArtifactWriter writer(output, kLabelsSchema, kLabelsSchemaVersion, provenance);
-  writer.WriteFloats("deformability", values, {values.size()});
-  writer.Commit();
+  WriteLabelsArtifact(output, labels, provenance);
   return 0;
 }
 
