@@ -30,9 +30,10 @@ struct UnitsReading {
   double millimetres_per_unit = 1.0;  // only for kKnown
 };
 
-// The same names RigidToleranceInSceneUnits (planning/exact_check.h) converts,
-// plus "unitless"/"none", which the OMPL.app scenes use to say on purpose that
-// their numbers have no unit.
+// Exactly the names RigidToleranceInSceneUnits (planning/exact_check.h)
+// converts (that layer is below this one, so the list is repeated here),
+// plus "unitless"/"none", which the OMPL.app scenes use to say on purpose
+// that their numbers have no unit.
 UnitsReading ReadUnits(const std::string& units) {
   std::string u;
   for (char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -40,8 +41,7 @@ UnitsReading ReadUnits(const std::string& units) {
   if (u == "unitless" || u == "none") return {UnitsKind::kUnitless, 1.0};
   if (u == "mm" || u == "millimeter" || u == "millimetre" || u == "millimeters" || u == "millimetres")
     return {UnitsKind::kKnown, 1.0};
-  if (u == "cm" || u == "centimeter" || u == "centimetre" || u == "centimeters" || u == "centimetres")
-    return {UnitsKind::kKnown, 10.0};
+  if (u == "cm" || u == "centimeter" || u == "centimetre") return {UnitsKind::kKnown, 10.0};
   if (u == "m" || u == "meter" || u == "metre" || u == "meters" || u == "metres") return {UnitsKind::kKnown, 1000.0};
   if (u == "in" || u == "inch" || u == "inches") return {UnitsKind::kKnown, 25.4};
   return {UnitsKind::kUnknown, 1.0};
