@@ -7,20 +7,14 @@
 #include "core/format.h"
 #include "geometry/principal_axes.h"
 #include "scene/scene.h"
+#include "scene/units.h"
 
 namespace ausbau {
 
 double RigidToleranceInSceneUnits(double millimetres, const std::string& units, bool* assumed) {
-  std::string u;
-  for (char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (assumed) *assumed = false;
-  if (u == "mm" || u == "millimeter" || u == "millimetre" || u == "millimeters" || u == "millimetres")
-    return millimetres;
-  if (u == "cm" || u == "centimeter" || u == "centimetre") return millimetres / 10.0;
-  if (u == "m" || u == "meter" || u == "metre" || u == "meters" || u == "metres") return millimetres / 1000.0;
-  if (u == "in" || u == "inch" || u == "inches") return millimetres / 25.4;
-  if (assumed) *assumed = true;
-  return millimetres;
+  const std::optional<double> per_unit = MillimetresPerUnit(units);
+  if (assumed) *assumed = !per_unit.has_value();
+  return per_unit ? millimetres / *per_unit : millimetres;
 }
 
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,

@@ -1,0 +1,24 @@
+// The length units a scene.yaml may name (`units:`), in one place: the
+// exact check converts its tolerance in millimetres with them, and
+// ausbau-scene-check judges D's size by them.
+#pragma once
+
+#include <cctype>
+#include <optional>
+#include <string>
+
+namespace ausbau {
+
+// Millimetres per scene unit for mm, cm, m and inch (with their spelled-out
+// names, any case); nothing for an empty, unitless or unknown name.
+inline std::optional<double> MillimetresPerUnit(const std::string& units) {
+  std::string u;
+  for (char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (u == "mm" || u == "millimeter" || u == "millimetre" || u == "millimeters" || u == "millimetres") return 1.0;
+  if (u == "cm" || u == "centimeter" || u == "centimetre" || u == "centimeters" || u == "centimetres") return 10.0;
+  if (u == "m" || u == "meter" || u == "metre" || u == "meters" || u == "metres") return 1000.0;
+  if (u == "in" || u == "inch" || u == "inches") return 25.4;
+  return std::nullopt;
+}
+
+}  // namespace ausbau

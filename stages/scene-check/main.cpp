@@ -1,0 +1,46 @@
+// ausbau-scene-check: what a scene contains and what in it is suspicious,
+// before any planning. The checks are in common/scene/scene_check.h; see
+// README.md beside this file.
+#include <cstdio>
+
+#include "cli/stage_main.h"
+#include "core/atomic_file.h"
+#include "scene/scene.h"
+#include "scene/scene_check.h"
+
+namespace ausbau {
+namespace {
+
+struct SceneCheckOptions {
+  std::string scene;
+  std::string json;     // empty: no JSON file
+  bool strict = false;  // exit 1 when any finding is a warning
+};
+
+int Run(const SceneCheckOptions& options) {
+  const Scene scene = LoadScene(options.scene);
+  const SceneSummary summary = CheckScene(scene);
+  std::fputs(SceneSummaryText(summary).c_str(), stdout);
+  std::fflush(stdout);
+  if (!options.json.empty()) WriteTextFileAtomically(options.json, SceneSummaryJson(summary));
+  // --strict is for scripts that want to stop on a suspicious scene; 1 is the code left free by bad input (2).
+  if (options.strict && summary.WarningCount() > 0) return 1;
+  return kExitOk;
+}
+
+}  // namespace
+}  // namespace ausbau
+
+int main(int argc, char** argv) {
+  using namespace ausbau;
+  SceneCheckOptions options;
+  return RunStage(
+      {"ausbau-scene-check", "Prints what a scene contains and what in it is suspicious (units, poses, meshes)."},
+      argc, argv,
+      [&](CLI::App& app) {
+        app.add_option("--scene", options.scene, "scene.yaml")->required();
+        app.add_option("--json", options.json, "also write the summary and the findings as JSON (atomically)");
+        app.add_flag("--strict", options.strict, "exit 1 when any finding is a warning");
+      },
+      [&] { return Run(options); });
+}
