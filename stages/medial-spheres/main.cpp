@@ -6,8 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "cli/stage_main.h"
-#include "core/hash.h"
+#include "cli/stage.h"
 #include "core/log.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
@@ -18,10 +17,9 @@ namespace {
 
 struct SpheresStageOptions {
   std::string scene;
-  std::string output = "spheres.h5";
+  std::string output;
   std::string csv;
   std::string ply;
-  bool force = false;
   double weld_tolerance = MeshTopologyOptions{}.weld_tolerance;
   MedialSphereOptions spheres;
 };
@@ -45,23 +43,12 @@ void WriteExtras(const SpheresStageOptions& options, const Scene& scene, const S
   }
 }
 
-int Run(const SpheresStageOptions& options, const std::string& parameters) {
+int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
   options.spheres.Check();
   if (!(options.weld_tolerance >= 0 && options.weld_tolerance < 1)) {
     throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
-  const Scene scene = LoadScene(options.scene);
-  // Only D's mesh file matters: S and the poses do not change the spheres.
-  const Provenance provenance{"ausbau-medial-spheres", AUSBAU_VERSION, parameters,
-                              {{"dynamic", HashFile(scene.dynamic_file)}}};
-  if (!options.force &&
-      ExistingProvenanceHash(options.output, kSpheresSchema, kSpheresSchemaVersion) == provenance.Hash()) {
-    LogInfo("%s is up to date (same D and options); use --force to compute again", options.output.c_str());
-    SpheresArtifact cached = ReadSpheresArtifact(options.output);
-    WriteExtras(options, scene, cached);
-    return kExitOk;
-  }
-
+  const Scene& scene = run.scene;
   MeshTopologyOptions topology_options;
   topology_options.weld_tolerance = options.weld_tolerance;
   const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
@@ -98,8 +85,8 @@ int Run(const SpheresStageOptions& options, const std::string& parameters) {
 
   SpheresArtifact artifact = ToSpheresArtifact(topology, spheres);
   artifact.units = scene.units;
-  WriteSpheresArtifact(options.output, artifact, provenance);
-  LogInfo("wrote %s (%zu vertices of D)", options.output.c_str(), artifact.radii.size());
+  WriteSpheresArtifact(run.output, artifact, run.provenance);
+  LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.radii.size());
   WriteExtras(options, scene, artifact);
   return kExitOk;
 }
@@ -110,32 +97,28 @@ int Run(const SpheresStageOptions& options, const std::string& parameters) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   SpheresStageOptions options;
-  CLI::App* app_ptr = nullptr;
-  return RunStage(
-      {"ausbau-medial-spheres",
-       "Computes one medial-axis sphere per vertex of the part D (deformability labeling, phase I)."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app_ptr = &app;
-        app.add_option("--scene", options.scene, "scene.yaml (only its part D is used)")->required();
-        app.add_option("-o,--output", options.output, "spheres artifact (HDF5)")->capture_default_str();
-        app.add_option("--csv", options.csv, "also write x,y,z,radius per vertex of D");
-        app.add_option("--ply", options.ply, "also write D as PLY coloured by sphere radius");
-        app.add_option("--threads", options.spheres.threads, "0 = all cores")->capture_default_str()->check(ThreadCount());
-        app.add_option("--delta", options.spheres.delta, "start offset inside, fraction of D's AABB diagonal")
-            ->capture_default_str();
-        app.add_option("--step", options.spheres.step, "push factor eps while growing, in (0, 1)")
-            ->capture_default_str();
-        app.add_option("--iterations", options.spheres.cooling_iterations,
-                       "cooling iterations (eps falls linearly to step / iterations)")
-            ->capture_default_str();
-        app.add_option("--growth-iterations", options.spheres.growth_iterations,
-                       "at most this many iterations at eps = step while the sphere grows; 0 = cool from the start")
-            ->capture_default_str();
-        app.add_option("--weld-tolerance", options.weld_tolerance,
-                       "weld vertices closer than this fraction of D's AABB diagonal")
-            ->capture_default_str();
-        app.add_flag("--force", options.force, "compute even when the output is up to date");
-      },
-      [&] { return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ply", "force", "threads"})); });
+  StageDefinition stage("ausbau-medial-spheres",
+                        "Computes one medial-axis sphere per vertex of the part D (deformability labeling, phase I).");
+  // Only D's mesh file matters: S and the poses do not change the spheres.
+  stage.SceneInput(SceneHash::kDynamicMesh, &options.scene);
+  stage.Output(&options.output, "spheres.h5", kSpheresSchema, kSpheresSchemaVersion);
+  stage.Option("--csv", &options.csv, "also write x,y,z,radius per vertex of D", CacheKey::kNo);
+  stage.Option("--ply", &options.ply, "also write D as PLY coloured by sphere radius", CacheKey::kNo);
+  stage.Threads(&options.spheres.threads);
+  stage.Option("--delta", &options.spheres.delta, "start offset inside, fraction of D's AABB diagonal", CacheKey::kYes);
+  stage.Option("--step", &options.spheres.step, "push factor eps while growing, in (0, 1)", CacheKey::kYes);
+  stage.Option("--iterations", &options.spheres.cooling_iterations,
+               "cooling iterations (eps falls linearly to step / iterations)", CacheKey::kYes);
+  stage.Option("--growth-iterations", &options.spheres.growth_iterations,
+               "at most this many iterations at eps = step while the sphere grows; 0 = cool from the start",
+               CacheKey::kYes);
+  stage.Option("--weld-tolerance", &options.weld_tolerance,
+               "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
+  return stage.Run(
+      argc, argv, [&](const StageRun& run) { return ComputeSpheres(run, options); },
+      [&](const StageRun& run) {
+        LogInfo("%s is up to date (same D and options); use --force to compute again", run.output.c_str());
+        WriteExtras(options, run.scene, ReadSpheresArtifact(run.output));
+        return kExitOk;
+      });
 }

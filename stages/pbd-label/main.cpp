@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "cli/stage_main.h"
+#include "cli/stage.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "labeling/medial_spheres.h"
@@ -25,10 +25,9 @@ namespace {
 struct LabelStageOptions {
   std::string scene;
   std::string spheres;
-  std::string output = "labels.h5";
+  std::string output;
   std::string csv;
   std::string ply;
-  bool force = false;
   std::string rule = "auto";
   double rigid_tolerance_mm = 0.05;
   double weld_tolerance = MeshTopologyOptions{}.weld_tolerance;
@@ -48,7 +47,7 @@ void WriteExtras(const LabelStageOptions& options, const Scene& scene, const Lab
   }
 }
 
-int Run(const LabelStageOptions& options, const std::string& parameters) {
+int Label(const StageRun& run, const LabelStageOptions& options) {
   options.labels.Check();
   if (options.rule != "auto" && options.rule != "solids" && options.rule != "pbd") {
     throw InputError("--rule: expected auto, solids or pbd, got '" + options.rule + "'");
@@ -59,28 +58,14 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
   if (!(options.weld_tolerance >= 0 && options.weld_tolerance < 1)) {
     throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
-  const Scene scene = LoadScene(options.scene);
-  const std::string dynamic_hash = HashFile(scene.dynamic_file);
+  const Scene& scene = run.scene;
   // The spheres must belong to this D: their inputs hold D's content hash.
   SpheresArtifact spheres = ReadSpheresArtifact(options.spheres);
-  std::string spheres_provenance;
-  {
-    const ArtifactReader reader(options.spheres, kSpheresSchema, kSpheresSchemaVersion);
-    spheres_provenance = reader.provenance_hash();
-    if (reader.ReadStringAttribute("", "inputs").find(dynamic_hash) == std::string::npos) {
-      throw InputErrorAt(options.spheres, "computed for another part D (" + scene.dynamic_file.string() +
-                                              " has different content); run ausbau-medial-spheres on this scene");
-    }
-  }
-  // S is an input too: the solid rule reads the installed intersections.
-  Provenance provenance{"ausbau-pbd-label", AUSBAU_VERSION, parameters, {}};
-  AddSceneInputs(scene, &provenance);
-  provenance.inputs.emplace_back("spheres", spheres_provenance);
-  if (!options.force &&
-      ExistingProvenanceHash(options.output, kLabelsSchema, kLabelsSchemaVersion) == provenance.Hash()) {
-    LogInfo("%s is up to date (same D, spheres and options); use --force to label again", options.output.c_str());
-    WriteExtras(options, scene, ReadLabelsArtifact(options.output));
-    return kExitOk;
+  if (ArtifactReader(options.spheres, kSpheresSchema, kSpheresSchemaVersion)
+          .ReadStringAttribute("", "inputs")
+          .find(HashFile(scene.dynamic_file)) == std::string::npos) {
+    throw InputErrorAt(options.spheres, "computed for another part D (" + scene.dynamic_file.string() +
+                                            " has different content); run ausbau-medial-spheres on this scene");
   }
 
   if (options.rule != "pbd") {
@@ -93,8 +78,8 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
       artifact.deformability = solids.deformability;
       artifact.displacement = solids.deformability;
       artifact.measure = "solids";
-      WriteLabelsArtifact(options.output, artifact, provenance);
-      LogInfo("wrote %s (%zu vertices of D)", options.output.c_str(), artifact.deformability.size());
+      WriteLabelsArtifact(run.output, artifact, run.provenance);
+      LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
       WriteExtras(options, scene, artifact);
       return kExitOk;
     }
@@ -129,8 +114,8 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
           labels.steps, labels.solver_stiffness, labels.r_min, labels.sigma, labels.density);
 
   const LabelsArtifact artifact = ToLabelsArtifact(topology, labels, options.labels.measure);
-  WriteLabelsArtifact(options.output, artifact, provenance);
-  LogInfo("wrote %s (%zu vertices of D)", options.output.c_str(), artifact.deformability.size());
+  WriteLabelsArtifact(run.output, artifact, run.provenance);
+  LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
   WriteExtras(options, scene, artifact);
   return kExitOk;
 }
@@ -141,57 +126,56 @@ int Run(const LabelStageOptions& options, const std::string& parameters) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   LabelStageOptions options;
-  CLI::App* app_ptr = nullptr;
-  return RunStage(
-      {"ausbau-pbd-label",
-       "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II)."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app_ptr = &app;
-        PbdLabelOptions& l = options.labels;
-        app.add_option("--scene", options.scene, "scene.yaml (D, and S for the solid rule)")->required();
-        app.add_option("--rule", options.rule,
-                       "auto: by solids where D is made of closed solids whose installed intersections with S are "
-                       "measured, else PBD | solids | pbd (the thesis's simulation)")
-            ->capture_default_str();
-        app.add_option("--rigid-tolerance", options.rigid_tolerance_mm,
-                       "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener")
-            ->capture_default_str();
-        app.add_option("--spheres", options.spheres, "spheres artifact of D (ausbau-medial-spheres)")->required();
-        app.add_option("-o,--output", options.output, "labels artifact (HDF5)")->capture_default_str();
-        app.add_option("--csv", options.csv, "also write x,y,z,deformability per vertex of D");
-        app.add_option("--ply", options.ply, "also write D as PLY coloured by deformability (blue rigid, red deformable)");
-        app.add_option("--threads", l.threads, "0 = all cores")->capture_default_str()->check(ThreadCount());
-        app.add_option("--measure", l.measure, "sum (thesis: displacements summed over all load cases) | self")
-            ->capture_default_str();
-        app.add_option("--max-load-cases", l.max_load_cases,
-                       "sum: load at most this many well-spread vertices, weighted by the area each stands for; "
-                       "0 = every vertex")
-            ->capture_default_str();
-        app.add_option("--kappa", l.kappa, "load sigma = kappa x r_min")->capture_default_str();
-        app.add_option("--density", l.density, "rho in the scaled mesh; 0 = automatic (resolution-independent)")
-            ->capture_default_str();
-        app.add_option("--time-step", l.time_step, "seconds")->capture_default_str();
-        app.add_option("--duration", l.duration, "simulated seconds per load case")->capture_default_str();
-        app.add_option("--iterations", l.solver_iterations, "solver iterations N per step")->capture_default_str();
-        app.add_option("--stiffness", l.stiffness, "k")->capture_default_str();
-        app.add_option("--stiffness-formula", l.stiffness_formula,
-                       "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)")
-            ->capture_default_str();
-        app.add_option("--damping", l.damping, "velocity factor per step")->capture_default_str();
-        app.add_flag("!--no-bending", l.bending, "no bending constraints");
-        app.add_flag("!--no-thickness", l.thickness, "masses without the sphere diameters (mean diameter)");
-        app.add_flag("!--no-glue", l.glue, "do not tie separate components that touch or overlap");
-        app.add_option("--glue-tolerance", l.glue_tolerance, "touching: closer than this fraction of D's diagonal")
-            ->capture_default_str();
-        app.add_option("--refine", l.refine, "split edges longer than this many local diameters; 0 = off")
-            ->capture_default_str();
-        app.add_option("--weld-tolerance", options.weld_tolerance,
-                       "weld vertices closer than this fraction of D's AABB diagonal")
-            ->capture_default_str();
-        app.add_flag("--force", options.force, "label even when the output is up to date");
-      },
-      [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "spheres", "output", "csv", "ply", "force", "threads"}));
+  PbdLabelOptions& l = options.labels;
+  StageDefinition stage(
+      "ausbau-pbd-label",
+      "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II).");
+  // S is an input too: the solid rule reads the installed intersections.
+  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
+  stage.Option("--rule", &options.rule,
+               "auto: by solids where D is made of closed solids whose installed intersections with S are measured, "
+               "else PBD | solids | pbd (the thesis's simulation)",
+               CacheKey::kYes);
+  stage.Option("--rigid-tolerance", &options.rigid_tolerance_mm,
+               "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener",
+               CacheKey::kYes);
+  stage.InputArtifact("--spheres", &options.spheres, "spheres", kSpheresSchema, kSpheresSchemaVersion,
+                      "spheres artifact of D (ausbau-medial-spheres)")
+      ->required();
+  stage.Output(&options.output, "labels.h5", kLabelsSchema, kLabelsSchemaVersion);
+  stage.Option("--csv", &options.csv, "also write x,y,z,deformability per vertex of D", CacheKey::kNo);
+  stage.Option("--ply", &options.ply, "also write D as PLY coloured by deformability (blue rigid, red deformable)",
+               CacheKey::kNo);
+  stage.Threads(&l.threads);
+  stage.Option("--measure", &l.measure, "sum (thesis: displacements summed over all load cases) | self",
+               CacheKey::kYes);
+  stage.Option("--max-load-cases", &l.max_load_cases,
+               "sum: load at most this many well-spread vertices, weighted by the area each stands for; 0 = every "
+               "vertex",
+               CacheKey::kYes);
+  stage.Option("--kappa", &l.kappa, "load sigma = kappa x r_min", CacheKey::kYes);
+  stage.Option("--density", &l.density, "rho in the scaled mesh; 0 = automatic (resolution-independent)",
+               CacheKey::kYes);
+  stage.Option("--time-step", &l.time_step, "seconds", CacheKey::kYes);
+  stage.Option("--duration", &l.duration, "simulated seconds per load case", CacheKey::kYes);
+  stage.Option("--iterations", &l.solver_iterations, "solver iterations N per step", CacheKey::kYes);
+  stage.Option("--stiffness", &l.stiffness, "k", CacheKey::kYes);
+  stage.Option("--stiffness-formula", &l.stiffness_formula,
+               "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)", CacheKey::kYes);
+  stage.Option("--damping", &l.damping, "velocity factor per step", CacheKey::kYes);
+  stage.Flag("!--no-bending", &l.bending, "no bending constraints", CacheKey::kYes);
+  stage.Flag("!--no-thickness", &l.thickness, "masses without the sphere diameters (mean diameter)", CacheKey::kYes);
+  stage.Flag("!--no-glue", &l.glue, "do not tie separate components that touch or overlap", CacheKey::kYes);
+  stage.Option("--glue-tolerance", &l.glue_tolerance, "touching: closer than this fraction of D's diagonal",
+               CacheKey::kYes);
+  stage.Option("--refine", &l.refine, "split edges longer than this many local diameters; 0 = off", CacheKey::kYes);
+  stage.Option("--weld-tolerance", &options.weld_tolerance,
+               "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
+  return stage.Run(
+      argc, argv, [&](const StageRun& run) { return Label(run, options); },
+      [&](const StageRun& run) {
+        LogInfo("%s is up to date (same D, spheres and options); use --force to label again", run.output.c_str());
+        WriteExtras(options, run.scene, ReadLabelsArtifact(run.output));
+        return kExitOk;
       });
 }

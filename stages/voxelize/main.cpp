@@ -3,8 +3,7 @@
 // 5.4 (common/inistate/). See README.md beside this file.
 #include <omp.h>
 
-#include "cli/stage_main.h"
-#include "core/hash.h"
+#include "cli/stage.h"
 #include "core/log.h"
 #include "inistate/voxel_grid.h"
 #include "scene/scene.h"
@@ -14,29 +13,18 @@ namespace {
 
 struct VoxelizeStageOptions {
   std::string scene;
-  std::string output = "voxels.h5";
+  std::string output;
   double memory_limit_gib = 2.0;
   int threads = 0;
-  bool force = false;
   VoxelizeOptions voxelize;
 };
 
-int Run(VoxelizeStageOptions options, const std::string& parameters) {
+int Voxelize(const StageRun& run, VoxelizeStageOptions options) {
   if (!(options.memory_limit_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.voxelize.memory_limit = static_cast<std::int64_t>(options.memory_limit_gib * double(1 << 30));
   options.voxelize.progress = true;
   options.voxelize.Check();
-  if (options.threads < 0) throw InputError("--threads: must be >= 0");
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-
-  const Scene scene = LoadScene(options.scene);
-  Provenance provenance{"ausbau-voxelize", AUSBAU_VERSION, parameters, {}};
-  AddSceneInputs(scene, &provenance);
-  if (!options.force &&
-      ExistingProvenanceHash(options.output, kVoxelsSchema, kVoxelsSchemaVersion) == provenance.Hash()) {
-    LogInfo("%s is up to date (same inputs and options); use --force to voxelize again", options.output.c_str());
-    return kExitOk;
-  }
+  const Scene& scene = run.scene;
   LogInfo("scene %s: S %zu triangles, D %zu triangles, %d threads", scene.name.c_str(),
           scene.static_mesh.triangles.size(), scene.dynamic_mesh.triangles.size(), omp_get_max_threads());
   const SceneVoxels voxels = VoxelizeScene(scene, options.voxelize);
@@ -51,10 +39,9 @@ int Run(VoxelizeStageOptions options, const std::string& parameters) {
           static_cast<long long>(voxels.dynamic_grid.Count(kVoxelInside)), d.time_s,
           static_cast<long long>(d.closed_triangles), static_cast<long long>(d.open_triangles),
           static_cast<long long>(d.regions), voxels.shrink > 0 ? " after shrinking" : "");
-  VoxelArtifactInfo info{scene.name, scene.units};
-  WriteVoxelArtifact(options.output, voxels, info, provenance);
+  WriteVoxelArtifact(run.output, voxels, VoxelArtifactInfo{scene.name, scene.units}, run.provenance);
   LogInfo("voxel size %g %s, written to %s", voxels.static_grid.geometry.spacing, scene.units.c_str(),
-          options.output.c_str());
+          run.output.c_str());
   return kExitOk;
 }
 
@@ -64,29 +51,17 @@ int Run(VoxelizeStageOptions options, const std::string& parameters) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   VoxelizeStageOptions options;
-  CLI::App* app_ptr = nullptr;
-  return RunStage(
-      {"ausbau-voxelize", "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV)."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app_ptr = &app;
-        app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("-o,--output", options.output, "voxels artifact (HDF5, schema ausbau-voxels)")
-            ->capture_default_str();
-        app.add_option("--voxel-size", options.voxelize.voxel_size,
-                       "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)")
-            ->capture_default_str();
-        app.add_option("--voxel-budget", options.voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB")
-            ->capture_default_str();
-        app.add_option("--shrink", options.voxelize.shrink,
-                       "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none")
-            ->capture_default_str();
-        app.add_option("--memory-limit", options.memory_limit_gib, "GiB; larger grids are refused")
-            ->capture_default_str();
-        app.add_option("--threads", options.threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
-        app.add_flag("--force", options.force, "voxelize even when the output is up to date");
-      },
-      [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "force", "threads"}));
-      });
+  StageDefinition stage("ausbau-voxelize",
+                        "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV).");
+  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
+  stage.Output(&options.output, "voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion);
+  stage.Option("--voxel-size", &options.voxelize.voxel_size,
+               "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)", CacheKey::kYes);
+  stage.Option("--voxel-budget", &options.voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB",
+               CacheKey::kYes);
+  stage.Option("--shrink", &options.voxelize.shrink,
+               "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none", CacheKey::kYes);
+  stage.Option("--memory-limit", &options.memory_limit_gib, "GiB; larger grids are refused", CacheKey::kNo);
+  stage.Threads(&options.threads);
+  return stage.Run(argc, argv, [&](const StageRun& run) { return Voxelize(run, options); });
 }

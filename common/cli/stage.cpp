@@ -1,0 +1,156 @@
+#include "cli/stage.h"
+
+#include <omp.h>
+
+#include <cstdio>
+#include <exception>
+
+#include "core/hash.h"
+#include "core/log.h"
+
+namespace ausbau {
+
+StageDefinition::StageDefinition(std::string name, std::string description)
+    : name_(std::move(name)), app_(std::move(description), name_) {
+  SetLogProgramName(name_);
+  app_.add_option("--log-level", log_level_, "error, warn, info or debug (stderr)")->capture_default_str();
+  app_.set_version_flag("--version", std::string(AUSBAU_VERSION));
+  app_.add_flag("--validate", validate_,
+                "check the options and inputs, print the resolved options and the provenance hash, do no work");
+  not_in_cache_key_.insert("validate");
+}
+
+void StageDefinition::SceneInput(SceneHash what, std::string* path) {
+  scene_path_ = path;
+  scene_hash_ = what;
+  app_.add_option("--scene", *path, "scene.yaml")->required();
+  not_in_cache_key_.insert("scene");  // its content is hashed instead
+}
+
+void StageDefinition::Output(std::string* path, const std::string& default_file, std::string schema,
+                             int schema_version) {
+  output_ = path;
+  *path = default_file;
+  output_schema_ = std::move(schema);
+  output_schema_version_ = schema_version;
+  app_.add_option("-o,--output", *path, "output artifact (HDF5, schema " + output_schema_ + ")")
+      ->capture_default_str();
+  app_.add_flag("--force", force_, "compute even when the output is up to date");
+  not_in_cache_key_.insert("output");
+  not_in_cache_key_.insert("force");
+}
+
+CLI::Option* StageDefinition::InputFile(const std::string& flags, std::string* path, const std::string& role,
+                                        const std::string& help) {
+  CLI::Option* option = app_.add_option(flags, *path, help);
+  not_in_cache_key_.insert(option->get_single_name());  // its content is hashed instead
+  inputs_.push_back({path, role, "", 0});
+  return option;
+}
+
+CLI::Option* StageDefinition::InputArtifact(const std::string& flags, std::string* path, const std::string& role,
+                                            std::string schema, int schema_version, const std::string& help) {
+  CLI::Option* option = InputFile(flags, path, role, help);
+  inputs_.back().schema = std::move(schema);
+  inputs_.back().schema_version = schema_version;
+  return option;
+}
+
+CLI::Option* StageDefinition::Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key) {
+  CLI::Option* option = app_.add_flag(flags, *value, help);
+  if (key == CacheKey::kNo) not_in_cache_key_.insert(option->get_single_name());
+  return option;
+}
+
+void StageDefinition::Threads(int* threads) {
+  threads_ = threads;
+  app_.add_option("--threads", *threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
+  not_in_cache_key_.insert("threads");
+}
+
+void StageDefinition::Seed(std::uint64_t* seed) {
+  app_.add_option("--seed", *seed, "random seed")->capture_default_str()->check(NonNegative());
+}
+
+std::string StageDefinition::OptionsText() const {
+  return OptionsYaml(app_, std::vector<std::string>(not_in_cache_key_.begin(), not_in_cache_key_.end()));
+}
+
+Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
+  Provenance provenance{name_, AUSBAU_VERSION, OptionsText(), {}};
+  if (scene_path_) {
+    if (scene_hash_ == SceneHash::kWholeScene) {
+      AddSceneInputs(scene, &provenance);
+    } else {
+      provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+    }
+  }
+  for (const InputFileSpec& input : inputs_) {
+    if (input.path->empty()) continue;
+    if (input.schema.empty()) {
+      provenance.inputs.emplace_back(input.role, HashFile(*input.path));
+    } else {
+      const ArtifactReader reader(*input.path, input.schema, input.schema_version);  // checks the schema
+      provenance.inputs.emplace_back(input.role, reader.provenance_hash());
+    }
+  }
+  return provenance;
+}
+
+int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& compute,
+                               const std::function<int(const StageRun&)>& reuse) {
+  if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
+  const struct Scene scene = scene_path_ ? LoadScene(*scene_path_) : ausbau::Scene{};
+  const Provenance provenance = MakeProvenance(scene);
+  static const std::string no_output;
+  const StageRun run{scene, output_ ? *output_ : no_output, provenance};
+  if (validate_) {
+    std::printf("%s: the options and inputs are valid\n", name_.c_str());
+    std::printf("options (cache key):\n%s", provenance.parameters_yaml.c_str());
+    std::printf("inputs:\n");
+    for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
+    std::printf("provenance hash: %s\n", provenance.Hash().c_str());
+    if (output_) {
+      const bool current = ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash();
+      std::printf("output %s: %s\n", output_->c_str(), current ? "up to date" : "would be computed");
+    }
+    return kExitOk;
+  }
+  if (output_ && !force_ &&
+      ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash()) {
+    if (reuse) return reuse(run);
+    LogInfo("%s is up to date (same inputs and options); use --force to compute again", output_->c_str());
+    return kExitOk;
+  }
+  return compute(run);
+}
+
+int StageDefinition::Run(int argc, char** argv, const std::function<int(const StageRun&)>& compute,
+                         const std::function<int(const StageRun&)>& reuse) {
+  try {
+    app_.parse(argc, argv);
+    SetLogLevel(ParseLogLevel(log_level_));
+  } catch (const CLI::Success& e) {
+    return app_.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", name_.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), e.what());
+    return kExitBadInput;
+  }
+  try {
+    return RunParsed(compute, reuse);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", name_.c_str(), e.what());
+    return kExitInternal;
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error: unknown exception\n", name_.c_str());
+    return kExitInternal;
+  }
+}
+
+}  // namespace ausbau
