@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "cli/stage_main.h"
-#include "cli/volume_inputs.h"
+#include "workflow/volume_inputs.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/hash.h"

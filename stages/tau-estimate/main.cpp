@@ -3,7 +3,7 @@
 // README.md beside this file.
 
 #include "cli/stage.h"
-#include "cli/volume_inputs.h"
+#include "workflow/volume_inputs.h"
 #include "collision/fcl_checker.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"

@@ -1,4 +1,4 @@
-#include "cli/volume_inputs.h"
+#include "workflow/volume_inputs.h"
 
 #include "core/error.h"
 #include "core/hash.h"

@@ -1,0 +1,172 @@
+#include "workflow/smooth_path.h"
+
+#include <algorithm>
+
+#include "collision/fcl_checker.h"
+#include "collision/rigid_depth.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "inistate/volume_smoother.h"
+#include "planning/dense_check.h"
+#include "planning/exact_check.h"
+
+namespace ausbau {
+namespace {
+
+std::vector<Pose> ToPlanning(const PlanningProblem& problem, const std::vector<Pose>& waypoints) {
+  std::vector<Pose> out;
+  for (const Pose& pose : waypoints) out.push_back(problem.SceneToPlanning(pose));
+  return out;
+}
+
+std::vector<Pose> ToScene(const PlanningProblem& problem, const std::vector<Pose>& path) {
+  std::vector<Pose> out;
+  for (const Pose& pose : path) out.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&out);
+  return out;
+}
+
+void SetLengths(const SmoothResult& result, PathArtifact* artifact) {
+  artifact->length_normalized = result.after.normalized;
+  artifact->length_translation = result.after.translation;
+  artifact->length_rotation = result.after.rotation;
+}
+
+// A rigid-exact path (ausbau-plan --validity rigid-exact): shortcuts under
+// the same exact rigid check, the result densified for plain interpolation
+// and checked exactly as written; the input is kept when that fails.
+SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
+                              const std::string& input_file, const SmoothPlannedPathOptions& options) {
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const ExactCheckReport input_check = ExactCheckPath(scene, input.waypoints, tolerance);
+  if (!input_check.valid) throw InputErrorAt(input_file, "the input path fails the exact check: " + input_check.reason);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  SmoothedPath out;
+  out.planning_path = ToPlanning(problem, input.waypoints);
+  out.result = SmoothPath(problem, checker, out.planning_path, options.smooth);
+  out.artifact = input;
+  out.artifact.waypoints = DensifyForPlainInterpolation(ToScene(problem, out.result.path), problem.reference_point,
+                                                        problem.dynamic_origin, tolerance / 10);
+  const ExactCheckReport check = ExactCheckPath(scene, out.artifact.waypoints, tolerance);
+  if (!check.valid) {
+    LogWarn("smoothed path fails the exact check (%s); keeping the input path", check.reason.c_str());
+    out.artifact.waypoints = input.waypoints;
+    out.result.path = out.planning_path;
+    out.result.after = out.result.before;
+  }
+  SetLengths(out.result, &out.artifact);
+  const SmoothResult& r = out.result;
+  LogInfo("length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
+          "attempts; deepest rigid penetration %.4g %s",
+          r.before.normalized, r.after.normalized, r.before.translation, r.after.translation, r.before.rotation,
+          r.after.rotation, r.shortcuts, r.attempts, check.valid ? check.max_rigid_depth : input_check.max_rigid_depth,
+          scene.units.c_str());
+  return out;
+}
+
+// sigma_1 under its volume, no shortcut deepening any intersection
+// (inistate/volume_smoother.h); sigma_2 under collision; no shortcut
+// crosses c_inter. Returns the index of c_inter in the smoothed path.
+int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
+                   const FclCollisionChecker& checker, int first_rigid, const SmoothPlannedPathOptions& options,
+                   SmoothedPath* out) {
+  out->model = LoadVolumeModel(scene, problem, ParseValidityMode(input.validity), options.volume);
+  const std::vector<Pose>& path = out->planning_path;
+  const std::vector<Pose> sigma1(path.begin(), path.begin() + first_rigid + 1);
+  const std::vector<Pose> sigma2(path.begin() + first_rigid, path.end());
+  IntersectionVolume volume = out->model->volume().Clone();
+  const VolumeSmoothResult first = SmoothUnderVolume(problem, volume, out->model->measure(), sigma1, options.smooth);
+  if (first.max_before > input.tau * (1 + 1e-9) + 1e-12) {
+    LogWarn("the input path's largest volume %.6g exceeds its tau %.6g (other voxels or labels than planned with?)",
+            first.max_before, input.tau);
+  }
+  LogInfo("sigma_1: %zu -> %zu waypoints, largest %s %.6g -> %.6g %s^3 (tau %.6g), %d shortcuts in %d attempts",
+          sigma1.size(), first.path.size(), input.validity.c_str(), first.max_before, first.max_after,
+          scene.units.c_str(), input.tau, first.shortcuts, first.attempts);
+  SmoothOptions second_options = options.smooth;
+  second_options.seed = options.smooth.seed + 1;
+  const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options);
+  SmoothResult& result = out->result;
+  result.path = first.path;
+  const int inter_index = static_cast<int>(result.path.size()) - 1;
+  result.path.insert(result.path.end(), second.path.begin() + 1, second.path.end());
+  result.before = MeasurePath(problem, path);
+  result.after = MeasurePath(problem, result.path);
+  result.shortcuts = first.shortcuts + second.shortcuts;
+  result.attempts = first.attempts + second.attempts;
+  return inter_index;
+}
+
+}  // namespace
+
+SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
+                               const std::string& input_file, const SmoothPlannedPathOptions& options) {
+  if (!input.success || input.waypoints.empty()) {
+    throw InputErrorAt(input_file, "holds no path (the planner did not succeed)");
+  }
+  if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
+    throw InputErrorAt(input_file, "was planned about another reference point than this scene's");
+  }
+  if (input.validity == kRigidExactValidity) return SmoothRigidExact(scene, problem, input, input_file, options);
+
+  const bool volume_mode = input.validity != "collision";
+  const int first_rigid = volume_mode ? std::max(0, input.inter_index) : 0;
+  const std::vector<Pose> input_rigid(input.waypoints.begin() + first_rigid, input.waypoints.end());
+  const DenseCheckReport input_check = DenseCheckPath(scene, input.reference_point, input_rigid, 0.01);
+  if (!input_check.valid) {
+    throw InputErrorAt(input_file, "the input path is not valid in this scene: segment " +
+                                       std::to_string(first_rigid + input_check.first_bad_segment) + " " +
+                                       input_check.reason);
+  }
+  SmoothedPath out;
+  out.planning_path = ToPlanning(problem, input.waypoints);
+  const FclCollisionChecker checker(problem.robot, problem.environment);
+  int inter_index = -1;
+  if (!volume_mode) {
+    if (!options.volume.voxels.empty() || !options.volume.labels.empty()) {
+      LogWarn("--voxels and --labels are ignored: the path was planned under plain collision");
+    }
+    out.result = SmoothPath(problem, checker, out.planning_path, options.smooth);
+  } else {
+    inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, options, &out);
+  }
+  SmoothResult& result = out.result;
+  out.artifact = input;
+  out.artifact.waypoints = ToScene(problem, result.path);
+  const std::vector<Pose> output_rigid(out.artifact.waypoints.begin() + std::max(0, inter_index),
+                                       out.artifact.waypoints.end());
+  const DenseCheckReport output_check = DenseCheckPath(scene, problem.reference_point, output_rigid, 0.01);
+  if (!output_check.valid) {
+    // The smoother's own check is discrete; if the independent check finds
+    // a collision on a shortcut, keep the input path rather than a bad one.
+    LogWarn("smoothed path fails the dense re-check (segment %d, %s); keeping the input path",
+            output_check.first_bad_segment, output_check.reason.c_str());
+    out.artifact.waypoints = input.waypoints;
+    result.path = out.planning_path;
+    result.after = result.before;
+    inter_index = input.inter_index;
+  }
+  if (volume_mode) {
+    PathArtifact& a = out.artifact;
+    a.inter_index = inter_index;
+    a.waypoint_volume.clear();
+    a.waypoint_part.clear();
+    a.waypoint_deformability.clear();
+    for (const Pose& pose : result.path) {
+      const VolumeReport report = out.model->Describe(pose);
+      a.waypoint_volume.push_back(report.value);
+      a.waypoint_part.push_back(report.value > 0 ? report.part : -1);
+      a.waypoint_deformability.push_back(report.deformability);
+    }
+  }
+  SetLengths(result, &out.artifact);
+  LogInfo("length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; "
+          "%zu -> %zu waypoints, %d shortcuts in %d attempts",
+          result.before.normalized, result.after.normalized, result.before.translation, result.after.translation,
+          result.before.rotation, result.after.rotation, input.waypoints.size(), out.artifact.waypoints.size(),
+          result.shortcuts, result.attempts);
+  return out;
+}
+
+}  // namespace ausbau
