@@ -94,6 +94,7 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
       provenance.inputs.emplace_back(input.role, reader.provenance_hash());
     }
   }
+  for (const auto& add : add_inputs_) add(&provenance);
   return provenance;
 }
 

@@ -78,6 +78,9 @@ class StageDefinition {
     return option;
   }
   CLI::Option* Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key);
+  // Inputs that no single option names (e.g. two files in one option),
+  // added to the provenance after the declared ones.
+  void AddInputs(std::function<void(Provenance*)> add) { add_inputs_.push_back(std::move(add)); }
   // --threads (0 = all cores; applied to OpenMP by the runner).
   void Threads(int* threads);
   // --seed (part of the cache key).
@@ -117,6 +120,7 @@ class StageDefinition {
   std::string output_schema_;
   int output_schema_version_ = 0;
   std::vector<InputFileSpec> inputs_;
+  std::vector<std::function<void(Provenance*)>> add_inputs_;
   std::set<std::string> not_in_cache_key_;
 };
 

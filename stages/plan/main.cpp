@@ -1,412 +1,57 @@
 // ausbau-plan: rigid-body planning for one scene, from the start pose to the
-// goal pose or, without a goal, out of S (disassembly). See README.md.
-#include <algorithm>
+// goal pose or, without a goal, out of S (disassembly). The work is
+// workflow/plan_scene.h; see README.md beside this file.
 #include <cstdio>
-#include <filesystem>
-#include <memory>
-#include <optional>
 
-#include "cli/stage_main.h"
-#include "workflow/volume_inputs.h"
-#include "collision/farr_checker.h"
-#include "collision/fcl_checker.h"
+#include "cli/stage.h"
 #include "core/hash.h"
 #include "core/log.h"
-#include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
-#include "collision/rigid_depth.h"
-#include "planning/dense_check.h"
-#include "planning/exact_check.h"
 #include "planning/path_io.h"
-#include "planning/planner.h"
-#include "planning/smoother.h"
-#include "scene/scene.h"
+#include "workflow/plan_scene.h"
 
 namespace ausbau {
 namespace {
 
 struct PlanStageOptions {
   std::string scene;
-  std::string output = "path.h5";
+  std::string output;
   std::string csv;
   std::string ompl_path;
-  bool verify = true;
   bool choose_validity = false;  // print the validity this scene needs, plan nothing
-  bool force = false;
-  PlannerOptions planner;
-  std::string collision = "fcl";  // fcl | farr
-  std::string distfield;          // "S.h5,D.h5" (farr); empty: build or reuse through the cache
-  // InIState planning (README "InIState planning").
-  std::string validity = "collision";  // collision | shrink | iv | mliv | labeled-mliv
-  double tau = -1;                     // < 0: from --tau-file, else estimated here (shrink: 0)
-  std::string tau_file;                // ausbau-tau-estimate artifact
-  double psi = 0;                      // 0: from --tau-file, else from the labels
-  VolumeInputs volume;
-  std::string rigid_planner = "cr-rrtc";
+  PlanSceneOptions plan;
 };
 
-constexpr const char* kRigidExact = kRigidExactValidity;
-
-std::vector<std::string> PlanValidityNames() {
-  std::vector<std::string> names = ValidityModeNames();
-  names.insert(names.begin(), kRigidExact);
-  return names;
+void WriteExtras(const PlanStageOptions& options, const PathArtifact& artifact) {
+  if (!artifact.success) return;
+  if (!options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
+  if (!options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
 }
 
-// The two files of --distfield, or none.
-std::vector<std::string> DistfieldPaths(const PlanStageOptions& options) {
-  if (options.collision != "farr" || options.distfield.empty()) return {};
-  const auto comma = options.distfield.find(',');
-  if (comma == std::string::npos || comma == 0 || comma + 1 == options.distfield.size() ||
-      options.distfield.find(',', comma + 1) != std::string::npos) {
-    throw InputError("--distfield: expected two files, S.h5,D.h5 (got '" + options.distfield + "')");
-  }
-  return {options.distfield.substr(0, comma), options.distfield.substr(comma + 1)};
-}
-
-// FCL, or FARR in front of FCL with the distance fields of S and D (given,
-// or built / reused through the cache beside the scene).
-std::unique_ptr<PoseValidity> MakeChecker(const PlanStageOptions& options, const Scene& scene,
-                                          const PlanningProblem& problem) {
-  if (options.collision != "farr") {
-    if (!options.distfield.empty()) LogWarn("--distfield is ignored with --collision fcl");
-    return std::make_unique<FclCollisionChecker>(problem.robot, problem.environment);
-  }
-  std::shared_ptr<const DistanceField> static_field, dynamic_field;
-  const std::vector<std::string> paths = DistfieldPaths(options);
-  if (!paths.empty()) {
-    static_field = ReadDistanceField(paths[0]);
-    dynamic_field = ReadDistanceField(paths[1]);
-    if (static_field->mesh_hash() != MeshContentHash(problem.environment)) {
-      throw InputErrorAt(paths[0], "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
-    }
-    if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot)) {
-      throw InputErrorAt(paths[1], "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
-    }
-  } else {
-    DistanceFieldOptions field_options;
-    field_options.threads = options.planner.threads;
-    const std::filesystem::path cache = DefaultDistanceFieldCacheDir(scene.file);
-    static_field = LoadOrBuildDistanceField(problem.environment, field_options, cache, "distance field of S",
-                                            scene.units, "world");
-    dynamic_field = LoadOrBuildDistanceField(problem.robot, field_options, cache, "distance field of D", scene.units,
-                                             "D relative to its reference point");
-  }
-  return std::make_unique<FarrCollisionChecker>(problem.robot, problem.environment, dynamic_field, static_field,
-                                                options.planner.seed);
-}
-
-Provenance MakeProvenance(const Scene& scene, const std::string& parameters, const PlanStageOptions& options) {
-  Provenance provenance{"ausbau-plan", AUSBAU_VERSION, parameters, {}};
-  AddSceneInputs(scene, &provenance);
-  AddVolumeInputs(options.volume, &provenance);
-  if (!options.tau_file.empty()) provenance.inputs.emplace_back("tau", HashFile(options.tau_file));
-  const std::vector<std::string> distfield = DistfieldPaths(options);
-  if (!distfield.empty()) {
-    provenance.inputs.emplace_back("distfield-static", HashFile(distfield[0]));
-    provenance.inputs.emplace_back("distfield-dynamic", HashFile(distfield[1]));
-  }
-  return provenance;
-}
-
-// The planner of sigma_1 (volume modes) or of the whole path: "auto" picks
-// EST near an invalid start (thesis 5.4.4) and CR-RRTC otherwise.
-PlannerOptions ResolvedPlanner(const PlanStageOptions& options, bool volume_mode) {
-  PlannerOptions planner = options.planner;
-  if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
-  return planner;
-}
-
-void LogResult(const char* what, const PlanStats& stats, bool solved) {
-  LogInfo("%s %s after %.3f s: %lld iterations, %lld nodes, %lld validity checks (%.1f%% invalid)", what,
-          solved ? "solved" : "no path", stats.time_s, static_cast<long long>(stats.iterations),
-          static_cast<long long>(stats.nodes), static_cast<long long>(stats.collision_checks),
-          stats.collision_checks > 0 ? 100.0 * stats.invalid_checks / stats.collision_checks : 0.0);
-}
-
-// Fills the waypoints (scene convention) and lengths of an artifact.
-void FillPath(const PlanningProblem& problem, const std::vector<Pose>& path, PathArtifact* artifact) {
-  for (const Pose& pose : path) artifact->waypoints.push_back(problem.PlanningToScene(pose));
-  AlignQuaternionSigns(&artifact->waypoints);
-  const PathLength length = MeasurePath(problem, path);
-  artifact->length_normalized = length.normalized;
-  artifact->length_translation = length.translation;
-  artifact->length_rotation = length.rotation;
-}
-
-// Re-checks the rigid part of a path (waypoints from `first` on) with the
-// independent dense check; throws when it fails (a bug, not bad input).
-void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
-  const std::vector<Pose> rigid(artifact.waypoints.begin() + first, artifact.waypoints.end());
-  const DenseCheckReport report = DenseCheckPath(scene, artifact.reference_point, rigid, 0.01);
-  if (!report.valid) {
-    throw std::runtime_error("planned path fails the dense re-check: segment " +
-                             std::to_string(first + report.first_bad_segment) + " " + report.reason);
-  }
-  LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(report.poses_checked));
-}
-
-// Volume modes: sigma_1 under the volume validity out of the fasteners'
-// reach, sigma_2 rigid (thesis 5.4.4).
-PathArtifact PlanVolumeMode(const PlanStageOptions& options, const Scene& scene, const PlanningProblem& problem,
-                            const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
-  const ValidityMode mode = ParseValidityMode(options.validity);
-  const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
-  double tau = options.tau, psi = options.psi;
-  TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
-  if (!options.tau_file.empty()) {
-    const TauArtifact stored = ReadTauArtifact(options.tau_file);
-    if (stored.validity != options.validity) {
-      throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + stored.validity + ", not " +
-                                               options.validity);
-    }
-    estimate = stored.estimate;
-    if (tau < 0) tau = stored.estimate.tau;
-    if (psi <= 0) psi = stored.estimate.psi;
-  }
-  if (psi <= 0) psi = model->EstimatePsi();
-  const double start_volume = model->Measure(problem.start);
-  const FclCollisionChecker fcl(problem.robot, problem.environment);
-  if (tau < 0) {
-    if (mode == ValidityMode::kShrink) {
-      tau = 0;
-    } else {
-      LogInfo("no --tau or --tau-file: estimating tau here (ausbau-tau-estimate caches it)");
-      TauEstimateOptions tau_options;
-      tau_options.planner = ResolvedPlanner(options, true);
-      estimate = EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, tau_options);
-      tau = estimate.tau;
-    }
-  }
-  LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
-          start_volume, psi, scene.units.c_str());
-  if (start_volume > tau) {
-    throw InputError("--tau " + std::to_string(tau) + " is below the start's volume " + std::to_string(start_volume) +
-                     " under --validity " + options.validity + ": the start would be invalid");
-  }
-  const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
-  InIStateOptions inistate;
-  inistate.local = ResolvedPlanner(options, true);
-  inistate.rigid = options.planner;
-  inistate.rigid.planner = options.rigid_planner;
-  inistate.psi = psi;
-  // The estimate's successful round planned sigma_1 already; with the same
-  // tau, psi, planner and seed (and no iteration cap, which that round did
-  // not have), planning it again would repeat that work (PlanInIState
-  // re-checks the path and plans anew if it does not hold).
-  if (estimate.solved && estimate.tau == tau && estimate.psi == psi && estimate.local_seed == inistate.local.seed &&
-      estimate.local_planner == inistate.local.planner && inistate.local.max_iterations == 0) {
-    inistate.known_local_path = estimate.local_path;
-  }
-  const InIStateResult result = PlanInIState(problem, volume_validity, rigid_checker, fcl, inistate);
-  *stats = result.Stats();
-  *solved = result.solved();
-
-  PathArtifact artifact;
-  artifact.planner = inistate.local.planner + "+" + inistate.rigid.planner;
-  artifact.validity = options.validity;
-  artifact.tau = tau;
-  artifact.psi = psi;
-  if (!result.solved()) return artifact;
-  FillPath(problem, result.path, &artifact);
-  artifact.inter_index = result.inter_index;
-  for (const Pose& pose : result.path) {
-    const VolumeReport report = model->Describe(pose);
-    artifact.waypoint_volume.push_back(report.value);
-    artifact.waypoint_part.push_back(report.value > 0 ? report.part : -1);
-    artifact.waypoint_deformability.push_back(report.deformability);
-  }
-  return artifact;
+int Plan(const StageRun& run, const PlanStageOptions& options) {
+  const PlannedPath planned = PlanScene(run.scene, options.plan);
+  WritePathArtifact(run.output, planned.artifact, run.provenance);
+  WriteExtras(options, planned.artifact);
+  if (!planned.artifact.success) return kExitNoPath;
+  LogInfo("path: %zu waypoints, length %.4f (normalized), written to %s%s%s", planned.artifact.waypoints.size(),
+          planned.artifact.length_normalized, run.output.c_str(), options.csv.empty() ? "" : " and ",
+          options.csv.c_str());
+  return kExitOk;
 }
 
 // An existing output with the same provenance is the same answer: reused
 // (its CSV and OMPL files written again), and its exit status returned.
-std::optional<int> ReuseCachedPath(const PlanStageOptions& options, const Provenance& provenance) {
-  if (options.force || ExistingProvenanceHash(options.output, kPathSchema, kPathSchemaVersion) != provenance.Hash()) {
-    return std::nullopt;
-  }
-  const PathArtifact cached = ReadPathArtifact(options.output);
-  LogInfo("%s is up to date (same inputs and options); use --force to plan again", options.output.c_str());
-  if (!options.csv.empty() && cached.success) WritePathCsv(options.csv, cached.waypoints);
-  if (!options.ompl_path.empty() && cached.success) WriteOmplPath(options.ompl_path, cached.waypoints);
+int Reuse(const StageRun& run, const PlanStageOptions& options) {
+  const PathArtifact cached = ReadPathArtifact(run.output);
+  LogInfo("%s is up to date (same inputs and options); use --force to plan again", run.output.c_str());
+  WriteExtras(options, cached);
   return cached.success ? kExitOk : kExitNoPath;
 }
 
-// --validity rigid-exact: D's rigid shells never deeper in S than the
-// tolerance (half of it while planning, so that the plain-interpolated,
-// densified file passes the full tolerance), its fasteners free
-// (collision/rigid_depth.h). A collision-free start is the same problem
-// without fasteners: plain rigid planning with a tolerance.
-int RunRigidExact(const PlanStageOptions& options, const Scene& scene, const Provenance& provenance) {
-  bool assumed = false;
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
-  if (assumed) {
-    LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
-            options.volume.rigid_tolerance_mm);
-  }
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
-  LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s",
-          scene.name.c_str(), parts->robot_shells.size(), parts->FastenerCount(),
-          parts->Describe(parts->anchor, true).c_str(), parts->static_shells.size(), tolerance, scene.units.c_str());
-  PathArtifact artifact;
-  artifact.validity = kRigidExact;
-  artifact.reference_point = problem.reference_point;
-  artifact.dynamic_origin = problem.dynamic_origin;
-  artifact.scene = scene.name;
-  if (!parts->rigid_interference.empty()) {
-    const int shell = parts->rigid_interference.front();
-    if (std::isinf(parts->installed_depth[shell])) {
-      LogError("not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
-               "non-convex pair whose depth is not measured (README \"Rigid and deformable\"; the volume modes, "
-               "VALIDITY=labeled-mliv, bound such fits by tau)",
-               parts->Describe(shell, true).c_str());
-    } else {
-      LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
-               parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
-    }
-    artifact.planner = "none";
-    WritePathArtifact(options.output, artifact, provenance);
-    return kExitNoPath;
-  }
-  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
-  CheckEndpoints(problem, checker, scene.file.string());
-  const PlannerOptions planner = ResolvedPlanner(options, false);
-  LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
-          planner.planner.c_str(),
-          static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
-          parts->FastenerCount() > 0 ? "fastened" : "collision-free");
-  const PlanResult result = PlanWithRestarts(problem, checker, planner);
-  artifact.planner = planner.planner;
-  artifact.stats = result.stats;
-  artifact.success = result.solved();
-  LogResult("planning", result.stats, result.solved());
-  if (result.solved()) {
-    FillPath(problem, result.path, &artifact);
-    artifact.waypoints = DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point,
-                                                      problem.dynamic_origin, tolerance / 10);
-    if (options.verify) {
-      const ExactCheckReport check = ExactCheckPath(scene, artifact.waypoints, tolerance);
-      if (!check.valid) throw std::runtime_error("planned path fails the exact check: " + check.reason);
-      LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s, fasteners %.4g %s",
-              static_cast<long long>(check.poses_checked), check.max_rigid_depth, scene.units.c_str(),
-              check.max_fastener_depth, scene.units.c_str());
-    }
-  }
-  WritePathArtifact(options.output, artifact, provenance);
-  if (!result.solved()) {
-    LogError("no path within the budget (%s)", result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
-    return kExitNoPath;
-  }
-  if (!options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
-  if (!options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
-  LogInfo("path: %zu waypoints, written to %s%s%s", artifact.waypoints.size(), options.output.c_str(),
-          options.csv.empty() ? "" : " and ", options.csv.c_str());
-  return kExitOk;
-}
-
-// --choose-validity: rigid-exact, unless D intersects S at the installed
-// pose where the exact check cannot measure the depth (a non-convex or open
-// shell, such as a plate with holes welded into one mesh): that interference
-// needs the volume model, labeled-mliv. The pipeline's VALIDITY=auto asks
-// this before it runs any stage.
-int ChooseValidity(const PlanStageOptions& options) {
-  const Scene scene = LoadScene(options.scene);
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
-  const bool unmeasured = std::any_of(parts->rigid_interference.begin(), parts->rigid_interference.end(),
-                                      [&](int shell) { return std::isinf(parts->installed_depth[shell]); });
-  if (unmeasured) {
-    LogInfo("%s of D intersects S at the installed pose where the depth is not measured: labeled-mliv",
-            parts->Describe(parts->rigid_interference.front(), true).c_str());
-  }
-  std::printf("%s\n", unmeasured ? "labeled-mliv" : kRigidExact);
-  return kExitOk;
-}
-
-int Run(PlanStageOptions options, const std::string& parameters) {
-  if (options.choose_validity) return ChooseValidity(options);
-  if (options.validity == kRigidExact) {
-    if (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0) {
-      throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
-    }
-    if (!(options.volume.rigid_tolerance_mm > 0) || !std::isfinite(options.volume.rigid_tolerance_mm)) {
-      throw InputError("--rigid-tolerance: must be a positive number (mm)");
-    }
-    ResolvedPlanner(options, false).Check();
-    const Scene scene = LoadScene(options.scene);
-    const Provenance provenance = MakeProvenance(scene, parameters, options);
-    if (const auto cached = ReuseCachedPath(options, provenance)) return *cached;
-    return RunRigidExact(options, scene, provenance);
-  }
-  const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
-  if (!volume_mode && (options.tau >= 0 || !options.tau_file.empty() || options.psi > 0)) {
-    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
-                     "labeled-mliv-unguarded)");
-  }
-  if (!(options.tau < 0 || std::isfinite(options.tau))) throw InputError("--tau: must be a finite number");
-  if (!(options.psi >= 0) || !std::isfinite(options.psi)) throw InputError("--psi: must be >= 0");
-  ResolvedPlanner(options, volume_mode).Check();
-  PlannerOptions rigid = options.planner;
-  rigid.planner = options.rigid_planner;
-  rigid.Check();
-  const Scene scene = LoadScene(options.scene);
-  const Provenance provenance = MakeProvenance(scene, parameters, options);
-
-  if (const auto cached = ReuseCachedPath(options, provenance)) return *cached;
-
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  const PlannerOptions planner = ResolvedPlanner(options, volume_mode);
-  LogInfo("scene %s: S %zu triangles, D %zu triangles, validity %s, planner %s, seed %llu, time limit %.1f s",
-          scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
-          options.validity.c_str(), planner.planner.c_str(), static_cast<unsigned long long>(planner.seed),
-          planner.time_limit_s);
-  const std::unique_ptr<PoseValidity> checker_owner = MakeChecker(options, scene, problem);
-  const PoseValidity& checker = *checker_owner;
-
-  PathArtifact artifact;
-  PlanStats stats;
-  bool solved = false;
-  PlanStatus status = PlanStatus::kTimeLimit;
-  if (volume_mode) {
-    artifact = PlanVolumeMode(options, scene, problem, checker, &stats, &solved);
-  } else {
-    CheckEndpoints(problem, checker, scene.file.string());
-    const PlanResult result = Plan(problem, checker, planner);
-    artifact.planner = planner.planner;
-    stats = result.stats;
-    solved = result.solved();
-    status = result.status;
-    if (solved) FillPath(problem, result.path, &artifact);
-  }
-  if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
-    const FarrStats farr_stats = farr->stats();
-    LogInfo("FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
-            "%d rays per query at the end",
-            static_cast<long long>(farr_stats.queries), static_cast<long long>(farr_stats.witnesses),
-            static_cast<long long>(farr_stats.fcl_calls), static_cast<long long>(farr_stats.fcl_collisions),
-            farr_stats.rays_now);
-  }
-  artifact.reference_point = problem.reference_point;
-  artifact.dynamic_origin = problem.dynamic_origin;
-  artifact.scene = scene.name;
-  artifact.success = solved;
-  artifact.stats = stats;
-  LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
-  if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
-  WritePathArtifact(options.output, artifact, provenance);
-  if (solved && !options.csv.empty()) WritePathCsv(options.csv, artifact.waypoints);
-  if (solved && !options.ompl_path.empty()) WriteOmplPath(options.ompl_path, artifact.waypoints);
-  if (!solved) {
-    LogError("no path within the budget%s", volume_mode ? ""
-                                             : status == PlanStatus::kTimeLimit ? " (time limit)"
-                                                                                  : " (iteration limit)");
-    return kExitNoPath;
-  }
-  LogInfo("path: %zu waypoints, length %.4f (normalized), written to %s%s%s", artifact.waypoints.size(),
-          artifact.length_normalized, options.output.c_str(), options.csv.empty() ? "" : " and ",
-          options.csv.c_str());
+// --choose-validity: the pipeline's VALIDITY=auto asks this before it runs
+// any stage.
+int PrintValidity(const StageRun& run, const PlanStageOptions& options) {
+  std::printf("%s\n", ChooseValidity(run.scene, options.plan.volume.rigid_tolerance_mm).c_str());
   return kExitOk;
 }
 
@@ -416,71 +61,71 @@ int Run(PlanStageOptions options, const std::string& parameters) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   PlanStageOptions options;
-  CLI::App* app_ptr = nullptr;
-  return RunStage(
-      {"ausbau-plan", "Plans a collision-free motion of the part D out of (or through) its surroundings S."}, argc,
-      argv,
-      [&](CLI::App& app) {
-        app_ptr = &app;
-        app.add_option("--scene", options.scene, "scene.yaml")->required();
-        options.planner.planner = "auto";
-        app.add_option("--planner", options.planner.planner,
-                       "rrt | rrtc | cr-rrtc | est | prm; auto = cr-rrtc, or est for sigma_1 in volume modes")
-            ->capture_default_str();
-        app.add_option("--sampler", options.planner.sampler, "uniform | gaussian | bridge | mixed")
-            ->capture_default_str();
-        app.add_option("--sigma", options.planner.sampler_sigma,
-                       "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)")
-            ->capture_default_str();
-        app.add_option("--threads", options.planner.threads, "prm edge verification (and farr distance-field) threads; 0 = all cores")
-            ->capture_default_str()->check(ThreadCount());
-        app.add_option("--seed", options.planner.seed, "random seed")->capture_default_str()->check(NonNegative());
-        app.add_option("--time-limit", options.planner.time_limit_s, "seconds")->capture_default_str()->check(TimeLimit());
-        app.add_option("--max-iterations", options.planner.max_iterations, "0 = unlimited")->capture_default_str();
-        app.add_option("--u", options.planner.u, "rrtc: metric weight of translation, (0, 1)")
-            ->capture_default_str();
-        app.add_option("--range-max", options.planner.range_max, "rrtc: maximal edge range, (0, 1]")
-            ->capture_default_str();
-        app.add_option("--resolution", options.planner.resolution,
-                       "edge check step as a fraction of D's AABB diagonal")
-            ->capture_default_str();
-        app.add_option("-o,--output", options.output, "path artifact (HDF5)")->capture_default_str();
-        app.add_option("--csv", options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
-        app.add_option("--ompl-path", options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
-        app.add_flag("!--no-verify", options.verify, "skip the dense re-check of the result");
-        app.add_flag("--force", options.force, "plan even when the output is up to date");
-        app.add_flag("--choose-validity", options.choose_validity,
-                     "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed "
-                     "interference is not measured) and exit; the pipeline's VALIDITY=auto");
-        app.add_option("--collision", options.collision,
-                       "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")")
-            ->check(CLI::IsMember({"fcl", "farr"}))
-            ->capture_default_str();
-        app.add_option("--validity", options.validity,
-                       "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all "
-                       "but collision: the start may collide; README \"InIState planning\", \"Rigid and deformable\")")
-            ->check(CLI::IsMember(PlanValidityNames()))
-            ->capture_default_str();
-        app.add_option("--rigid-tolerance", options.volume.rigid_tolerance_mm,
-                       "rigid-exact, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in "
-                       "mm (converted by the scene's units)")
-            ->capture_default_str();
-        app.add_option("--tau", options.tau,
-                       "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")->check(NonNegative());
-        app.add_option("--tau-file", options.tau_file, "tau and psi from ausbau-tau-estimate (HDF5)");
-        app.add_option("--psi", options.psi,
-                       "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
-        app.add_option("--voxels", options.volume.voxels,
-                       "voxels of S and D (ausbau-voxelize); default: voxelized here");
-        app.add_option("--labels", options.volume.labels, "labels of D (ausbau-pbd-label); needed by the labeled modes");
-        app.add_option("--rigid-planner", options.rigid_planner,
-                       "planner of sigma_2 (volume modes), collision-checked")
-            ->capture_default_str();
-        app.add_option("--distfield", options.distfield,
-                       "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused "
-                       "through the cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)");
-      },
-      [&] {
-        return Run(options, OptionsYaml(*app_ptr, {"scene", "output", "csv", "ompl-path", "force", "no-verify", "threads", "distfield", "voxels", "labels", "tau-file"}));
-      });
+  PlanSceneOptions& plan = options.plan;
+  PlannerOptions& planner = plan.planner;
+  StageDefinition stage("ausbau-plan",
+                        "Plans a collision-free motion of the part D out of (or through) its surroundings S.");
+  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
+  stage.Option("--planner", &planner.planner,
+               "rrt | rrtc | cr-rrtc | est | prm; auto = cr-rrtc, or est for sigma_1 in volume modes", CacheKey::kYes);
+  stage.Option("--sampler", &planner.sampler, "uniform | gaussian | bridge | mixed", CacheKey::kYes);
+  stage.Option("--sigma", &planner.sampler_sigma,
+               "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)", CacheKey::kYes);
+  stage.Threads(&planner.threads);
+  stage.Seed(&planner.seed);
+  stage.Option("--time-limit", &planner.time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
+  stage.Option("--max-iterations", &planner.max_iterations, "0 = unlimited", CacheKey::kYes);
+  stage.Option("--u", &planner.u, "rrtc: metric weight of translation, (0, 1)", CacheKey::kYes);
+  stage.Option("--range-max", &planner.range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
+  stage.Option("--resolution", &planner.resolution, "edge check step as a fraction of D's AABB diagonal",
+               CacheKey::kYes);
+  stage.Output(&options.output, "path.h5", kPathSchema, kPathSchemaVersion);
+  stage.Option("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)", CacheKey::kNo);
+  stage.Option("--ompl-path", &options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)",
+               CacheKey::kNo);
+  stage.Flag("!--no-verify", &plan.verify, "skip the dense re-check of the result", CacheKey::kNo);
+  stage.Flag("--choose-validity", &options.choose_validity,
+             "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed interference is "
+             "not measured) and exit; the pipeline's VALIDITY=auto",
+             CacheKey::kNo);
+  stage.Option("--collision", &plan.collision,
+               "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")",
+               CacheKey::kYes)
+      ->check(CLI::IsMember({"fcl", "farr"}));
+  stage.Option("--validity", &plan.validity,
+               "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
+               "collision: the start may collide; README \"InIState planning\", \"Rigid and deformable\")",
+               CacheKey::kYes)
+      ->check(CLI::IsMember(PlanValidityNames()));
+  stage.Option("--rigid-tolerance", &plan.volume.rigid_tolerance_mm,
+               "rigid-exact, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in mm "
+               "(converted by the scene's units)",
+               CacheKey::kYes);
+  stage.app()
+      .add_option("--tau", plan.tau,
+                  "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")
+      ->check(NonNegative());
+  stage.InputFile("--tau-file", &plan.tau_file, "tau", "tau and psi from ausbau-tau-estimate (HDF5)");
+  stage.app().add_option(
+      "--psi", plan.psi, "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+  stage.InputFile("--voxels", &plan.volume.voxels, "voxels",
+                  "voxels of S and D (ausbau-voxelize); default: voxelized here");
+  stage.InputFile("--labels", &plan.volume.labels, "labels", "labels of D (ausbau-pbd-label); needed by the labeled modes");
+  stage.Option("--rigid-planner", &plan.rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
+               CacheKey::kYes);
+  stage.Option("--distfield", &plan.distfield,
+               "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused through the "
+               "cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)",
+               CacheKey::kNo);
+  // The two distance-field files, by content (one option names both).
+  stage.AddInputs([&](Provenance* provenance) {
+    const std::vector<std::string> distfield = DistfieldPaths(plan);
+    if (distfield.empty()) return;
+    provenance->inputs.emplace_back("distfield-static", HashFile(distfield[0]));
+    provenance->inputs.emplace_back("distfield-dynamic", HashFile(distfield[1]));
+  });
+  return stage.Run(
+      argc, argv,
+      [&](const StageRun& run) { return options.choose_validity ? PrintValidity(run, options) : Plan(run, options); },
+      [&](const StageRun& run) { return options.choose_validity ? PrintValidity(run, options) : Reuse(run, options); });
 }

@@ -1,0 +1,344 @@
+#include "workflow/plan_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "collision/farr_checker.h"
+#include "collision/fcl_checker.h"
+#include "collision/rigid_depth.h"
+#include "core/error.h"
+#include "core/log.h"
+#include "inistate/inistate_planner.h"
+#include "inistate/tau_estimate.h"
+#include "planning/dense_check.h"
+#include "planning/exact_check.h"
+#include "planning/smoother.h"
+
+namespace ausbau {
+namespace {
+
+constexpr const char* kRigidExact = kRigidExactValidity;
+
+// FCL, or FARR in front of FCL with the distance fields of S and D (given,
+// or built / reused through the cache beside the scene).
+std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const Scene& scene,
+                                          const PlanningProblem& problem) {
+  if (options.collision != "farr") {
+    if (!options.distfield.empty()) LogWarn("--distfield is ignored with --collision fcl");
+    return std::make_unique<FclCollisionChecker>(problem.robot, problem.environment);
+  }
+  std::shared_ptr<const DistanceField> static_field, dynamic_field;
+  const std::vector<std::string> paths = DistfieldPaths(options);
+  if (!paths.empty()) {
+    static_field = ReadDistanceField(paths[0]);
+    dynamic_field = ReadDistanceField(paths[1]);
+    if (static_field->mesh_hash() != MeshContentHash(problem.environment)) {
+      throw InputErrorAt(paths[0], "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
+    }
+    if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot)) {
+      throw InputErrorAt(paths[1], "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
+    }
+  } else {
+    DistanceFieldOptions field_options;
+    field_options.threads = options.planner.threads;
+    const std::filesystem::path cache = DefaultDistanceFieldCacheDir(scene.file);
+    static_field = LoadOrBuildDistanceField(problem.environment, field_options, cache, "distance field of S",
+                                            scene.units, "world");
+    dynamic_field = LoadOrBuildDistanceField(problem.robot, field_options, cache, "distance field of D", scene.units,
+                                             "D relative to its reference point");
+  }
+  return std::make_unique<FarrCollisionChecker>(problem.robot, problem.environment, dynamic_field, static_field,
+                                                options.planner.seed);
+}
+
+// The planner of sigma_1 (volume modes) or of the whole path: "auto" picks
+// EST near an invalid start (thesis 5.4.4) and CR-RRTC otherwise.
+PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode) {
+  PlannerOptions planner = options.planner;
+  if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
+  return planner;
+}
+
+void LogResult(const char* what, const PlanStats& stats, bool solved) {
+  LogInfo("%s %s after %.3f s: %lld iterations, %lld nodes, %lld validity checks (%.1f%% invalid)", what,
+          solved ? "solved" : "no path", stats.time_s, static_cast<long long>(stats.iterations),
+          static_cast<long long>(stats.nodes), static_cast<long long>(stats.collision_checks),
+          stats.collision_checks > 0 ? 100.0 * stats.invalid_checks / stats.collision_checks : 0.0);
+}
+
+// Fills the waypoints (scene convention) and lengths of an artifact.
+void FillPath(const PlanningProblem& problem, const std::vector<Pose>& path, PathArtifact* artifact) {
+  for (const Pose& pose : path) artifact->waypoints.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&artifact->waypoints);
+  const PathLength length = MeasurePath(problem, path);
+  artifact->length_normalized = length.normalized;
+  artifact->length_translation = length.translation;
+  artifact->length_rotation = length.rotation;
+}
+
+// Re-checks the rigid part of a path (waypoints from `first` on) with the
+// independent dense check; throws when it fails (a bug, not bad input).
+void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
+  const std::vector<Pose> rigid(artifact.waypoints.begin() + first, artifact.waypoints.end());
+  const DenseCheckReport report = DenseCheckPath(scene, artifact.reference_point, rigid, 0.01);
+  if (!report.valid) {
+    throw std::runtime_error("planned path fails the dense re-check: segment " +
+                             std::to_string(first + report.first_bad_segment) + " " + report.reason);
+  }
+  LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(report.poses_checked));
+}
+
+// Volume modes: sigma_1 under the volume validity out of the fasteners'
+// reach, sigma_2 rigid (thesis 5.4.4).
+PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene, const PlanningProblem& problem,
+                            const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
+  const ValidityMode mode = ParseValidityMode(options.validity);
+  const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
+  double tau = options.tau, psi = options.psi;
+  TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
+  if (!options.tau_file.empty()) {
+    const TauArtifact stored = ReadTauArtifact(options.tau_file);
+    if (stored.validity != options.validity) {
+      throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + stored.validity + ", not " +
+                                               options.validity);
+    }
+    estimate = stored.estimate;
+    if (tau < 0) tau = stored.estimate.tau;
+    if (psi <= 0) psi = stored.estimate.psi;
+  }
+  if (psi <= 0) psi = model->EstimatePsi();
+  const double start_volume = model->Measure(problem.start);
+  const FclCollisionChecker fcl(problem.robot, problem.environment);
+  if (tau < 0) {
+    if (mode == ValidityMode::kShrink) {
+      tau = 0;
+    } else {
+      LogInfo("no --tau or --tau-file: estimating tau here (ausbau-tau-estimate caches it)");
+      TauEstimateOptions tau_options;
+      tau_options.planner = ResolvedPlanner(options, true);
+      estimate = EstimateTau(FastenerProblem(problem, fcl, psi), model->volume(), model->measure(), psi, tau_options);
+      tau = estimate.tau;
+    }
+  }
+  LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
+          start_volume, psi, scene.units.c_str());
+  if (start_volume > tau) {
+    throw InputError("--tau " + std::to_string(tau) + " is below the start's volume " + std::to_string(start_volume) +
+                     " under --validity " + options.validity + ": the start would be invalid");
+  }
+  const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
+  InIStateOptions inistate;
+  inistate.local = ResolvedPlanner(options, true);
+  inistate.rigid = options.planner;
+  inistate.rigid.planner = options.rigid_planner;
+  inistate.psi = psi;
+  // The estimate's successful round planned sigma_1 already; with the same
+  // tau, psi, planner and seed (and no iteration cap, which that round did
+  // not have), planning it again would repeat that work (PlanInIState
+  // re-checks the path and plans anew if it does not hold).
+  if (estimate.solved && estimate.tau == tau && estimate.psi == psi && estimate.local_seed == inistate.local.seed &&
+      estimate.local_planner == inistate.local.planner && inistate.local.max_iterations == 0) {
+    inistate.known_local_path = estimate.local_path;
+  }
+  const InIStateResult result = PlanInIState(problem, volume_validity, rigid_checker, fcl, inistate);
+  *stats = result.Stats();
+  *solved = result.solved();
+
+  PathArtifact artifact;
+  artifact.planner = inistate.local.planner + "+" + inistate.rigid.planner;
+  artifact.validity = options.validity;
+  artifact.tau = tau;
+  artifact.psi = psi;
+  if (!result.solved()) return artifact;
+  FillPath(problem, result.path, &artifact);
+  artifact.inter_index = result.inter_index;
+  for (const Pose& pose : result.path) {
+    const VolumeReport report = model->Describe(pose);
+    artifact.waypoint_volume.push_back(report.value);
+    artifact.waypoint_part.push_back(report.value > 0 ? report.part : -1);
+    artifact.waypoint_deformability.push_back(report.deformability);
+  }
+  return artifact;
+}
+
+// --validity rigid-exact: D's rigid shells never deeper in S than the
+// tolerance (half of it while planning, so that the plain-interpolated,
+// densified file passes the full tolerance), its fasteners free
+// (collision/rigid_depth.h). A collision-free start is the same problem
+// without fasteners: plain rigid planning with a tolerance.
+PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
+  bool assumed = false;
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
+  if (assumed) {
+    LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
+            options.volume.rigid_tolerance_mm);
+  }
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s",
+          scene.name.c_str(), parts->robot_shells.size(), parts->FastenerCount(),
+          parts->Describe(parts->anchor, true).c_str(), parts->static_shells.size(), tolerance, scene.units.c_str());
+  PlannedPath planned;
+  PathArtifact& artifact = planned.artifact;
+  artifact.validity = kRigidExact;
+  artifact.reference_point = problem.reference_point;
+  artifact.dynamic_origin = problem.dynamic_origin;
+  artifact.scene = scene.name;
+  if (!parts->rigid_interference.empty()) {
+    const int shell = parts->rigid_interference.front();
+    if (std::isinf(parts->installed_depth[shell])) {
+      LogError("not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
+               "non-convex pair whose depth is not measured (README \"Rigid and deformable\"; the volume modes, "
+               "VALIDITY=labeled-mliv, bound such fits by tau)",
+               parts->Describe(shell, true).c_str());
+    } else {
+      LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
+               parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
+    }
+    artifact.planner = "none";
+    planned.status = PlanStatus::kTimeLimit;
+    return planned;
+  }
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  CheckEndpoints(problem, checker, scene.file.string());
+  const PlannerOptions planner = ResolvedPlanner(options, false);
+  LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
+          planner.planner.c_str(),
+          static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
+          parts->FastenerCount() > 0 ? "fastened" : "collision-free");
+  const PlanResult result = PlanWithRestarts(problem, checker, planner);
+  artifact.planner = planner.planner;
+  artifact.stats = result.stats;
+  artifact.success = result.solved();
+  LogResult("planning", result.stats, result.solved());
+  if (result.solved()) {
+    FillPath(problem, result.path, &artifact);
+    artifact.waypoints = DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point,
+                                                      problem.dynamic_origin, tolerance / 10);
+    if (options.verify) {
+      const ExactCheckReport check = ExactCheckPath(scene, artifact.waypoints, tolerance);
+      if (!check.valid) throw std::runtime_error("planned path fails the exact check: " + check.reason);
+      LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s, fasteners %.4g %s",
+              static_cast<long long>(check.poses_checked), check.max_rigid_depth, scene.units.c_str(),
+              check.max_fastener_depth, scene.units.c_str());
+    }
+  }
+  planned.status = result.status;
+  if (!result.solved()) {
+    LogError("no path within the budget (%s)", result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+  }
+  return planned;
+}
+
+}  // namespace
+
+std::vector<std::string> PlanValidityNames() {
+  std::vector<std::string> names = ValidityModeNames();
+  names.insert(names.begin(), kRigidExact);
+  return names;
+}
+
+std::vector<std::string> DistfieldPaths(const PlanSceneOptions& options) {
+  if (options.collision != "farr" || options.distfield.empty()) return {};
+  const auto comma = options.distfield.find(',');
+  if (comma == std::string::npos || comma == 0 || comma + 1 == options.distfield.size() ||
+      options.distfield.find(',', comma + 1) != std::string::npos) {
+    throw InputError("--distfield: expected two files, S.h5,D.h5 (got '" + options.distfield + "')");
+  }
+  return {options.distfield.substr(0, comma), options.distfield.substr(comma + 1)};
+}
+
+void PlanSceneOptions::Check() const {
+  if (validity == kRigidExact) {
+    if (tau >= 0 || !tau_file.empty() || psi > 0) {
+      throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
+    }
+    if (!(volume.rigid_tolerance_mm > 0) || !std::isfinite(volume.rigid_tolerance_mm)) {
+      throw InputError("--rigid-tolerance: must be a positive number (mm)");
+    }
+    ResolvedPlanner(*this, false).Check();
+    return;
+  }
+  const bool volume_mode = ParseValidityMode(validity) != ValidityMode::kCollision;
+  if (!volume_mode && (tau >= 0 || !tau_file.empty() || psi > 0)) {
+    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
+                     "labeled-mliv-unguarded)");
+  }
+  if (!(tau < 0 || std::isfinite(tau))) throw InputError("--tau: must be a finite number");
+  if (!(psi >= 0) || !std::isfinite(psi)) throw InputError("--psi: must be >= 0");
+  ResolvedPlanner(*this, volume_mode).Check();
+  PlannerOptions rigid = planner;
+  rigid.planner = rigid_planner;
+  rigid.Check();
+}
+
+PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
+  options.Check();
+  if (options.validity == kRigidExact) return PlanRigidExact(options, scene);
+  const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const PlannerOptions planner = ResolvedPlanner(options, volume_mode);
+  LogInfo("scene %s: S %zu triangles, D %zu triangles, validity %s, planner %s, seed %llu, time limit %.1f s",
+          scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
+          options.validity.c_str(), planner.planner.c_str(), static_cast<unsigned long long>(planner.seed),
+          planner.time_limit_s);
+  const std::unique_ptr<PoseValidity> checker_owner = MakeChecker(options, scene, problem);
+  const PoseValidity& checker = *checker_owner;
+
+  PlannedPath planned;
+  PathArtifact& artifact = planned.artifact;
+  PlanStats stats;
+  bool solved = false;
+  PlanStatus status = PlanStatus::kTimeLimit;
+  if (volume_mode) {
+    artifact = PlanVolumeMode(options, scene, problem, checker, &stats, &solved);
+  } else {
+    CheckEndpoints(problem, checker, scene.file.string());
+    const PlanResult result = Plan(problem, checker, planner);
+    artifact.planner = planner.planner;
+    stats = result.stats;
+    solved = result.solved();
+    status = result.status;
+    if (solved) FillPath(problem, result.path, &artifact);
+  }
+  planned.status = status;
+  if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
+    const FarrStats farr_stats = farr->stats();
+    LogInfo("FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
+            "%d rays per query at the end",
+            static_cast<long long>(farr_stats.queries), static_cast<long long>(farr_stats.witnesses),
+            static_cast<long long>(farr_stats.fcl_calls), static_cast<long long>(farr_stats.fcl_collisions),
+            farr_stats.rays_now);
+  }
+  artifact.reference_point = problem.reference_point;
+  artifact.dynamic_origin = problem.dynamic_origin;
+  artifact.scene = scene.name;
+  artifact.success = solved;
+  artifact.stats = stats;
+  LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
+  if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
+  if (!solved) {
+    LogError("no path within the budget%s", volume_mode ? ""
+                                             : status == PlanStatus::kTimeLimit ? " (time limit)"
+                                                                                  : " (iteration limit)");
+  }
+  return planned;
+}
+
+
+std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
+  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  const bool unmeasured = std::any_of(parts->rigid_interference.begin(), parts->rigid_interference.end(),
+                                      [&](int shell) { return std::isinf(parts->installed_depth[shell]); });
+  if (unmeasured) {
+    LogInfo("%s of D intersects S at the installed pose where the depth is not measured: labeled-mliv",
+            parts->Describe(parts->rigid_interference.front(), true).c_str());
+  }
+  return unmeasured ? "labeled-mliv" : kRigidExact;
+}
+
+}  // namespace ausbau

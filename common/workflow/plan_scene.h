@@ -1,0 +1,64 @@
+// ausbau-plan's work: one scene planned under one validity.
+//   collision     rigid planning from a collision-free start (FCL, or FARR
+//                 in front of FCL with distance fields)
+//   rigid-exact   D's rigid shells never deeper in S than the tolerance,
+//                 its fasteners free (collision/rigid_depth.h); densified
+//                 for plain interpolation and checked exactly
+//   volume modes  InIState planning (thesis 5.4.4): sigma_1 under the
+//                 volume validity out of the fasteners' reach, sigma_2 rigid
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "planning/path_io.h"
+#include "planning/planner.h"
+#include "scene/scene.h"
+#include "workflow/volume_inputs.h"
+
+namespace ausbau {
+
+struct PlanSceneOptions {
+  // "auto": CR-RRTC, or EST for sigma_1 in the volume modes.
+  PlannerOptions planner = [] {
+    PlannerOptions p;
+    p.planner = "auto";
+    return p;
+  }();
+  std::string collision = "fcl";       // fcl | farr
+  std::string distfield;               // farr: "S.h5,D.h5"; empty: built or reused through the cache
+  std::string validity = "collision";  // rigid-exact | collision | shrink | iv | mliv | labeled-mliv | ...
+  double tau = -1;                     // < 0: from tau_file, else estimated here (shrink: 0)
+  std::string tau_file;                // ausbau-tau-estimate artifact
+  double psi = 0;                      // 0: from tau_file, else from the labels
+  VolumeInputs volume;
+  std::string rigid_planner = "cr-rrtc";
+  bool verify = true;  // the independent dense (or exact) re-check of the result
+
+  // Throws InputError naming the flag of a value that does not fit.
+  void Check() const;
+};
+
+// Every --validity ausbau-plan takes.
+std::vector<std::string> PlanValidityNames();
+
+// The two files of `distfield`, or none (collision fcl, or not given).
+std::vector<std::string> DistfieldPaths(const PlanSceneOptions& options);
+
+struct PlannedPath {
+  PathArtifact artifact;  // success = a path was found; written either way
+  PlanStatus status = PlanStatus::kTimeLimit;
+};
+
+// Plans; logs what it does and, where no path is found, why. Throws
+// InputError for inputs that do not fit the scene, std::runtime_error when
+// a found path fails its independent re-check (a bug).
+PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options);
+
+// The validity this scene needs: rigid-exact, unless D intersects S at the
+// installed pose where the exact check cannot measure the depth (a
+// non-convex or open shell, such as a plate with holes welded into one
+// mesh): that interference needs the volume model, labeled-mliv.
+std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm);
+
+}  // namespace ausbau
