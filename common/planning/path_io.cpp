@@ -119,6 +119,11 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.stats.collision_checks = ReadIntScalar(reader, "stats/collision_checks");
   path.stats.invalid_checks = ReadIntScalar(reader, "stats/invalid_checks");
   path.length_normalized = ReadScalar(reader, "stats/length");
+  // Informational; absent in artifacts written before they were recorded.
+  path.length_translation = reader.Has("stats/length_translation") ? ReadScalar(reader, "stats/length_translation")
+                                                                   : std::nan("");
+  path.length_rotation = reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation")
+                                                             : std::nan("");
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
   path.validity = reader.ReadStringAttribute("", "validity");

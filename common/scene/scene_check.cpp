@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/format.h"
+#include "core/json_writer.h"
 #include "scene/mesh_io.h"
 #include "scene/units.h"
 
@@ -248,64 +249,7 @@ void CheckOrigin(const Scene& scene, const Aabb& mesh_box, SceneSummary* summary
           Length(*summary, distance).c_str()));
 }
 
-// ---- JSON (no JSON library is a dependency; the same small writer as ausbau-verdict's)
-
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      out += Fmt("\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
-    } else {
-      out += c;  // UTF-8 passes through unchanged
-    }
-  }
-  return out + "\"";
-}
-
-std::string JsonNumber(double value) { return std::isfinite(value) ? Fmt("%.10g", value) : "null"; }
-
-std::string JsonVector(const Eigen::Vector3d& v) {
-  return "[" + JsonNumber(v.x()) + ", " + JsonNumber(v.y()) + ", " + JsonNumber(v.z()) + "]";
-}
-
-std::string JsonQuaternion(const Eigen::Quaterniond& q) {
-  return "[" + JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " + JsonNumber(q.z()) +
-         "]";
-}
-
-// An object or array built member by member; nested values are passed as their text and indented with the parent.
-class JsonWriter {
- public:
-  explicit JsonWriter(bool is_array = false) : is_array_(is_array) {}
-  JsonWriter& Add(const std::string& key, const std::string& raw_value) {
-    members_.emplace_back(key, raw_value);
-    return *this;
-  }
-  JsonWriter& Append(const std::string& raw_value) { return Add("", raw_value); }
-  std::string Text() const {
-    const char* open = is_array_ ? "[" : "{";
-    const char* close = is_array_ ? "]" : "}";
-    if (members_.empty()) return std::string(open) + close;
-    std::string out = std::string(open) + "\n";
-    for (std::size_t i = 0; i < members_.size(); ++i) {
-      out += "  ";
-      if (!is_array_) out += JsonString(members_[i].first) + ": ";
-      for (const char c : members_[i].second) {
-        out += c;
-        if (c == '\n') out += "  ";
-      }
-      out += i + 1 < members_.size() ? ",\n" : "\n";
-    }
-    return out + close;
-  }
-
- private:
-  bool is_array_;
-  std::vector<std::pair<std::string, std::string>> members_;
-};
+// ---- JSON (core/json_writer.h)
 
 std::string JsonBox(const BoxSummary& box) {
   return JsonWriter()

@@ -1,0 +1,270 @@
+#include "workflow/verdict.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/json_writer.h"
+#include "core/log.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Seconds per stage from DIR/<stage>.seconds (one number each, written by
+// scripts/timed.sh), in pipeline order, then any others by name.
+std::vector<std::pair<std::string, double>> ReadStageSeconds(const fs::path& dir) {
+  std::error_code error;
+  if (!fs::is_directory(dir, error)) throw InputErrorAt(dir.string(), "--times: not a folder");
+  std::map<std::string, double> found;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    if (!entry.is_regular_file() || entry.path().extension() != ".seconds") continue;
+    std::ifstream in(entry.path());
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::istringstream fields(text);
+    double seconds = 0;
+    std::string rest;
+    if (!(fields >> seconds) || (fields >> rest) || !std::isfinite(seconds) || seconds < 0) {
+      throw InputErrorAt(entry.path().string(), "expected one non-negative number of seconds");
+    }
+    found[entry.path().stem().string()] = seconds;
+  }
+  static const char* const kOrder[] = {"scene-gen",     "voxelize", "medial-spheres", "pbd-label", "distfield-build",
+                                       "tau-estimate",  "plan",     "smooth",         "verdict",   "report"};
+  std::vector<std::pair<std::string, double>> ordered;
+  for (const char* stage : kOrder) {
+    const auto it = found.find(stage);
+    if (it == found.end()) continue;
+    ordered.emplace_back(*it);
+    found.erase(it);
+  }
+  for (const auto& entry : found) ordered.push_back(entry);
+  return ordered;
+}
+
+// The waypoint with the largest volume (the first of equals).
+std::optional<MaxVolume> FindMaxVolume(const PathArtifact& path) {
+  if (path.waypoint_volume.empty()) return std::nullopt;
+  const auto it = std::max_element(path.waypoint_volume.begin(), path.waypoint_volume.end());
+  MaxVolume max;
+  max.index = static_cast<int>(it - path.waypoint_volume.begin());
+  max.value = *it;
+  max.part = path.waypoint_part[max.index];
+  max.deformability = path.waypoint_deformability[max.index];
+  max.in_sigma_1 = path.inter_index >= 0 && max.index <= path.inter_index;
+  return max;
+}
+
+}  // namespace
+
+Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
+  Verdict v;
+  v.inputs = options;
+  v.scene_name = scene.name;
+  v.scene_file = scene.file.string();
+  v.units = scene.units;
+  v.path = ReadPathArtifact(options.path);
+  const PathArtifact& path = v.path;
+  if (!path.scene.empty() && path.scene != scene.name) {
+    throw InputErrorAt(options.path, "was planned for scene '" + path.scene + "', not '" + scene.name + "'");
+  }
+  std::optional<TauArtifact>& tau = v.tau;
+  if (!options.tau.empty()) {
+    tau = ReadTauArtifact(options.tau);
+    if (IsVolumeValidity(path.validity) && tau->validity != path.validity) {
+      LogWarn("%s was estimated for --validity %s, the path was planned under %s", options.tau.c_str(),
+              tau->validity.c_str(), path.validity.c_str());
+    }
+  }
+  if (!options.times.empty()) v.stage_seconds = ReadStageSeconds(options.times);
+
+  // The independent exact check of the file as written (path.csv when
+  // given, interpolated the plain way): the verdict trusts no model.
+  std::optional<ExactCheckReport>& exact = v.exact;
+  // Volume modes bounded every intersection by tau while planning: an
+  // interference the exact check cannot measure is left to that model.
+  const UnmeasuredInterference unmeasured =
+      IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener : UnmeasuredInterference::kRigid;
+  v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  if (path.success && !path.waypoints.empty()) {
+    const std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
+    exact = ExactCheckPath(scene, written, v.tolerance, unmeasured);
+    if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
+  }
+  v.removable = path.success && !path.waypoints.empty() && exact && exact->valid;
+  // Not removable: what holds D (straight pulls from the installed pose).
+  if (!v.removable) {
+    // The exact check classified D's solids the same way: reused.
+    v.blocking = ProbeWhatBlocks(scene, v.tolerance, unmeasured, exact ? exact->parts : nullptr);
+  }
+  v.max_volume = FindMaxVolume(path);
+  const bool volume_mode = IsVolumeValidity(path.validity);
+  // tau and psi: the path's own (what it was planned with), else the tau file's.
+  v.tau_value = std::nan("");
+  v.psi_value = std::nan("");
+  if (volume_mode) {
+    v.tau_value = path.tau;
+    v.psi_value = path.psi;
+  } else if (tau) {
+    v.tau_value = tau->estimate.tau;
+    v.psi_value = tau->estimate.psi;
+  }
+  v.total_seconds = 0;
+  for (const auto& [stage, seconds] : v.stage_seconds) v.total_seconds += seconds;
+  if (options.times.empty()) v.total_seconds = path.stats.time_s;
+  return v;
+
+}
+
+std::string VerdictJson(const Verdict& v) {
+  const VerdictInputs& options = v.inputs;
+  const PathArtifact& path = v.path;
+  const auto& exact = v.exact;
+  const auto& blocking = v.blocking;
+  const auto& max = v.max_volume;
+  const auto& tau = v.tau;
+  const bool removable = v.removable;
+  JsonWriter json;
+  json.String("schema", kVerdictSchema).Int("version", kVerdictSchemaVersion);
+  json.String("producer", "ausbau-verdict").String("producer_version", AUSBAU_VERSION);
+  json.Add("scene", JsonWriter()
+                        .String("name", v.scene_name)
+                        .String("file", v.scene_file)
+                        .String("units", v.units)
+                        .Text());
+  json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
+  json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
+  if (tau) {
+    const TauEstimate& e = tau->estimate;
+    json.Add("tau_estimate", JsonWriter()
+                                 .String("file", options.tau)
+                                 .String("validity", tau->validity)
+                                 .Number("tau", e.tau)
+                                 .Number("tau_lowest", e.tau_lowest)
+                                 .Number("psi", e.psi)
+                                 .Int("rounds", e.rounds)
+                                 .Bool("solved", e.solved)
+                                 .Number("seconds", e.seconds)
+                                 .Text());
+  } else {
+    json.Null("tau_estimate");
+  }
+  JsonWriter path_json;
+  path_json.String("file", options.path);
+  if (options.csv.empty()) {
+    path_json.Null("csv");
+  } else {
+    path_json.String("csv", options.csv);
+  }
+  path_json.Int("waypoints", static_cast<long long>(path.waypoints.size())).Int("inter_index", path.inter_index);
+  json.Add("path", path_json.Text());
+  if (max) {
+    json.Add("max_labeled_mliv", JsonWriter()
+                                     .String("measure", path.validity)
+                                     .Number("value", max->value)
+                                     .Int("waypoint", max->index)
+                                     .Int("part", max->part)
+                                     .Number("deformability", max->deformability)
+                                     .Bool("in_sigma_1", max->in_sigma_1)
+                                     .Text());
+  } else {
+    json.Null("max_labeled_mliv");
+  }
+  if (exact) {
+    const PartModel& parts = *exact->parts;
+    json.Add("exact_check",
+             JsonWriter()
+                 .Bool("valid", exact->valid)
+                 .String("reason", exact->reason)
+                 .String("file", options.csv.empty() ? options.path : options.csv)
+                 .Number("rigid_tolerance", v.tolerance)
+                 .Int("poses_checked", exact->poses_checked)
+                 .Number("max_rigid_penetration", exact->max_rigid_depth)
+                 .String("rigid_part", parts.Describe(exact->rigid_shell, true))
+                 .String("static_part", parts.Describe(exact->static_shell, false))
+                 .Int("at_segment", exact->worst_segment)
+                 .Number("max_fastener_penetration", exact->max_fastener_depth)
+                 .Int("fastener_shells", parts.FastenerCount())
+                 .Int("shells", static_cast<long long>(parts.robot_shells.size()))
+                 .Text());
+  } else {
+    json.Null("exact_check");
+  }
+  if (blocking) {
+    std::string probes = "[";
+    for (const BlockingProbe& p : blocking->probes) {
+      const auto& parts = *blocking->parts;
+      probes += std::string(probes.size() > 1 ? ", " : "") +
+                JsonWriter()
+                    .Add("direction", "[" + JsonNumber(p.direction.x()) + ", " + JsonNumber(p.direction.y()) + ", " +
+                                          JsonNumber(p.direction.z()) + "]")
+                    .Number("free_distance", p.free_distance)
+                    .Bool("gets_out", p.separated)
+                    .Number("depth", p.separated ? std::nan("") : p.depth)
+                    .String("rigid_part", p.separated ? "" : parts.Describe(p.rigid_shell, true))
+                    .String("static_part", p.separated ? "" : parts.Describe(p.static_shell, false))
+                    .Text();
+    }
+    probes += "]";
+    json.Add("what_blocks", JsonWriter().String("summary", blocking->summary).Add("straight_pulls", probes).Text());
+  } else {
+    json.Null("what_blocks");
+  }
+  json.Add("length", JsonWriter()
+                         .Number("normalized", removable ? path.length_normalized : std::nan(""))
+                         .Number("translation", removable ? path.length_translation : std::nan(""))
+                         .Number("rotation", removable ? path.length_rotation : std::nan(""))
+                         .Text());
+  json.Add("planner", JsonWriter()
+                          .String("name", path.planner)
+                          .Number("seconds", path.stats.time_s)
+                          .Int("iterations", path.stats.iterations)
+                          .Int("nodes", path.stats.nodes)
+                          .Int("validity_checks", path.stats.collision_checks)
+                          .Int("invalid_checks", path.stats.invalid_checks)
+                          .Text());
+  JsonWriter seconds_json;
+  for (const auto& [stage, seconds] : v.stage_seconds) seconds_json.Number(stage, seconds);
+  json.Add("stage_seconds", seconds_json.Text());
+  json.Number("total_seconds", v.total_seconds);
+  if (options.budget >= 0) json.Number("budget_seconds", options.budget).Bool("within_budget", v.total_seconds <= options.budget);
+  return json.Text() + "\n";
+}
+
+void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std::FILE* out) {
+  const VerdictInputs& options = v.inputs;
+  const PathArtifact& path = v.path;
+  const auto& exact = v.exact;
+  const auto& max = v.max_volume;
+  const char* units = v.units.c_str();
+  std::fprintf(out, "%s: %s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE");
+  if (max) {
+    std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", path.validity.c_str(), max->value, units,
+                max->index, path.waypoints.size());
+    if (max->part >= 0) std::fprintf(out, " (part %d, deformability %.2f)", max->part, max->deformability);
+    std::fprintf(out, ", %s sigma_1 (tau %.6g)\n", max->in_sigma_1 ? "in" : "outside", v.tau_value);
+  }
+  if (v.removable) {
+    std::fprintf(out, "  path: %s (%zu waypoints, length %.4f normalized)\n",
+                options.csv.empty() ? options.path.c_str() : options.csv.c_str(), path.waypoints.size(),
+                path.length_normalized);
+  }
+  if (exact) {
+    std::fprintf(out, "  exact check of %s: %s; deepest rigid penetration %.4g %s (tolerance %.4g), fasteners %.4g %s\n",
+                options.csv.empty() ? options.path.c_str() : options.csv.c_str(),
+                exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth,
+                units, v.tolerance, exact->max_fastener_depth, units);
+  }
+  if (v.blocking) std::fprintf(out, "  what blocks: %s\n", v.blocking->summary.c_str());
+  std::fprintf(out, "  time: %.2f s%s", v.total_seconds, options.times.empty() ? " (planner only)" : "");
+  if (options.budget >= 0) std::fprintf(out, " (budget %.6g s: %s)", options.budget, v.total_seconds <= options.budget ? "within" : "exceeded");
+  std::fprintf(out, "\n  verdict: %s\n", verdict_file.c_str());
+  std::fflush(out);
+}
+
+}  // namespace ausbau

@@ -1,0 +1,67 @@
+// ausbau-verdict's work: the answer of a run for one scene. Is D removable
+// (the path found, and its file passing the independent exact check), where
+// along the path is the largest (Labeled-)MLIV, what blocks D where it is
+// not removable, how long did the stages take: verdict.json
+// (schemas/verdict.md) and a short summary for people.
+#pragma once
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "inistate/tau_estimate.h"
+#include "planning/exact_check.h"
+#include "planning/path_io.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+
+inline constexpr char kVerdictSchema[] = "ausbau-verdict";
+inline constexpr int kVerdictSchemaVersion = 1;
+
+struct VerdictInputs {
+  std::string path;      // the final path artifact (ausbau-path)
+  std::string csv;       // the path's CSV as written; empty: the artifact's waypoints are checked
+  std::string tau;       // tau artifact (ausbau-tau-estimate); optional
+  std::string times;     // folder of <stage>.seconds files (scripts/timed.sh); optional
+  double budget = -1;    // seconds; < 0: none
+  double rigid_tolerance_mm = 0.05;
+};
+
+// The waypoint with the largest volume (volume modes).
+struct MaxVolume {
+  double value = 0;
+  int index = 0;
+  int part = -1;
+  double deformability = 0;
+  bool in_sigma_1 = false;
+};
+
+struct Verdict {
+  VerdictInputs inputs;
+  std::string scene_name, scene_file, units;
+  PathArtifact path;
+  std::optional<TauArtifact> tau;
+  std::vector<std::pair<std::string, double>> stage_seconds;  // pipeline order
+  double total_seconds = 0;
+  double tolerance = 0;  // scene units
+  std::optional<ExactCheckReport> exact;
+  std::optional<BlockingReport> blocking;  // not removable: what holds D
+  std::optional<MaxVolume> max_volume;
+  double tau_value = 0, psi_value = 0;  // NaN where none
+  bool removable = false;
+};
+
+// Reads the inputs and judges. Throws InputError naming the file for inputs
+// that do not fit (another scene's path, a malformed times folder).
+Verdict JudgeRun(const Scene& scene, const VerdictInputs& inputs);
+
+// verdict.json's text (schemas/verdict.md).
+std::string VerdictJson(const Verdict& verdict);
+
+// The summary for people: REMOVABLE / NOT REMOVABLE and the lines behind it.
+void PrintVerdictSummary(const Verdict& verdict, const std::string& verdict_file, std::FILE* out);
+
+}  // namespace ausbau
