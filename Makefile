@@ -147,7 +147,7 @@ BENCH_INISTATE_ARGS ?=
 .PHONY: bench-inistate
 bench-inistate: configure
 	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-inistate-bench
-	@$(BUILD)/bin/ausbau-inistate-bench --out $(BENCH_INISTATE_OUT) $(BENCH_INISTATE_ARGS)
+	@$(BUILD)/bin/ausbau-inistate-bench --output-dir $(BENCH_INISTATE_OUT) $(BENCH_INISTATE_ARGS)
 	@echo "bench-inistate: $(BENCH_INISTATE_OUT)/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv"
 
 # The whole pipeline (pipelines/inistate.mk, default VALIDITY=auto) on every
@@ -160,5 +160,5 @@ BENCH_E2E_ARGS ?=
 
 .PHONY: bench-end-to-end
 bench-end-to-end: build
-	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --out $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
+	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --output-dir $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
 	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"

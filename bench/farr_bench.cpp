@@ -20,7 +20,7 @@
 //
 //   ausbau-farr-bench [--scenes a,b,...] [--resolution 256] [--planner cr-rrtc]
 //                     [--seed 1] [--time-limit 60] [--max-samples 200000]
-//                     [--reps 2] [--threads 0] [--output-dir out/bench-farr]
+//                     [--repetitions 2] [--threads 0] [--output-dir out/bench-farr]
 //
 // Scene names: OMPL.app scenes by name (../shared/benchmarks/ompl/<name>.yaml),
 // flange-1.00 / flange-0.95 / flange-0.90 (generated, common/fixtures/flange.h),
@@ -398,13 +398,13 @@ int main(int argc, char** argv) {
   CLI::App app("FARR against FCL on the configurations a planner checks (thesis 4.3)", "ausbau-farr-bench");
   app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app.add_option("--scenes", scenes, "comma-separated scene names (see the top of bench/farr_bench.cpp)");
-  app.add_option("--resolution", options.resolution, "distance field resolution")->capture_default_str();
+  app.add_option("--field-cells", options.resolution, "distance field: cells along the longest axis")->capture_default_str();
   app.add_option("--planner", options.planner, "planner that generates the samples")->capture_default_str();
   app.add_option("--seed", options.seed, "planner seed")->capture_default_str();
   app.add_option("--time-limit", options.time_limit_s, "planning time limit, seconds")->capture_default_str();
   app.add_option("--max-samples", options.max_samples, "samples replayed per scene (evenly thinned)")
       ->capture_default_str();
-  app.add_option("--reps", options.reps, "timing repetitions")->capture_default_str();
+  app.add_option("--repetitions", options.reps, "timing repetitions")->capture_default_str();
   app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
   app.add_option("--output-dir", options.output_dir, "where farr-summary.md and farr-results.csv go")
       ->capture_default_str();
@@ -417,7 +417,7 @@ int main(int argc, char** argv) {
     }
   }
   if (options.reps < 1 || options.max_samples < 1) {
-    std::fprintf(stderr, "ausbau-farr-bench: error: --reps and --max-samples must be positive\n");
+    std::fprintf(stderr, "ausbau-farr-bench: error: --repetitions and --max-samples must be positive\n");
     return 2;
   }
   SetLogProgramName("ausbau-farr-bench");

@@ -22,7 +22,7 @@
 // of one run (an InputError such as shrink not freeing the start, or any
 // other exception) is recorded as a failed run with its reason.
 //
-// Output (--out DIR): inistate-results.csv (one row per family, seed and
+// Output (--output-dir DIR): inistate-results.csv (one row per family, seed and
 // mode), inistate-scenes.csv (per scene: sizes, times, labels per part kind)
 // and inistate-summary.md (the table, times per scene, labels); both are
 // rewritten after every scene, so an interrupted run keeps what it measured.
@@ -590,7 +590,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--triangles", options.triangles, "target triangle count of D; 0 = the families' defaults")
       ->capture_default_str();
-  app.add_option("--out", options.out, "output folder")->capture_default_str();
+  app.add_option("--output-dir", options.out, "output folder")->capture_default_str();
   app.add_option("--threads", options.threads, "threads for voxelization, labels and tau probes; 0 = all cores")
       ->capture_default_str()->check(ThreadCount());
   app.add_option("--resolution", options.resolution,
@@ -614,7 +614,7 @@ int main(int argc, char** argv) {
   app.add_flag("--end-to-end", end_to_end,
                "run the whole pipeline (pipelines/inistate.mk) on every family, clips-ds* and panel-* (coarse and "
                "fine, turned and metres out), and on the external set; paths judged by oracle.py or the ground "
-               "truth; --seeds defaults to 3, --out to out/inistate-end-to-end");
+               "truth; --seeds defaults to 3, --output-dir to out/inistate-end-to-end");
   app.add_option("--external", external, "end-to-end: folder with scenes/ and oracle.py; 'none' for no external set")
       ->capture_default_str();
   bool skip_external = false;
@@ -636,7 +636,7 @@ int main(int argc, char** argv) {
       if (seeds < 1) throw InputError("--seeds: must be >= 1");
       e2e.seeds.clear();
       for (int s = 0; s < seeds; ++s) e2e.seeds.push_back(options.first_seed + s);
-      e2e.out = app.count("--out") > 0 ? options.out : "out/inistate-end-to-end";
+      e2e.out = app.count("--output-dir") > 0 ? options.out : "out/inistate-end-to-end";
       if (external != "none") e2e.external = external;
       e2e.external_scenes = !skip_external;
       e2e.command = command;

@@ -8,7 +8,7 @@
 // and the ROC AUC of clip vertices against rigid ones (over the exposed
 // vertices, as tests/test_labeling.cpp measures it, and over all).
 //
-//   build/bin/ausbau-label-bench [--mesh FILE] [--cells N] [--threads N] [--skip-single]
+//   build/bin/ausbau-label-bench [--mesh FILE] [--panel-cells N] [--threads N] [--skip-single]
 //   build/bin/ausbau-label-bench --family clips-ds1 [--family ...|all] [--triangles N]
 //                                [--max-load-cases N ...] [--threads N]
 //   build/bin/ausbau-label-bench --scene DIR [--scene DIR ...] [--threads N]
@@ -204,7 +204,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool skip_single = false;
   app.add_option("--mesh", mesh_file, "label this mesh instead of the generated panel");
-  app.add_option("--cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
+  app.add_option("--panel-cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
       ->capture_default_str();
   app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str()->check(ThreadCount());
   app.add_flag("--skip-single", skip_single, "skip the single-thread run");

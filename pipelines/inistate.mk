@@ -131,7 +131,7 @@ pbd-label: medial-spheres
 
 distfield-build: start
 	$(TIMED) distfield-build $(TIMES) $(DISTFIELD_BUILD) --scene $(SCENE) --threads $(THREADS) \
-	  -o $(OUT) $(DISTFIELD_FLAGS) > /dev/null
+	  --output-dir $(OUT) $(DISTFIELD_FLAGS) > /dev/null
 
 # Exit 3 (no round found sigma_1) still writes tau.h5 with the last tau
 # tried; the planner gets its chance with it.
@@ -167,7 +167,7 @@ smooth: plan
 
 # Exit 3 (not removable) still writes verdict.json; `all` fails afterwards,
 # so that the report is written for a failed scene too.
-VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau $(OUT)/tau.h5) --times $(TIMES) \
+VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau-file $(OUT)/tau.h5) --times $(TIMES) \
   $(if $(BUDGET),--budget $(BUDGET)) --rigid-tolerance $(RIGID_TOLERANCE) -o $(OUT)/verdict.json $(VERDICT_FLAGS)
 verdict: smooth
 	@if [ -f $(TIMES)/no-path ]; then set -- --path $(OUT)/path.h5; \

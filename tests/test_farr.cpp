@@ -727,11 +727,11 @@ TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
   const std::string env = "AUSBAU_CACHE_DIR=" + (dir / "cache").string();
   const std::string s = (dir / "df" / "distfield-static.h5").string(), d = (dir / "df" / "distfield-dynamic.h5").string();
 
-  Outcome built = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 64 -o " + (dir / "df").string());
+  Outcome built = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
   ASSERT_EQ(built.exit_code, 0) << built.output;
   EXPECT_NE(built.output.find(s + "," + d), std::string::npos) << built.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "cache"));  // also stored in the cache
-  Outcome again = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 64 -o " + (dir / "df").string());
+  Outcome again = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
   EXPECT_EQ(again.exit_code, 0);
   EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
 
@@ -761,7 +761,7 @@ TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
   EXPECT_NE(swapped.output.find("another mesh"), std::string::npos) << swapped.output;
   Outcome bogus = RunStage(env, "plan", common + "--collision bvh -o " + (dir / "x.h5").string());
   EXPECT_EQ(bogus.exit_code, 2);
-  Outcome huge = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --resolution 1024 --memory-budget 1");
+  Outcome huge = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --field-cells 1024 --memory-limit 1");
   EXPECT_EQ(huge.exit_code, 2);
   EXPECT_NE(huge.output.find("memory budget"), std::string::npos) << huge.output;
   std::filesystem::remove_all(dir);

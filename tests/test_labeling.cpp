@@ -917,9 +917,9 @@ TEST(LabelStages, BadInputIsAOneLineError) {
                                                     (dir / "none.h5").string());
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_NE(missing.output.find("file not found"), std::string::npos) << missing.output;
-  const Outcome bad = RunStage("medial-spheres", "--scene " + yaml.string() + " --step 1.5");
+  const Outcome bad = RunStage("medial-spheres", "--scene " + yaml.string() + " --push-factor 1.5");
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
-  EXPECT_NE(bad.output.find("--step"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("--push-factor"), std::string::npos) << bad.output;
   const Outcome measure = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
                                                     (other / "spheres.h5").string() + " --measure max");
   EXPECT_EQ(measure.exit_code, 2) << measure.output;

@@ -305,7 +305,7 @@ TEST(EndToEndBench, RunsThePipelineAndJudgesEachPathWithTheOracle) {
                             " --end-to-end --families panel-straight-pull --seeds 1 --skip-external-scenes --external " +
                             external.string() + " --pipeline " +
                             (testing::SourceDir() / "pipelines/inistate.mk").string() + " --bin " +
-                            testing::BinDir().string() + " --out " + out.string());
+                            testing::BinDir().string() + " --output-dir " + out.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string summary = testing::ReadTextFile(out / "end-to-end-summary.md");
   EXPECT_NE(summary.find("| panel-straight-pull-coarse | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
@@ -315,7 +315,7 @@ TEST(EndToEndBench, RunsThePipelineAndJudgesEachPathWithTheOracle) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
   // A bad family is one line and exit 2, before any work.
   const Outcome bad = Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
-                            " --end-to-end --families panel-nothing --out " + out.string() + " --pipeline " +
+                            " --end-to-end --families panel-nothing --output-dir " + out.string() + " --pipeline " +
                             (testing::SourceDir() / "pipelines/inistate.mk").string());
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("unknown family 'panel-nothing'"), std::string::npos) << bad.output;
@@ -349,7 +349,7 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
                      "missing.h5");
   ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "labels.h5").string() + o),
                      "schema");
-  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --tau " +
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --tau-file " +
                                                              (Out() / "path.h5").string() + o),
                      "schema");
   std::ofstream(out / "not-hdf5.h5") << "not an artifact\n";

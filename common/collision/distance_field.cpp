@@ -209,7 +209,7 @@ std::string MeshContentHash(const TriangleMesh& mesh) {
 
 void DistanceFieldOptions::Check() const {
   if (resolution < 2 || resolution > kMaxDistanceFieldResolution) {
-    throw InputError("--resolution: distance field resolution must lie in [2, " +
+    throw InputError("--field-cells: distance field resolution must lie in [2, " +
                      std::to_string(kMaxDistanceFieldResolution) + "] (got " + std::to_string(resolution) + ")");
   }
   if (threads < 0) throw InputError("--threads: must be >= 0");

@@ -15,10 +15,10 @@ namespace ausbau {
 
 void MedialSphereOptions::Check() const {
   if (!(delta > 0 && delta < 1)) throw InputError("--delta: must lie in (0, 1) (a fraction of D's AABB diagonal)");
-  if (!(step > 0 && step < 1)) throw InputError("--step: must lie in (0, 1)");
+  if (!(step > 0 && step < 1)) throw InputError("--push-factor: must lie in (0, 1)");
   // Bounded: each iteration is a nearest-point query per vertex (10^9 hung).
   if (cooling_iterations < 1 || cooling_iterations > 10000) {
-    throw InputError("--iterations: must lie in 1 .. 10000 (default 30)");
+    throw InputError("--cooling-iterations: must lie in 1 .. 10000 (default 30)");
   }
   if (growth_iterations < 0 || growth_iterations > 100000) {
     throw InputError("--growth-iterations: must lie in 0 .. 100000 (default 200)");

@@ -23,7 +23,7 @@ void PbdLabelOptions::Check() const {
   if (!(duration > 0)) throw InputError("--duration: must be positive");
   if (Steps() > 100000) throw InputError("--duration: more than 100000 steps of --time-step");
   if (solver_iterations < 1 || solver_iterations > 1000) {
-    throw InputError("--iterations: must lie in 1 .. 1000 (solver iterations per step; the thesis uses 3)");
+    throw InputError("--solver-iterations: must lie in 1 .. 1000 (solver iterations per step; the thesis uses 3)");
   }
   if (!(damping >= 0 && damping <= 1)) throw InputError("--damping: must lie in [0, 1]");
   if (!(stiffness >= 0 && stiffness <= 1)) throw InputError("--stiffness: must lie in [0, 1]");

@@ -71,11 +71,11 @@ fs::path MakeField(const TriangleMesh& mesh, const DistfieldBuildOptions& option
 }
 
 int Run(DistfieldBuildOptions options) {
-  if (!(options.memory_budget_gib > 0)) throw InputError("--memory-budget: must be > 0 GiB");
+  if (!(options.memory_budget_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.field.memory_budget_bytes = static_cast<std::uint64_t>(options.memory_budget_gib * double(1 << 30));
   options.field.Check();
   if (!options.output_dir.empty() && (!options.static_out.empty() || !options.dynamic_out.empty())) {
-    throw InputError("-o: give either -o DIR or --static-out and --dynamic-out, not both");
+    throw InputError("--output-dir: give either --output-dir DIR or --static-out and --dynamic-out, not both");
   }
   if (options.static_out.empty() != options.dynamic_out.empty()) {
     throw InputError("--static-out and --dynamic-out: give both or neither");
@@ -111,12 +111,12 @@ int main(int argc, char** argv) {
       argc, argv,
       [&](CLI::App& app) {
         app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--resolution", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
+        app.add_option("--field-cells", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
             ->capture_default_str();
         app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
-        app.add_option("--memory-budget", options.memory_budget_gib, "GiB; larger fields are refused")
+        app.add_option("--memory-limit", options.memory_budget_gib, "GiB; larger fields are refused")
             ->capture_default_str();
-        app.add_option("-o,--output-dir", options.output_dir,
+        app.add_option("--output-dir", options.output_dir,
                        "write DIR/distfield-static.h5 and DIR/distfield-dynamic.h5 (default: the cache)");
         app.add_option("--static-out", options.static_out, "the field of S (with --dynamic-out)");
         app.add_option("--dynamic-out", options.dynamic_out, "the field of D (with --static-out)");

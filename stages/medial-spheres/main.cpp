@@ -106,11 +106,11 @@ int main(int argc, char** argv) {
   stage.Option("--ply", &options.ply, "also write D as PLY coloured by sphere radius", CacheKey::kNo);
   stage.Threads(&options.spheres.threads);
   stage.Option("--delta", &options.spheres.delta, "start offset inside, fraction of D's AABB diagonal", CacheKey::kYes);
-  stage.Option("--step", &options.spheres.step, "push factor eps while growing, in (0, 1)", CacheKey::kYes);
-  stage.Option("--iterations", &options.spheres.cooling_iterations,
-               "cooling iterations (eps falls linearly to step / iterations)", CacheKey::kYes);
+  stage.Option("--push-factor", &options.spheres.step, "push factor eps while growing, in (0, 1)", CacheKey::kYes);
+  stage.Option("--cooling-iterations", &options.spheres.cooling_iterations,
+               "cooling iterations (eps falls linearly to push factor / iterations)", CacheKey::kYes);
   stage.Option("--growth-iterations", &options.spheres.growth_iterations,
-               "at most this many iterations at eps = step while the sphere grows; 0 = cool from the start",
+               "at most this many iterations at eps = push factor while the sphere grows; 0 = cool from the start",
                CacheKey::kYes);
   stage.Option("--weld-tolerance", &options.weld_tolerance,
                "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);

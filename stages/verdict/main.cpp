@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   stage.SceneInput(SceneHash::kWholeScene, &scene);
   stage.InputFile("--path", &inputs.path, "path", "the final path artifact (ausbau-path), e.g. path-smooth.h5")
       ->required();
-  stage.InputFile("--tau", &inputs.tau, "tau", "tau artifact (ausbau-tau-estimate)");
+  stage.InputFile("--tau-file", &inputs.tau, "tau", "tau artifact (ausbau-tau-estimate)");
   stage.Option("--times", &inputs.times, "folder of <stage>.seconds files (scripts/timed.sh)", CacheKey::kNo);
   stage.Option("--budget", &inputs.budget, "seconds; adds within_budget (total <= budget)", CacheKey::kNo)
       ->check(CLI::NonNegativeNumber);
