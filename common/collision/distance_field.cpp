@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "geometry/closest_point.h"
 
 namespace ausbau {
 
@@ -70,6 +71,12 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 
 constexpr int kAlgorithmVersion = 1;
+
+// The closest point as the field's recorded results were computed with
+// (geometry/closest_point.h): degenerate triangles of the input are kept, so
+// it guards its divisions.
+constexpr DegenerateTriangles kDegenerate = DegenerateTriangles::kNearestEdgePoint;
+constexpr FaceWeights kFaceWeights = FaceWeights::kTimesReciprocalOfSum;
 
 int ThreadCount(int requested) { return requested > 0 ? requested : std::max(1, omp_get_max_threads()); }
 
@@ -141,52 +148,7 @@ std::string FormatGiB(std::uint64_t bytes) {
 }  // namespace
 
 // ---------------------------------------------------------------------------
-// Geometry
-
-Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  // Voronoi regions of the vertices, edges and face, in barycentric terms.
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double denom = d1 - d3;
-    return denom > 0 ? Vec3(a + (d1 / denom) * ab) : a;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double denom = d2 - d6;
-    return denom > 0 ? Vec3(a + (d2 / denom) * ac) : a;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double denom = (d4 - d3) + (d5 - d6);
-    return denom > 0 ? Vec3(b + ((d4 - d3) / denom) * (c - b)) : b;
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {
-    // Degenerate (collinear) triangle: the nearest of its three edges.
-    auto on_segment = [&p](const Vec3& s, const Vec3& t) {
-      const Vec3 d = t - s;
-      const double len2 = d.squaredNorm();
-      const double u = len2 > 0 ? std::clamp((p - s).dot(d) / len2, 0.0, 1.0) : 0.0;
-      return Vec3(s + u * d);
-    };
-    Vec3 best = on_segment(a, b);
-    for (const Vec3& q : {on_segment(b, c), on_segment(c, a)}) {
-      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
-    }
-    return best;
-  }
-  const double denom = 1.0 / sum;
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
+// Content hash
 
 std::string MeshContentHash(const TriangleMesh& mesh) {
   Hasher hasher;
@@ -718,7 +680,8 @@ void DistanceFieldBuilder::ComputeBand() {
           std::int32_t best_t = -1;
           Vec3 best_p = center;
           for (std::int32_t t : candidates) {
-            const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2]);
+            const Vec3 q =
+                ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2], kDegenerate, kFaceWeights);
             const double d = (q - center).squaredNorm();
             if (d < best || (d == best && t < best_t)) best = d, best_t = t, best_p = q;
           }
@@ -823,7 +786,7 @@ void DistanceFieldBuilder::Propagate() {
         for (std::int32_t t : neighbours) {
           if (t < 0 || std::find(tried, tried + n_tried, t) != tried + n_tried) continue;
           tried[n_tried++] = t;
-          const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2]);
+          const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2], kDegenerate, kFaceWeights);
           const double d = (q - center).squaredNorm();
           if (d < best || (d == best && t < best_t)) best = d, best_t = t, best_p = q;
         }

@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "geometry/closest_point.h"
 #include "geometry/principal_axes.h"
 #include "scene/scene.h"
 
@@ -32,64 +33,6 @@ double SolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double num = a.dot(b.cross(c));
   const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
   return 2.0 * std::atan2(num, den);
-}
-
-// Closest point on triangle (a, b, c) to p, with barycentrics (Ericson,
-// Real-Time Collision Detection, 5.1.5).
-Vec3 ClosestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, Vec3* bary) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) {
-    *bary = {1, 0, 0};
-    return a;
-  }
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) {
-    *bary = {0, 1, 0};
-    return b;
-  }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    *bary = {1 - v, v, 0};
-    return a + v * ab;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) {
-    *bary = {0, 0, 1};
-    return c;
-  }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    *bary = {1 - w, 0, w};
-    return a + w * ac;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    *bary = {0, 1 - w, w};
-    return b + w * (c - b);
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {  // degenerate triangle: fall back to the nearest vertex
-    const double da = (p - a).squaredNorm(), db = (p - b).squaredNorm(), dc = (p - c).squaredNorm();
-    if (da <= db && da <= dc) {
-      *bary = {1, 0, 0};
-      return a;
-    }
-    if (db <= dc) {
-      *bary = {0, 1, 0};
-      return b;
-    }
-    *bary = {0, 0, 1};
-    return c;
-  }
-  const double v = vb / sum, w = vc / sum;
-  *bary = {1 - v - w, v, w};
-  return a + ab * v + ac * w;
 }
 
 double BoxDistanceSquared(const Aabb& box, const Vec3& p) {
@@ -386,8 +329,11 @@ WindingBvh::Closest WindingBvh::ClosestPoint(const Vec3& p) const {
     if (n.left < 0) {
       for (int t = n.begin; t < n.end; ++t) {
         const Tri& tri = tris_[t];
+        // The voxelizer's arithmetic, as its results were recorded: a
+        // triangle without area answers its nearest corner.
         Vec3 bary;
-        const Vec3 q = ClosestOnTriangle(p, tri.a, tri.b, tri.c, &bary);
+        const Vec3 q = ClosestPointOnTriangle(p, tri.a, tri.b, tri.c, DegenerateTriangles::kNearestCorner,
+                                              FaceWeights::kDividedBySum, &bary);
         const double d2 = (q - p).squaredNorm();
         if (d2 < best_d2) {
           best_d2 = d2;

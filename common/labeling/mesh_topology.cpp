@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "geometry/closest_point.h"
 
 namespace ausbau {
 namespace {
@@ -67,6 +68,12 @@ std::vector<int> Weld(const std::vector<Eigen::Vector3d>& points, const Aabb& bo
   }
   return map;
 }
+
+// The closest-point arithmetic of the labeling's BVH as it was recorded: its
+// triangles have positive area (BuildMeshTopology drops the others), so the
+// divisions are not guarded.
+constexpr DegenerateTriangles kDegenerate = DegenerateTriangles::kUnguarded;
+constexpr FaceWeights kFaceWeights = FaceWeights::kTimesReciprocalOfSum;
 
 // Fixed, deliberately irregular directions for ray-parity tests (no axis
 // alignment, so rays rarely run along edges of CAD meshes).
@@ -362,27 +369,6 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
 
 // ---------------------------------------------------------------- BVH
 
-Eigen::Vector3d TriangleBvh::ClosestPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
 TriangleBvh::TriangleBvh(const std::vector<Eigen::Vector3d>& vertices,
                          const std::vector<std::array<int, 3>>& triangles) {
   const int m = static_cast<int>(triangles.size());
@@ -486,7 +472,7 @@ TriangleBvh::Nearest TriangleBvh::Search(const Eigen::Vector3d& q, Nearest best,
     if (node.count > 0) {
       for (int s = node.first; s < node.first + node.count; ++s) {
         if (skip(id_[s])) continue;
-        const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
+        const Eigen::Vector3d point = ClosestPointOnTriangle(q, a_[s], b_[s], c_[s], kDegenerate, kFaceWeights);
         const double d2 = (point - q).squaredNorm();
         if (d2 < best.distance_squared) {
           best.distance_squared = d2;
@@ -518,7 +504,7 @@ TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hin
     // Start the bound from the hinted triangle. The search then finds it again
     // (or a strictly nearer one): the answer does not depend on the hint.
     const int s = slot_of_id_[hint];
-    const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
+    const Eigen::Vector3d point = ClosestPointOnTriangle(q, a_[s], b_[s], c_[s], kDegenerate, kFaceWeights);
     best.distance_squared = std::nextafter((point - q).squaredNorm(), std::numeric_limits<double>::infinity());
   }
   return Search(q, best, [](int) { return false; });

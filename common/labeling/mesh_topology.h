@@ -133,11 +133,6 @@ class TriangleBvh {
 
   int TriangleCount() const { return static_cast<int>(a_.size()); }
 
-  // The closest point to p on triangle (a, b, c) (Ericson, Real-Time
-  // Collision Detection, 5.1.5).
-  static Eigen::Vector3d ClosestPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const Eigen::Vector3d& c);
-
  private:
   struct Node {
     double min[3], max[3];
