@@ -18,6 +18,7 @@
 #include "core/hash.h"
 #include "core/log.h"
 #include "geometry/closest_point.h"
+#include "geometry/triangle_box.h"
 
 namespace ausbau {
 
@@ -72,41 +73,14 @@ using Vec3 = Eigen::Vector3d;
 
 constexpr int kAlgorithmVersion = 1;
 
-// The closest point as the field's recorded results were computed with
-// (geometry/closest_point.h): degenerate triangles of the input are kept, so
-// it guards its divisions.
+// The field's geometric kernels as its recorded results were computed with
+// (geometry/closest_point.h, geometry/triangle_box.h): degenerate triangles
+// of the input are kept, so the closest point guards its divisions.
 constexpr DegenerateTriangles kDegenerate = DegenerateTriangles::kNearestEdgePoint;
 constexpr FaceWeights kFaceWeights = FaceWeights::kTimesReciprocalOfSum;
+constexpr SatRounding kOctreeRounding = SatRounding::kPerAxisHalfExtent;
 
 int ThreadCount(int requested) { return requested > 0 ? requested : std::max(1, omp_get_max_threads()); }
-
-// Separating-axis test of a triangle against an axis-aligned box given by its
-// centre and half-extents (13 axes: the box's three, the triangle's normal,
-// the nine edge cross products).
-bool TriangleOverlapsBox(const Vec3& center, const Vec3& half, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 v0 = a - center, v1 = b - center, v2 = c - center;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = std::min({v0[k], v1[k], v2[k]}), hi = std::max({v0[k], v1[k], v2[k]});
-    if (lo > half[k] || hi < -half[k]) return false;
-  }
-  const Vec3 f[3] = {v1 - v0, v2 - v1, v0 - v2};
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      // axis = e_k x f[i]
-      Vec3 axis = Vec3::Zero();
-      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-      axis[k1] = -f[i][k2];
-      axis[k2] = f[i][k1];
-      const double p0 = axis.dot(v0), p1 = axis.dot(v1), p2 = axis.dot(v2);
-      const double r = half[k1] * std::abs(axis[k1]) + half[k2] * std::abs(axis[k2]);
-      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
-    }
-  }
-  const Vec3 n = f[0].cross(v2 - v0);
-  const double d = n.dot(v0);
-  const double r = half.dot(n.cwiseAbs());
-  return std::abs(d) <= r;
-}
 
 // 2D helpers for the scanline crossings (top-left rule on canonically
 // ordered edges: a line through a shared edge or vertex is counted once).
@@ -338,7 +312,9 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
           const std::int64_t begin = static_cast<std::int64_t>(my_lists.size());
           for (std::int32_t k = 0; k < node.count; ++k) {
             const std::int32_t t = lists[node.begin + k];
-            if (TriangleOverlapsBox(center, half_extent, tri_[t][0], tri_[t][1], tri_[t][2])) my_lists.push_back(t);
+            if (TriangleOverlapsBox(center, half_extent, tri_[t][0], tri_[t][1], tri_[t][2], kOctreeRounding)) {
+              my_lists.push_back(t);
+            }
           }
           const auto count = static_cast<std::int32_t>(static_cast<std::int64_t>(my_lists.size()) - begin);
           if (count > 0) my_nodes.push_back({cx, cy, cz, begin, count});

@@ -16,6 +16,7 @@
 #include "core/log.h"
 #include "geometry/closest_point.h"
 #include "geometry/principal_axes.h"
+#include "geometry/triangle_box.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -38,33 +39,6 @@ double SolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
 double BoxDistanceSquared(const Aabb& box, const Vec3& p) {
   const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(Vec3::Zero());
   return d.squaredNorm();
-}
-
-// Triangle (a, b, c), given relative to the box centre, against the box of
-// half size h: separating axis test over the 13 axes (Akenine-Moeller 2001).
-// Touching counts as overlap.
-bool TriangleBoxOverlap(const Vec3& a, const Vec3& b, const Vec3& c, double h) {
-  // The box's face normals.
-  for (int k = 0; k < 3; ++k) {
-    if (std::min({a[k], b[k], c[k]}) > h || std::max({a[k], b[k], c[k]}) < -h) return false;
-  }
-  const Vec3 e[3] = {b - a, c - b, a - c};
-  // The triangle's normal.
-  const Vec3 n = e[0].cross(e[1]);
-  if (std::abs(n.dot(a)) > h * n.cwiseAbs().sum()) return false;
-  // Edge x box axis.
-  for (const Vec3& edge : e) {
-    for (int k = 0; k < 3; ++k) {
-      Vec3 axis = Vec3::Zero();
-      axis[(k + 1) % 3] = -edge[(k + 2) % 3];
-      axis[(k + 2) % 3] = edge[(k + 1) % 3];
-      const double r = h * axis.cwiseAbs().sum();
-      if (r == 0) continue;
-      const double pa = axis.dot(a), pb = axis.dot(b), pc = axis.dot(c);
-      if (std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r) return false;
-    }
-  }
-  return true;
 }
 
 // ---------------------------------------------------------------- topology
@@ -445,7 +419,9 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
 
   // 1. Surface voxels: every voxel whose box a triangle touches.
   {
+    // Cubic voxels, so the test rounds as for a cube (as recorded).
     const double half = 0.5 * h * (1 + 1e-9);
+    const Vec3 half_extent = Vec3::Constant(half);
     const std::int64_t nt = static_cast<std::int64_t>(mesh.triangles.size());
     ParallelProgress progress(options.progress, phase + ": surface", nt);
 #pragma omp parallel for schedule(dynamic, 64)
@@ -468,7 +444,7 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
             const std::int64_t index = geometry.Index(i, j, k);
             if (__atomic_load_n(&cells[index], __ATOMIC_RELAXED) == kVoxelSurface) continue;
             const Vec3 center = geometry.Center(i, j, k);
-            if (TriangleBoxOverlap(a - center, b - center, c - center, half)) {
+            if (TriangleOverlapsBox(center, half_extent, a, b, c, SatRounding::kCubeHalfSize)) {
               __atomic_store_n(&cells[index], static_cast<std::uint8_t>(kVoxelSurface), __ATOMIC_RELAXED);
             }
           }
