@@ -11,7 +11,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <unordered_map>
 
 #include "artifact/artifact.h"
 #include "core/error.h"
@@ -19,6 +18,7 @@
 #include "core/log.h"
 #include "geometry/closest_point.h"
 #include "geometry/triangle_box.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 
@@ -367,24 +367,7 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
 
 std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles(bool* closed) const {
   // Vertices merged by exact position.
-  struct KeyHash {
-    std::size_t operator()(const std::array<double, 3>& k) const {
-      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-      for (double d : k) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &d, sizeof bits);
-        h ^= bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-      }
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<std::array<double, 3>, int, KeyHash> ids;
-  ids.reserve(mesh_.vertices.size() * 2);
-  std::vector<int> merged(mesh_.vertices.size());
-  for (std::size_t i = 0; i < mesh_.vertices.size(); ++i) {
-    const Vec3& v = mesh_.vertices[i];
-    merged[i] = ids.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<int>(ids.size())).first->second;
-  }
+  const std::vector<int> merged = WeldExactPositions(mesh_.vertices);
   // Unique triangles (the same three positions in any order count once:
   // double-sided exports and duplicates), degenerate ones dropped.
   struct Tri {

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -17,6 +16,7 @@
 #include "geometry/closest_point.h"
 #include "geometry/principal_axes.h"
 #include "geometry/triangle_box.h"
+#include "geometry/weld.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -48,20 +48,6 @@ struct Topology {
   std::vector<bool> flip;         // per triangle of the mesh
 };
 
-struct PositionHash {
-  std::size_t operator()(const Vec3& v) const {
-    std::size_t h = 1469598103934665603ull;
-    for (int k = 0; k < 3; ++k) {
-      const double x = v[k] == 0.0 ? 0.0 : v[k];  // -0 == 0
-      std::uint64_t bits;
-      std::memcpy(&bits, &x, sizeof bits);
-      h = (h ^ bits) * 1099511628211ull;
-      h ^= h >> 29;
-    }
-    return h;
-  }
-};
-
 int Find(std::vector<int>& parent, int x) {
   while (parent[x] != x) {
     parent[x] = parent[parent[x]];
@@ -73,13 +59,10 @@ int Find(std::vector<int>& parent, int x) {
 // Splits the triangles into closed and open edge-connected components
 // (vertices welded by position) and orients them (see voxel_grid.h).
 Topology AnalyzeTopology(const TriangleMesh& mesh) {
-  const int nv = static_cast<int>(mesh.vertices.size()), nt = static_cast<int>(mesh.triangles.size());
-  std::vector<int> weld(nv);
-  {
-    std::unordered_map<Vec3, int, PositionHash> ids;
-    ids.reserve(nv);
-    for (int v = 0; v < nv; ++v) weld[v] = ids.emplace(mesh.vertices[v], v).first->second;
-  }
+  const int nt = static_cast<int>(mesh.triangles.size());
+  // Welded indices count in order of first appearance, so they order the
+  // vertices as their first input indices do (the edge balance below).
+  const std::vector<int> weld = WeldExactPositions(mesh.vertices);
   std::vector<int> parent(nt);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<bool> valid(nt, false);

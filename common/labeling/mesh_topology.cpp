@@ -11,63 +11,10 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "geometry/closest_point.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 namespace {
-
-// ---------------------------------------------------------------- welding
-
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct CellKeyHash {
-  std::size_t operator()(const CellKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
-    return static_cast<std::size_t>(h);
-  }
-};
-
-// Input vertex -> welded vertex; the first vertex of a cluster (input order)
-// is its representative and keeps its position.
-std::vector<int> Weld(const std::vector<Eigen::Vector3d>& points, const Aabb& box, double tolerance,
-                      std::vector<Eigen::Vector3d>* welded) {
-  const double diagonal = box.Diagonal();
-  const double cell = tolerance > 0 ? tolerance : (diagonal > 0 ? diagonal * 1e-9 : 1.0);
-  const double tolerance_sq = tolerance * tolerance;
-  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
-  grid.reserve(points.size());
-  std::vector<int> map(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d rel = (points[i] - box.min) / cell;
-    const CellKey key{static_cast<std::int64_t>(std::floor(rel.x())), static_cast<std::int64_t>(std::floor(rel.y())),
-                      static_cast<std::int64_t>(std::floor(rel.z()))};
-    int found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx) {
-      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          const auto it = grid.find({key.x + dx, key.y + dy, key.z + dz});
-          if (it == grid.end()) continue;
-          for (int w : it->second) {
-            if (((*welded)[w] - points[i]).squaredNorm() <= tolerance_sq) {
-              found = w;
-              break;
-            }
-          }
-        }
-      }
-    }
-    if (found < 0) {
-      found = static_cast<int>(welded->size());
-      welded->push_back(points[i]);
-      grid[key].push_back(found);
-    }
-    map[i] = found;
-  }
-  return map;
-}
 
 // The closest-point arithmetic of the labeling's BVH as it was recorded: its
 // triangles have positive area (BuildMeshTopology drops the others), so the
@@ -102,8 +49,13 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   const double input_diagonal = input_box.Diagonal();
 
   // 1. Weld.
-  topo.welded_of_original = Weld(mesh.vertices, input_box, std::max(0.0, options.weld_tolerance) * input_diagonal,
-                                 &topo.vertices);
+  // Cells of the weld's grid are counted from the input's box; with no
+  // tolerance they are still small, so that few vertices share one.
+  const double weld_tolerance = std::max(0.0, options.weld_tolerance) * input_diagonal;
+  const double weld_cell =
+      weld_tolerance > 0 ? weld_tolerance : (input_diagonal > 0 ? input_diagonal * 1e-9 : 1.0);
+  topo.welded_of_original = WeldWithinTolerance(mesh.vertices, weld_tolerance, WeldDistance::kEuclidean,
+                                                input_box.min, weld_cell, &topo.vertices);
   const int n = topo.VertexCount();
   stats.welded_vertices = n;
 
