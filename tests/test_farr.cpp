@@ -20,6 +20,7 @@
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "geometry/closest_point.h"
 #include "geometry/primitives.h"
 #include "planning/planner.h"
 #include "core/random.h"
@@ -35,10 +36,15 @@ using Vec3 = Eigen::Vector3d;
 // ---------------------------------------------------------------------------
 // Independent references
 
+// The closest point on a triangle as the distance field computes it.
+Vec3 FieldClosestPoint(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kNearestEdgePoint, FaceWeights::kTimesReciprocalOfSum);
+}
+
 double BruteDistance(const TriangleMesh& mesh, const Vec3& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : mesh.triangles) {
-    const Vec3 q = ClosestPointOnTriangle(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+    const Vec3 q = FieldClosestPoint(p, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
     best = std::min(best, (q - p).norm());
   }
   return best;
@@ -134,7 +140,7 @@ void ExpectFieldMatchesReferences(const TriangleMesh& mesh, const DistanceField&
     const double got = (nearest - center).norm();
     // The stored point lies on the stored triangle (to float precision).
     const auto& t = mesh.triangles[field.cell(index).triangle];
-    const Vec3 on = ClosestPointOnTriangle(nearest, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
+    const Vec3 on = FieldClosestPoint(nearest, mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
     EXPECT_LT((on - nearest).norm(), 1e-5 * scale) << "cell " << x << " " << y << " " << z;
     EXPECT_GE(got, truth - 1e-5 * scale);
     if (truth <= h) {

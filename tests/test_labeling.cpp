@@ -12,6 +12,7 @@
 
 #include "artifact/artifact.h"
 #include "core/error.h"
+#include "geometry/closest_point.h"
 #include "geometry/primitives.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
@@ -258,7 +259,8 @@ TEST(TriangleBvh, NearestPointMatchesBruteForce) {
     double best = std::numeric_limits<double>::infinity();
     for (const auto& tri : mesh.triangles) {
       const Eigen::Vector3d c =
-          TriangleBvh::ClosestPoint(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]]);
+          ClosestPointOnTriangle(p, mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]],
+                                 DegenerateTriangles::kUnguarded, FaceWeights::kTimesReciprocalOfSum);
       best = std::min(best, (c - p).squaredNorm());
     }
     const auto near = bvh.NearestPoint(p);

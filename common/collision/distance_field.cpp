@@ -11,12 +11,14 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
-#include <unordered_map>
 
 #include "artifact/artifact.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "geometry/closest_point.h"
+#include "geometry/triangle_box.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 
@@ -71,35 +73,14 @@ using Vec3 = Eigen::Vector3d;
 
 constexpr int kAlgorithmVersion = 1;
 
-int ThreadCount(int requested) { return requested > 0 ? requested : std::max(1, omp_get_max_threads()); }
+// The field's geometric kernels as its recorded results were computed with
+// (geometry/closest_point.h, geometry/triangle_box.h): degenerate triangles
+// of the input are kept, so the closest point guards its divisions.
+constexpr DegenerateTriangles kDegenerate = DegenerateTriangles::kNearestEdgePoint;
+constexpr FaceWeights kFaceWeights = FaceWeights::kTimesReciprocalOfSum;
+constexpr SatRounding kOctreeRounding = SatRounding::kPerAxisHalfExtent;
 
-// Separating-axis test of a triangle against an axis-aligned box given by its
-// centre and half-extents (13 axes: the box's three, the triangle's normal,
-// the nine edge cross products).
-bool TriangleOverlapsBox(const Vec3& center, const Vec3& half, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 v0 = a - center, v1 = b - center, v2 = c - center;
-  for (int k = 0; k < 3; ++k) {
-    const double lo = std::min({v0[k], v1[k], v2[k]}), hi = std::max({v0[k], v1[k], v2[k]});
-    if (lo > half[k] || hi < -half[k]) return false;
-  }
-  const Vec3 f[3] = {v1 - v0, v2 - v1, v0 - v2};
-  for (int i = 0; i < 3; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      // axis = e_k x f[i]
-      Vec3 axis = Vec3::Zero();
-      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
-      axis[k1] = -f[i][k2];
-      axis[k2] = f[i][k1];
-      const double p0 = axis.dot(v0), p1 = axis.dot(v1), p2 = axis.dot(v2);
-      const double r = half[k1] * std::abs(axis[k1]) + half[k2] * std::abs(axis[k2]);
-      if (std::min({p0, p1, p2}) > r || std::max({p0, p1, p2}) < -r) return false;
-    }
-  }
-  const Vec3 n = f[0].cross(v2 - v0);
-  const double d = n.dot(v0);
-  const double r = half.dot(n.cwiseAbs());
-  return std::abs(d) <= r;
-}
+int ThreadCount(int requested) { return requested > 0 ? requested : std::max(1, omp_get_max_threads()); }
 
 // 2D helpers for the scanline crossings (top-left rule on canonically
 // ordered edges: a line through a shared edge or vertex is counted once).
@@ -141,52 +122,7 @@ std::string FormatGiB(std::uint64_t bytes) {
 }  // namespace
 
 // ---------------------------------------------------------------------------
-// Geometry
-
-Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  // Voronoi regions of the vertices, edges and face, in barycentric terms.
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double denom = d1 - d3;
-    return denom > 0 ? Vec3(a + (d1 / denom) * ab) : a;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double denom = d2 - d6;
-    return denom > 0 ? Vec3(a + (d2 / denom) * ac) : a;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double denom = (d4 - d3) + (d5 - d6);
-    return denom > 0 ? Vec3(b + ((d4 - d3) / denom) * (c - b)) : b;
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {
-    // Degenerate (collinear) triangle: the nearest of its three edges.
-    auto on_segment = [&p](const Vec3& s, const Vec3& t) {
-      const Vec3 d = t - s;
-      const double len2 = d.squaredNorm();
-      const double u = len2 > 0 ? std::clamp((p - s).dot(d) / len2, 0.0, 1.0) : 0.0;
-      return Vec3(s + u * d);
-    };
-    Vec3 best = on_segment(a, b);
-    for (const Vec3& q : {on_segment(b, c), on_segment(c, a)}) {
-      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
-    }
-    return best;
-  }
-  const double denom = 1.0 / sum;
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
+// Content hash
 
 std::string MeshContentHash(const TriangleMesh& mesh) {
   Hasher hasher;
@@ -376,7 +312,9 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
           const std::int64_t begin = static_cast<std::int64_t>(my_lists.size());
           for (std::int32_t k = 0; k < node.count; ++k) {
             const std::int32_t t = lists[node.begin + k];
-            if (TriangleOverlapsBox(center, half_extent, tri_[t][0], tri_[t][1], tri_[t][2])) my_lists.push_back(t);
+            if (TriangleOverlapsBox(center, half_extent, tri_[t][0], tri_[t][1], tri_[t][2], kOctreeRounding)) {
+              my_lists.push_back(t);
+            }
           }
           const auto count = static_cast<std::int32_t>(static_cast<std::int64_t>(my_lists.size()) - begin);
           if (count > 0) my_nodes.push_back({cx, cy, cz, begin, count});
@@ -429,24 +367,7 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
 
 std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles(bool* closed) const {
   // Vertices merged by exact position.
-  struct KeyHash {
-    std::size_t operator()(const std::array<double, 3>& k) const {
-      std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-      for (double d : k) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &d, sizeof bits);
-        h ^= bits + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
-      }
-      return static_cast<std::size_t>(h);
-    }
-  };
-  std::unordered_map<std::array<double, 3>, int, KeyHash> ids;
-  ids.reserve(mesh_.vertices.size() * 2);
-  std::vector<int> merged(mesh_.vertices.size());
-  for (std::size_t i = 0; i < mesh_.vertices.size(); ++i) {
-    const Vec3& v = mesh_.vertices[i];
-    merged[i] = ids.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<int>(ids.size())).first->second;
-  }
+  const std::vector<int> merged = WeldExactPositions(mesh_.vertices);
   // Unique triangles (the same three positions in any order count once:
   // double-sided exports and duplicates), degenerate ones dropped.
   struct Tri {
@@ -718,7 +639,8 @@ void DistanceFieldBuilder::ComputeBand() {
           std::int32_t best_t = -1;
           Vec3 best_p = center;
           for (std::int32_t t : candidates) {
-            const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2]);
+            const Vec3 q =
+                ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2], kDegenerate, kFaceWeights);
             const double d = (q - center).squaredNorm();
             if (d < best || (d == best && t < best_t)) best = d, best_t = t, best_p = q;
           }
@@ -823,7 +745,7 @@ void DistanceFieldBuilder::Propagate() {
         for (std::int32_t t : neighbours) {
           if (t < 0 || std::find(tried, tried + n_tried, t) != tried + n_tried) continue;
           tried[n_tried++] = t;
-          const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2]);
+          const Vec3 q = ClosestPointOnTriangle(center, tri_[t][0], tri_[t][1], tri_[t][2], kDegenerate, kFaceWeights);
           const double d = (q - center).squaredNorm();
           if (d < best || (d == best && t < best_t)) best = d, best_t = t, best_p = q;
         }

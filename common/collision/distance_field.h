@@ -210,9 +210,4 @@ std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh
                                                         const std::string& units = "", const std::string& frame = "",
                                                         CachedFieldInfo* info = nullptr);
 
-// Exact closest point on triangle (a, b, c) to p (degenerate triangles
-// included). Shared by the field, the FARR checker and the tests.
-Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                       const Eigen::Vector3d& c);
-
 }  // namespace ausbau

@@ -9,11 +9,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <unordered_map>
 #include <stdexcept>
 
 #include "core/error.h"
 #include "core/log.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 
@@ -172,18 +172,6 @@ struct PairCache {
   }
 };
 
-struct PositionKeyHash {
-  std::size_t operator()(const std::array<double, 3>& k) const {
-    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-    for (double d : k) {
-      std::uint64_t bits;
-      std::memcpy(&bits, &d, sizeof bits);
-      h = SplitMix(h ^ bits);
-    }
-    return static_cast<std::size_t>(h);
-  }
-};
-
 }  // namespace
 
 // Per mesh: its vertices and triangles, each triangle's plane, and its
@@ -204,12 +192,7 @@ struct FarrCollisionChecker::MeshData {
       const auto& tri = triangles[t];
       normals[t] = (vertices[tri[1]] - vertices[tri[0]]).cross(vertices[tri[2]] - vertices[tri[0]]);
     }
-    std::unordered_map<std::array<double, 3>, int, PositionKeyHash> ids;
-    std::vector<int> merged(vertices.size());
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
-      const Vec3& v = vertices[i];
-      merged[i] = ids.emplace(std::array<double, 3>{v.x(), v.y(), v.z()}, static_cast<int>(ids.size())).first->second;
-    }
+    const std::vector<int> merged = WeldExactPositions(vertices);
     struct Use {
       std::uint64_t edge;
       std::int32_t tri;

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "geometry/weld.h"
+
 namespace ausbau {
 namespace {
 
@@ -16,18 +18,6 @@ namespace {
 // direction only makes the separating-axis depth larger (conservative), never
 // smaller.
 constexpr double kSameDirection = 1e-3;
-
-struct PositionKey {
-  std::array<std::uint64_t, 3> bits;
-  bool operator==(const PositionKey& other) const { return bits == other.bits; }
-};
-struct PositionHash {
-  std::size_t operator()(const PositionKey& k) const {
-    std::size_t h = 1469598103934665603ull;
-    for (auto b : k.bits) h = (h ^ b) * 1099511628211ull;
-    return h;
-  }
-};
 
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
@@ -165,43 +155,9 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   double magnitude = stored_magnitude;
   for (const auto& v : mesh.vertices) magnitude = std::max(magnitude, v.cwiseAbs().maxCoeff());
   const double weld = std::max(1e-6 * magnitude, 1e-12);
-  std::unordered_map<PositionKey, std::vector<int>, PositionHash> cells;
-  std::vector<int> welded(mesh.vertices.size());
   std::vector<Eigen::Vector3d> positions;
-  auto cell_of = [&](const Eigen::Vector3d& p) {
-    PositionKey key;
-    for (int k = 0; k < 3; ++k) key.bits[k] = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(p[k] / weld)));
-    return key;
-  };
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d& p = mesh.vertices[i];
-    const PositionKey home = cell_of(p);
-    int found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx) {
-      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          PositionKey key = home;
-          key.bits[0] += dx;
-          key.bits[1] += dy;
-          key.bits[2] += dz;
-          const auto it = cells.find(key);
-          if (it == cells.end()) continue;
-          for (int w : it->second) {
-            if ((positions[w] - p).cwiseAbs().maxCoeff() <= weld) {
-              found = w;
-              break;
-            }
-          }
-        }
-      }
-    }
-    if (found < 0) {
-      found = static_cast<int>(positions.size());
-      positions.push_back(p);
-      cells[home].push_back(found);
-    }
-    welded[i] = found;
-  }
+  const std::vector<int> welded = WeldWithinTolerance(mesh.vertices, weld, WeldDistance::kLargestCoordinate,
+                                                      Eigen::Vector3d::Zero(), weld, &positions);
   // Triangles are joined across their edges. Where several solids of a soup
   // share an edge (a plate tiled by boxes shares faces and edges), an edge
   // has more than two triangles: each triangle is joined to the one met

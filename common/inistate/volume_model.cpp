@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numeric>
 #include <queue>
 
 #include "core/error.h"
 #include "collision/rigid_depth.h"
 #include "core/log.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 
@@ -57,14 +57,10 @@ int FindRoot(std::vector<int>& parent, int x) {
 // Connected components of D's triangles over shared vertex positions (CAD
 // exports often duplicate vertices along seams), numbered by first triangle.
 std::vector<int> TriangleParts(const TriangleMesh& mesh, int* count) {
-  std::map<std::array<double, 3>, int> welded;
-  std::vector<int> vertex_id(mesh.vertices.size());
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    const Eigen::Vector3d& p = mesh.vertices[v];
-    vertex_id[v] = welded.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int>(welded.size()))
-                       .first->second;
-  }
-  std::vector<int> parent(welded.size());
+  const std::vector<int> vertex_id = WeldExactPositions(mesh.vertices);
+  // Welded indices count up from 0: their number is the largest plus one.
+  const int welded_count = vertex_id.empty() ? 0 : *std::max_element(vertex_id.begin(), vertex_id.end()) + 1;
+  std::vector<int> parent(welded_count);
   std::iota(parent.begin(), parent.end(), 0);
   for (const auto& t : mesh.triangles) {
     const int a = FindRoot(parent, vertex_id[t[0]]);
@@ -73,7 +69,7 @@ std::vector<int> TriangleParts(const TriangleMesh& mesh, int* count) {
       if (a != b) parent[b] = a;
     }
   }
-  std::vector<int> number(welded.size(), -1);
+  std::vector<int> number(welded_count, -1);
   std::vector<int> part(mesh.triangles.size());
   *count = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

@@ -6,7 +6,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -14,7 +13,10 @@
 
 #include "core/error.h"
 #include "core/log.h"
+#include "geometry/closest_point.h"
 #include "geometry/principal_axes.h"
+#include "geometry/triangle_box.h"
+#include "geometry/weld.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -34,94 +36,9 @@ double SolidAngle(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 2.0 * std::atan2(num, den);
 }
 
-// Closest point on triangle (a, b, c) to p, with barycentrics (Ericson,
-// Real-Time Collision Detection, 5.1.5).
-Vec3 ClosestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, Vec3* bary) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) {
-    *bary = {1, 0, 0};
-    return a;
-  }
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) {
-    *bary = {0, 1, 0};
-    return b;
-  }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double v = d1 / (d1 - d3);
-    *bary = {1 - v, v, 0};
-    return a + v * ab;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) {
-    *bary = {0, 0, 1};
-    return c;
-  }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double w = d2 / (d2 - d6);
-    *bary = {1 - w, 0, w};
-    return a + w * ac;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    *bary = {0, 1 - w, w};
-    return b + w * (c - b);
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {  // degenerate triangle: fall back to the nearest vertex
-    const double da = (p - a).squaredNorm(), db = (p - b).squaredNorm(), dc = (p - c).squaredNorm();
-    if (da <= db && da <= dc) {
-      *bary = {1, 0, 0};
-      return a;
-    }
-    if (db <= dc) {
-      *bary = {0, 1, 0};
-      return b;
-    }
-    *bary = {0, 0, 1};
-    return c;
-  }
-  const double v = vb / sum, w = vc / sum;
-  *bary = {1 - v - w, v, w};
-  return a + ab * v + ac * w;
-}
-
 double BoxDistanceSquared(const Aabb& box, const Vec3& p) {
   const Vec3 d = (box.min - p).cwiseMax(p - box.max).cwiseMax(Vec3::Zero());
   return d.squaredNorm();
-}
-
-// Triangle (a, b, c), given relative to the box centre, against the box of
-// half size h: separating axis test over the 13 axes (Akenine-Moeller 2001).
-// Touching counts as overlap.
-bool TriangleBoxOverlap(const Vec3& a, const Vec3& b, const Vec3& c, double h) {
-  // The box's face normals.
-  for (int k = 0; k < 3; ++k) {
-    if (std::min({a[k], b[k], c[k]}) > h || std::max({a[k], b[k], c[k]}) < -h) return false;
-  }
-  const Vec3 e[3] = {b - a, c - b, a - c};
-  // The triangle's normal.
-  const Vec3 n = e[0].cross(e[1]);
-  if (std::abs(n.dot(a)) > h * n.cwiseAbs().sum()) return false;
-  // Edge x box axis.
-  for (const Vec3& edge : e) {
-    for (int k = 0; k < 3; ++k) {
-      Vec3 axis = Vec3::Zero();
-      axis[(k + 1) % 3] = -edge[(k + 2) % 3];
-      axis[(k + 2) % 3] = edge[(k + 1) % 3];
-      const double r = h * axis.cwiseAbs().sum();
-      if (r == 0) continue;
-      const double pa = axis.dot(a), pb = axis.dot(b), pc = axis.dot(c);
-      if (std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r) return false;
-    }
-  }
-  return true;
 }
 
 // ---------------------------------------------------------------- topology
@@ -129,20 +46,6 @@ bool TriangleBoxOverlap(const Vec3& a, const Vec3& b, const Vec3& c, double h) {
 struct Topology {
   std::vector<int> closed, open;  // triangle indices
   std::vector<bool> flip;         // per triangle of the mesh
-};
-
-struct PositionHash {
-  std::size_t operator()(const Vec3& v) const {
-    std::size_t h = 1469598103934665603ull;
-    for (int k = 0; k < 3; ++k) {
-      const double x = v[k] == 0.0 ? 0.0 : v[k];  // -0 == 0
-      std::uint64_t bits;
-      std::memcpy(&bits, &x, sizeof bits);
-      h = (h ^ bits) * 1099511628211ull;
-      h ^= h >> 29;
-    }
-    return h;
-  }
 };
 
 int Find(std::vector<int>& parent, int x) {
@@ -156,13 +59,10 @@ int Find(std::vector<int>& parent, int x) {
 // Splits the triangles into closed and open edge-connected components
 // (vertices welded by position) and orients them (see voxel_grid.h).
 Topology AnalyzeTopology(const TriangleMesh& mesh) {
-  const int nv = static_cast<int>(mesh.vertices.size()), nt = static_cast<int>(mesh.triangles.size());
-  std::vector<int> weld(nv);
-  {
-    std::unordered_map<Vec3, int, PositionHash> ids;
-    ids.reserve(nv);
-    for (int v = 0; v < nv; ++v) weld[v] = ids.emplace(mesh.vertices[v], v).first->second;
-  }
+  const int nt = static_cast<int>(mesh.triangles.size());
+  // Welded indices count in order of first appearance, so they order the
+  // vertices as their first input indices do (the edge balance below).
+  const std::vector<int> weld = WeldExactPositions(mesh.vertices);
   std::vector<int> parent(nt);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<bool> valid(nt, false);
@@ -386,8 +286,11 @@ WindingBvh::Closest WindingBvh::ClosestPoint(const Vec3& p) const {
     if (n.left < 0) {
       for (int t = n.begin; t < n.end; ++t) {
         const Tri& tri = tris_[t];
+        // The voxelizer's arithmetic, as its results were recorded: a
+        // triangle without area answers its nearest corner.
         Vec3 bary;
-        const Vec3 q = ClosestOnTriangle(p, tri.a, tri.b, tri.c, &bary);
+        const Vec3 q = ClosestPointOnTriangle(p, tri.a, tri.b, tri.c, DegenerateTriangles::kNearestCorner,
+                                              FaceWeights::kDividedBySum, &bary);
         const double d2 = (q - p).squaredNorm();
         if (d2 < best_d2) {
           best_d2 = d2;
@@ -499,7 +402,9 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
 
   // 1. Surface voxels: every voxel whose box a triangle touches.
   {
+    // Cubic voxels, so the test rounds as for a cube (as recorded).
     const double half = 0.5 * h * (1 + 1e-9);
+    const Vec3 half_extent = Vec3::Constant(half);
     const std::int64_t nt = static_cast<std::int64_t>(mesh.triangles.size());
     ParallelProgress progress(options.progress, phase + ": surface", nt);
 #pragma omp parallel for schedule(dynamic, 64)
@@ -522,7 +427,7 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
             const std::int64_t index = geometry.Index(i, j, k);
             if (__atomic_load_n(&cells[index], __ATOMIC_RELAXED) == kVoxelSurface) continue;
             const Vec3 center = geometry.Center(i, j, k);
-            if (TriangleBoxOverlap(a - center, b - center, c - center, half)) {
+            if (TriangleOverlapsBox(center, half_extent, a, b, c, SatRounding::kCubeHalfSize)) {
               __atomic_store_n(&cells[index], static_cast<std::uint8_t>(kVoxelSurface), __ATOMIC_RELAXED);
             }
           }

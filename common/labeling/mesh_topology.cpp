@@ -10,63 +10,10 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "geometry/weld.h"
 
 namespace ausbau {
 namespace {
-
-// ---------------------------------------------------------------- welding
-
-struct CellKey {
-  std::int64_t x, y, z;
-  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-};
-struct CellKeyHash {
-  std::size_t operator()(const CellKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
-    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
-    return static_cast<std::size_t>(h);
-  }
-};
-
-// Input vertex -> welded vertex; the first vertex of a cluster (input order)
-// is its representative and keeps its position.
-std::vector<int> Weld(const std::vector<Eigen::Vector3d>& points, const Aabb& box, double tolerance,
-                      std::vector<Eigen::Vector3d>* welded) {
-  const double diagonal = box.Diagonal();
-  const double cell = tolerance > 0 ? tolerance : (diagonal > 0 ? diagonal * 1e-9 : 1.0);
-  const double tolerance_sq = tolerance * tolerance;
-  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> grid;
-  grid.reserve(points.size());
-  std::vector<int> map(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const Eigen::Vector3d rel = (points[i] - box.min) / cell;
-    const CellKey key{static_cast<std::int64_t>(std::floor(rel.x())), static_cast<std::int64_t>(std::floor(rel.y())),
-                      static_cast<std::int64_t>(std::floor(rel.z()))};
-    int found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx) {
-      for (int dy = -1; dy <= 1 && found < 0; ++dy) {
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          const auto it = grid.find({key.x + dx, key.y + dy, key.z + dz});
-          if (it == grid.end()) continue;
-          for (int w : it->second) {
-            if (((*welded)[w] - points[i]).squaredNorm() <= tolerance_sq) {
-              found = w;
-              break;
-            }
-          }
-        }
-      }
-    }
-    if (found < 0) {
-      found = static_cast<int>(welded->size());
-      welded->push_back(points[i]);
-      grid[key].push_back(found);
-    }
-    map[i] = found;
-  }
-  return map;
-}
 
 // Fixed, deliberately irregular directions for ray-parity tests (no axis
 // alignment, so rays rarely run along edges of CAD meshes).
@@ -95,8 +42,13 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   const double input_diagonal = input_box.Diagonal();
 
   // 1. Weld.
-  topo.welded_of_original = Weld(mesh.vertices, input_box, std::max(0.0, options.weld_tolerance) * input_diagonal,
-                                 &topo.vertices);
+  // Cells of the weld's grid are counted from the input's box; with no
+  // tolerance they are still small, so that few vertices share one.
+  const double weld_tolerance = std::max(0.0, options.weld_tolerance) * input_diagonal;
+  const double weld_cell =
+      weld_tolerance > 0 ? weld_tolerance : (input_diagonal > 0 ? input_diagonal * 1e-9 : 1.0);
+  topo.welded_of_original = WeldWithinTolerance(mesh.vertices, weld_tolerance, WeldDistance::kEuclidean,
+                                                input_box.min, weld_cell, &topo.vertices);
   const int n = topo.VertexCount();
   stats.welded_vertices = n;
 
@@ -358,223 +310,6 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   }
   topo.diagonal = topo.bounds.Diagonal();
   return topo;
-}
-
-// ---------------------------------------------------------------- BVH
-
-Eigen::Vector3d TriangleBvh::ClosestPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
-
-TriangleBvh::TriangleBvh(const std::vector<Eigen::Vector3d>& vertices,
-                         const std::vector<std::array<int, 3>>& triangles) {
-  const int m = static_cast<int>(triangles.size());
-  if (m == 0) return;
-  std::vector<Eigen::Vector3d> centroids(m);
-  for (int t = 0; t < m; ++t) {
-    centroids[t] = (vertices[triangles[t][0]] + vertices[triangles[t][1]] + vertices[triangles[t][2]]) / 3.0;
-  }
-  std::vector<int> order(m);
-  std::iota(order.begin(), order.end(), 0);
-  nodes_.reserve(2 * static_cast<std::size_t>(m) / 2 + 8);
-  nodes_.push_back(Node{});
-  a_.resize(m);
-  b_.resize(m);
-  c_.resize(m);
-  id_.resize(m);
-  // Build permutes `order`; afterwards fill the leaf arrays in that order.
-  Build(0, 0, m, order, centroids);
-  slot_of_id_.resize(m);
-  for (int s = 0; s < m; ++s) {
-    const auto& tri = triangles[order[s]];
-    a_[s] = vertices[tri[0]];
-    b_[s] = vertices[tri[1]];
-    c_[s] = vertices[tri[2]];
-    id_[s] = order[s];
-    slot_of_id_[order[s]] = s;
-  }
-  // Leaf boxes: recomputed from the triangles (Build used the order only).
-  for (int i = static_cast<int>(nodes_.size()) - 1; i >= 0; --i) {
-    Node& node = nodes_[i];
-    Aabb box;
-    if (node.count > 0) {
-      for (int s = node.first; s < node.first + node.count; ++s) {
-        box.Extend(a_[s]);
-        box.Extend(b_[s]);
-        box.Extend(c_[s]);
-      }
-    } else {
-      for (int child = node.first; child <= node.first + 1; ++child) {
-        box.Extend(Eigen::Vector3d(nodes_[child].min[0], nodes_[child].min[1], nodes_[child].min[2]));
-        box.Extend(Eigen::Vector3d(nodes_[child].max[0], nodes_[child].max[1], nodes_[child].max[2]));
-      }
-    }
-    for (int k = 0; k < 3; ++k) {
-      node.min[k] = box.min[k];
-      node.max[k] = box.max[k];
-    }
-  }
-}
-
-void TriangleBvh::Build(int index, int begin, int end, std::vector<int>& order,
-                        const std::vector<Eigen::Vector3d>& centroids) {
-  if (end - begin <= 4) {
-    nodes_[index].first = begin;
-    nodes_[index].count = end - begin;
-    return;
-  }
-  Aabb box;
-  for (int i = begin; i < end; ++i) box.Extend(centroids[order[i]]);
-  int axis = 0;
-  const Eigen::Vector3d size = box.Size();
-  if (size.y() > size[axis]) axis = 1;
-  if (size.z() > size[axis]) axis = 2;
-  const int middle = begin + (end - begin) / 2;
-  std::nth_element(order.begin() + begin, order.begin() + middle, order.begin() + end, [&](int x, int y) {
-    const double cx = centroids[x][axis], cy = centroids[y][axis];
-    return cx != cy ? cx < cy : x < y;
-  });
-  // Children next to each other: left at `first`, right at `first + 1`.
-  const int left = static_cast<int>(nodes_.size());
-  nodes_.push_back(Node{});
-  nodes_.push_back(Node{});
-  nodes_[index].first = left;
-  nodes_[index].count = 0;
-  Build(left, begin, middle, order, centroids);
-  Build(left + 1, middle, end, order, centroids);
-}
-
-namespace {
-
-inline double BoxDistanceSquared(const double* min, const double* max, const Eigen::Vector3d& q) {
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double below = min[k] - q[k], above = q[k] - max[k];
-    const double d = below > 0 ? below : (above > 0 ? above : 0.0);
-    d2 += d * d;
-  }
-  return d2;
-}
-
-}  // namespace
-
-template <typename Skip>
-TriangleBvh::Nearest TriangleBvh::Search(const Eigen::Vector3d& q, Nearest best, const Skip& skip) const {
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (BoxDistanceSquared(node.min, node.max, q) >= best.distance_squared) continue;
-    if (node.count > 0) {
-      for (int s = node.first; s < node.first + node.count; ++s) {
-        if (skip(id_[s])) continue;
-        const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
-        const double d2 = (point - q).squaredNorm();
-        if (d2 < best.distance_squared) {
-          best.distance_squared = d2;
-          best.point = point;
-          best.triangle = id_[s];
-        }
-      }
-      continue;
-    }
-    const int left = node.first, right = node.first + 1;
-    const double dl = BoxDistanceSquared(nodes_[left].min, nodes_[left].max, q);
-    const double dr = BoxDistanceSquared(nodes_[right].min, nodes_[right].max, q);
-    // Push the farther child first so that the nearer one is searched first.
-    if (dl <= dr) {
-      if (dr < best.distance_squared) stack[top++] = right;
-      if (dl < best.distance_squared) stack[top++] = left;
-    } else {
-      if (dl < best.distance_squared) stack[top++] = left;
-      if (dr < best.distance_squared) stack[top++] = right;
-    }
-  }
-  return best;
-}
-
-TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, int hint) const {
-  Nearest best;
-  if (nodes_.empty()) return best;
-  if (hint >= 0 && hint < TriangleCount()) {
-    // Start the bound from the hinted triangle. The search then finds it again
-    // (or a strictly nearer one): the answer does not depend on the hint.
-    const int s = slot_of_id_[hint];
-    const Eigen::Vector3d point = ClosestPoint(q, a_[s], b_[s], c_[s]);
-    best.distance_squared = std::nextafter((point - q).squaredNorm(), std::numeric_limits<double>::infinity());
-  }
-  return Search(q, best, [](int) { return false; });
-}
-
-TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, const std::function<bool(int)>& skip) const {
-  if (nodes_.empty()) return Nearest{};
-  return Search(q, Nearest{}, skip);
-}
-
-int TriangleBvh::CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
-                                const std::function<bool(int)>& skip) const {
-  if (nodes_.empty()) return 0;
-  Eigen::Vector3d inverse;
-  for (int k = 0; k < 3; ++k) inverse[k] = 1.0 / direction[k];
-  int crossings = 0;
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    double t0 = t_min, t1 = std::numeric_limits<double>::infinity();
-    bool hit = true;
-    for (int k = 0; k < 3 && hit; ++k) {
-      double ta = (node.min[k] - origin[k]) * inverse[k];
-      double tb = (node.max[k] - origin[k]) * inverse[k];
-      if (ta > tb) std::swap(ta, tb);
-      t0 = std::max(t0, ta);
-      t1 = std::min(t1, tb);
-      hit = t0 <= t1;
-    }
-    if (!hit) continue;
-    if (node.count == 0) {
-      stack[top++] = node.first;
-      stack[top++] = node.first + 1;
-      continue;
-    }
-    for (int s = node.first; s < node.first + node.count; ++s) {
-      if (skip && skip(id_[s])) continue;
-      // Moeller-Trumbore.
-      const Eigen::Vector3d e1 = b_[s] - a_[s], e2 = c_[s] - a_[s];
-      const Eigen::Vector3d pv = direction.cross(e2);
-      const double det = e1.dot(pv);
-      if (std::abs(det) < 1e-300) continue;
-      const double inv_det = 1.0 / det;
-      const Eigen::Vector3d tv = origin - a_[s];
-      const double u = tv.dot(pv) * inv_det;
-      if (u < 0 || u > 1) continue;
-      const Eigen::Vector3d qv = tv.cross(e1);
-      const double v = direction.dot(qv) * inv_det;
-      if (v < 0 || u + v > 1) continue;
-      const double t = e2.dot(qv) * inv_det;
-      if (t > t_min) ++crossings;
-    }
-  }
-  return crossings;
 }
 
 // ---------------------------------------------------------------- grid solids

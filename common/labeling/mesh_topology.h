@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "geometry/mesh.h"
+#include "geometry/triangle_bvh.h"
 
 namespace ausbau {
 
@@ -106,53 +107,6 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
 // rays), 1 otherwise. Such vertices cannot move on their own nor touch S, so
 // label quality (clip/rigid separation) is measured without them.
 std::vector<std::uint8_t> ExposedVertices(const MeshTopology& topology);
-
-// A bounding volume hierarchy over triangles (binary, median split on the
-// widest centroid axis, up to 4 triangles a leaf) with exact queries.
-class TriangleBvh {
- public:
-  TriangleBvh() = default;
-  TriangleBvh(const std::vector<Eigen::Vector3d>& vertices, const std::vector<std::array<int, 3>>& triangles);
-
-  struct Nearest {
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();
-    double distance_squared = std::numeric_limits<double>::infinity();
-    int triangle = -1;
-  };
-  // The closest point of the mesh to q (exact point-triangle distances).
-  // `hint`: a triangle likely to be near (the previous answer) to start the
-  // pruning bound from. Ties go to the triangle found first (deterministic).
-  Nearest NearestPoint(const Eigen::Vector3d& q, int hint = -1) const;
-  // The same over the triangles for which skip(triangle) is false.
-  Nearest NearestPoint(const Eigen::Vector3d& q, const std::function<bool(int)>& skip) const;
-
-  // Number of triangles the ray origin + t * direction, t > t_min, crosses;
-  // triangles for which skip(triangle) is true are ignored.
-  int CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
-                     const std::function<bool(int)>& skip = nullptr) const;
-
-  int TriangleCount() const { return static_cast<int>(a_.size()); }
-
-  // The closest point to p on triangle (a, b, c) (Ericson, Real-Time
-  // Collision Detection, 5.1.5).
-  static Eigen::Vector3d ClosestPoint(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const Eigen::Vector3d& c);
-
- private:
-  struct Node {
-    double min[3], max[3];
-    int first;  // leaf: first slot in the triangle arrays; inner: index of the left child (right = left + 1)
-    int count;  // leaf: number of triangles (> 0); inner: 0
-  };
-  template <typename Skip>
-  Nearest Search(const Eigen::Vector3d& q, Nearest best, const Skip& skip) const;
-  void Build(int index, int begin, int end, std::vector<int>& order, const std::vector<Eigen::Vector3d>& centroids);
-
-  std::vector<Node> nodes_;
-  std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners in leaf order
-  std::vector<int> id_;                     // input triangle index in leaf order
-  std::vector<int> slot_of_id_;             // input triangle index -> slot
-};
 
 // A closed, consistently oriented (outward) surface of a union of cells of a
 // rectilinear grid: cell (i, j, k) spans [xs[i], xs[i+1]] x [ys[j], ys[j+1]] x
