@@ -18,7 +18,7 @@
 //      adaptive FARR over all samples, replayed in the planner's order in
 //      interleaved chunks (table 11).
 //
-//   ausbau-farr-bench [--scenes a,b,...] [--resolution 256] [--planner cr-rrtc]
+//   ausbau-farr-bench [--scenes a,b,...] [--field-cells 256] [--planner cr-rrtc]
 //                     [--seed 1] [--time-limit 60] [--max-samples 200000]
 //                     [--repetitions 2] [--threads 0] [--output-dir out/bench-farr]
 //

@@ -2,7 +2,7 @@
 #
 #   make -f pipelines/inistate.mk SCENE=path/to/scene.yaml OUT=dir [SEED=1] [TIME_LIMIT=60] ...
 #
-# With VALIDITY=rigid-exact (README "Rigid and deformable") only
+# With VALIDITY=rigid-exact (docs/rigid-exact.md) only
 # plan -> smooth -> verdict [-> report] run: D's rigid solids are checked
 # exactly, its fasteners are those that intersect S at the installed pose.
 # The volume modes (VALIDITY=labeled-mliv, ...) run the whole chain. The
@@ -93,7 +93,7 @@ WITH_REPORT := $(strip $(WITH_REPORT))
 
 TIMES := $(OUT)/times
 VOLUME_MODE := $(filter-out collision rigid-exact,$(VALIDITY))
-# rigid-exact (README "Rigid and deformable"): exact shell depths, no voxels,
+# rigid-exact (docs/rigid-exact.md): exact shell depths, no voxels,
 # labels, tau or distance fields.
 EXACT_MODE := $(filter rigid-exact,$(VALIDITY))
 

@@ -1,7 +1,7 @@
 // The hard rigid constraint: D's rigid part may never penetrate S deeper
 // than a tolerance, measured exactly on the meshes, however thin S is.
 //
-// Which part of D is rigid (the rule; README "Rigid and deformable"):
+// Which part of D is rigid (the rule; docs/rigid-exact.md):
 // D and S are split into shells (geometry/shells.h: the closed solids a CAD
 // export is made of). Chapter 5 of the thesis rests on one premise: where D
 // intersects S at the installed pose, a fastener (a snap clip, a friction

@@ -13,15 +13,64 @@
 
 namespace ausbau {
 
+namespace {
+
+PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  RrtConnectSettings settings;
+  settings.randomize_parameters = options.planner == "cr-rrtc";
+  settings.u = options.u;
+  settings.range_max = options.range_max;
+  return RunRrtConnect(problem, motion, settings, options);
+}
+
+PlanResult RunEstPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  return RunEst(problem, motion, EstSettings{options.est_range, options.est_range}, options);
+}
+
+PlanResult RunPrmPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  PrmSettings settings;
+  settings.threads = options.threads;
+  PrmResult result = RunPrm(problem, motion, {PrmQuery{problem.start, problem.goal}}, settings, options);
+  return result.queries.front();
+}
+
+// The planner registry: a new planner is its own file plus one row here;
+// --planner, its checks and its error message follow from this table.
+struct PlannerEntry {
+  const char* name;
+  PlanResult (*run)(const PlanningProblem&, const MotionChecker&, const PlannerOptions&);
+};
+const PlannerEntry kPlanners[] = {
+    {"rrt", RunRrt},              // single-tree RRT (single_tree_planners.h)
+    {"rrtc", RunRrtcVariant},     // RRT-Connect with fixed u and range (rrt_connect.h)
+    {"cr-rrtc", RunRrtcVariant},  // RRT-Connect with randomized parameters (thesis ch. 3)
+    {"est", RunEstPlanner},       // EST (single_tree_planners.h)
+    {"prm", RunPrmPlanner},       // PRM (prm.h)
+};
+
+const PlannerEntry* FindPlanner(const std::string& name) {
+  for (const PlannerEntry& entry : kPlanners) {
+    if (name == entry.name) return &entry;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 const std::vector<std::string>& PlannerNames() {
-  static const std::vector<std::string> names = {"rrt", "rrtc", "cr-rrtc", "est", "prm"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const PlannerEntry& entry : kPlanners) out.push_back(entry.name);
+    return out;
+  }();
   return names;
 }
 
 void PlannerOptions::Check() const {
-  const auto& names = PlannerNames();
-  if (std::find(names.begin(), names.end(), planner) == names.end()) {
-    throw InputError("--planner: unknown planner '" + planner + "' (expected rrt, rrtc, cr-rrtc, est or prm)");
+  if (FindPlanner(planner) == nullptr) {
+    std::string expected;
+    for (const std::string& name : PlannerNames()) expected += (expected.empty() ? "" : ", ") + name;
+    throw InputError("--planner: unknown planner '" + planner + "' (expected " + expected + ")");
   }
   ParseSamplerKind(sampler);
   if (!(sampler_sigma >= 0) || !std::isfinite(sampler_sigma)) throw InputError("--sigma: must be >= 0");
@@ -45,32 +94,12 @@ void CheckEndpoints(const PlanningProblem& problem, const PoseValidity& validity
   if (problem.goal && !validity.IsValid(*problem.goal)) throw InputErrorAt(where, "goal pose is in collision");
 }
 
-namespace {
-
-PlanResult RunPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
-  if (options.planner == "rrt") return RunRrt(problem, motion, options);
-  if (options.planner == "est") return RunEst(problem, motion, EstSettings{options.est_range, options.est_range}, options);
-  if (options.planner == "prm") {
-    PrmSettings settings;
-    settings.threads = options.threads;
-    PrmResult result = RunPrm(problem, motion, {PrmQuery{problem.start, problem.goal}}, settings, options);
-    return result.queries.front();
-  }
-  RrtConnectSettings settings;
-  settings.randomize_parameters = options.planner == "cr-rrtc";
-  settings.u = options.u;
-  settings.range_max = options.range_max;
-  return RunRrtConnect(problem, motion, settings, options);
-}
-
-}  // namespace
-
 PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
   options.Check();
   const auto begin = std::chrono::steady_clock::now();
   const double step = options.resolution * problem.robot_diagonal;
   const MotionChecker motion(problem, validity, step);
-  PlanResult result = RunPlanner(problem, motion, options);
+  PlanResult result = FindPlanner(options.planner)->run(problem, motion, options);
   if (!result.solved()) return result;
   // Certify the path at a finer step (planning/certify.h), counting its
   // checks and time in the run's statistics.

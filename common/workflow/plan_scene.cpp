@@ -190,7 +190,7 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
     const int shell = parts->rigid_interference.front();
     if (std::isinf(parts->installed_depth[shell])) {
       LogError("not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
-               "non-convex pair whose depth is not measured (README \"Rigid and deformable\"; the volume modes, "
+               "non-convex pair whose depth is not measured (docs/rigid-exact.md; the volume modes, "
                "VALIDITY=labeled-mliv, bound such fits by tau)",
                parts->Describe(shell, true).c_str());
     } else {

@@ -89,12 +89,12 @@ int main(int argc, char** argv) {
              "not measured) and exit; the pipeline's VALIDITY=auto",
              CacheKey::kNo);
   stage.Option("--collision", &plan.collision,
-               "fcl | farr (FARR rays in front of FCL, same answers; README \"FARR collision detection\")",
+               "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)",
                CacheKey::kYes)
       ->check(CLI::IsMember({"fcl", "farr"}));
   stage.Option("--validity", &plan.validity,
                "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
-               "collision: the start may collide; README \"InIState planning\", \"Rigid and deformable\")",
+               "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
                CacheKey::kYes)
       ->check(CLI::IsMember(PlanValidityNames()));
   stage.Option("--rigid-tolerance", &plan.volume.rigid_tolerance_mm,

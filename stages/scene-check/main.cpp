@@ -3,7 +3,7 @@
 // README.md beside this file.
 #include <cstdio>
 
-#include "cli/stage_main.h"
+#include "cli/stage.h"
 #include "core/atomic_file.h"
 #include "scene/scene.h"
 #include "scene/scene_check.h"
@@ -17,9 +17,8 @@ struct SceneCheckOptions {
   bool strict = false;  // exit 1 when any finding is a warning
 };
 
-int Run(const SceneCheckOptions& options) {
-  const Scene scene = LoadScene(options.scene);
-  const SceneSummary summary = CheckScene(scene);
+int Check(const StageRun& run, const SceneCheckOptions& options) {
+  const SceneSummary summary = CheckScene(run.scene);
   std::fputs(SceneSummaryText(summary).c_str(), stdout);
   std::fflush(stdout);
   if (!options.json.empty()) WriteTextFileAtomically(options.json, SceneSummaryJson(summary));
@@ -34,13 +33,10 @@ int Run(const SceneCheckOptions& options) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   SceneCheckOptions options;
-  return RunStage(
-      {"ausbau-scene-check", "Prints what a scene contains and what in it is suspicious (units, poses, meshes)."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--json", options.json, "also write the summary and the findings as JSON (atomically)");
-        app.add_flag("--strict", options.strict, "exit 1 when any finding is a warning");
-      },
-      [&] { return Run(options); });
+  StageDefinition stage("ausbau-scene-check",
+                        "Prints what a scene contains and what in it is suspicious (units, poses, meshes).");
+  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
+  stage.Option("--json", &options.json, "also write the summary and the findings as JSON (atomically)", CacheKey::kNo);
+  stage.Flag("--strict", &options.strict, "exit 1 when any finding is a warning", CacheKey::kNo);
+  return stage.Run(argc, argv, [&](const StageRun& run) { return Check(run, options); });
 }
