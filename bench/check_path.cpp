@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
         app.add_option("--labels", labels_file, "also print the path's largest Labeled-MLIV under these labels");
         app.add_option("--voxels", voxels_file, "voxels artifact; default: voxelized here");
         app.add_option("--resolution", step, "check step as a fraction of D's diagonal")->capture_default_str();
+        AddRenamedFlag(app, "--step", "--resolution");
         app.add_option("--tolerance", tolerance, "voxels")->capture_default_str();
       },
       [&] {

@@ -405,6 +405,8 @@ int main(int argc, char** argv) {
   app.add_option("--max-samples", options.max_samples, "samples replayed per scene (evenly thinned)")
       ->capture_default_str();
   app.add_option("--repetitions", options.reps, "timing repetitions")->capture_default_str();
+  AddRenamedFlag(app, "--reps", "--repetitions");
+  AddRenamedFlag(app, "--resolution", "--field-cells");
   app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
   app.add_option("--output-dir", options.output_dir, "where farr-summary.md and farr-results.csv go")
       ->capture_default_str();

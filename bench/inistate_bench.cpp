@@ -591,6 +591,7 @@ int main(int argc, char** argv) {
   app.add_option("--triangles", options.triangles, "target triangle count of D; 0 = the families' defaults")
       ->capture_default_str();
   app.add_option("--output-dir", options.out, "output folder")->capture_default_str();
+  AddRenamedFlag(app, "--out", "--output-dir");
   app.add_option("--threads", options.threads, "threads for voxelization, labels and tau probes; 0 = all cores")
       ->capture_default_str()->check(ThreadCount());
   app.add_option("--resolution", options.resolution,

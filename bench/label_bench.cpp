@@ -204,6 +204,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool skip_single = false;
   app.add_option("--mesh", mesh_file, "label this mesh instead of the generated panel");
+  AddRenamedFlag(app, "--cells", "--panel-cells");
   app.add_option("--panel-cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
       ->capture_default_str();
   app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str()->check(ThreadCount());

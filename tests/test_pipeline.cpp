@@ -44,7 +44,7 @@ Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::strin
                     const std::string& validity = "labeled-mliv") {
   const std::string command = "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
                               " BIN=" + testing::BinDir().string() + " SCENE=" + scene.string() + " OUT=" + out.string() +
-                              " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--resolution 64' "
+                              " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--field-cells 64' "
                               "LABEL_FLAGS='--max-load-cases 300' " +
                               (validity.empty() ? "" : "VALIDITY=" + validity + " ") + variables;
   return Shell(command);
@@ -339,7 +339,7 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
   const std::string o = " -o " + (out / "v.json").string();
   // Removable: 0; a path artifact without a path: 3.
   const Outcome ok = testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path-smooth.h5").string() +
-                                                             " --tau " + (Out() / "tau.h5").string() + " --budget 1e6" + o);
+                                                             " --tau-file " + (Out() / "tau.h5").string() + " --budget 1e6" + o);
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   const std::string json = testing::ReadTextFile(out / "v.json");
   EXPECT_TRUE(HasLine(json, "\"within_budget\": true")) << json;

@@ -4,6 +4,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 
 #include "core/hash.h"
 #include "core/log.h"
@@ -87,6 +88,9 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   }
   for (const InputFileSpec& input : inputs_) {
     if (input.path->empty()) continue;
+    std::error_code error;
+    if (!std::filesystem::exists(*input.path, error)) throw InputErrorAt(*input.path, "file not found");
+    if (!std::filesystem::is_regular_file(*input.path, error)) throw InputErrorAt(*input.path, "not a regular file");
     if (input.schema.empty()) {
       provenance.inputs.emplace_back(input.role, HashFile(*input.path));
     } else {

@@ -120,6 +120,8 @@ int main(int argc, char** argv) {
                        "write DIR/distfield-static.h5 and DIR/distfield-dynamic.h5 (default: the cache)");
         app.add_option("--static-out", options.static_out, "the field of S (with --dynamic-out)");
         app.add_option("--dynamic-out", options.dynamic_out, "the field of D (with --static-out)");
+        AddRenamedFlag(app, "--resolution", "--field-cells");
+        AddRenamedFlag(app, "--memory-budget", "--memory-limit");
         app.add_flag("--force", options.force, "build even when the output is up to date");
       },
       [&] { return Run(options); });

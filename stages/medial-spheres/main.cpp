@@ -112,6 +112,8 @@ int main(int argc, char** argv) {
   stage.Option("--growth-iterations", &options.spheres.growth_iterations,
                "at most this many iterations at eps = push factor while the sphere grows; 0 = cool from the start",
                CacheKey::kYes);
+  AddRenamedFlag(stage.app(), "--step", "--push-factor");
+  AddRenamedFlag(stage.app(), "--iterations", "--cooling-iterations");
   stage.Option("--weld-tolerance", &options.weld_tolerance,
                "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
   return stage.Run(

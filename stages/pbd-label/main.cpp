@@ -159,6 +159,7 @@ int main(int argc, char** argv) {
   stage.Option("--time-step", &l.time_step, "seconds", CacheKey::kYes);
   stage.Option("--duration", &l.duration, "simulated seconds per load case", CacheKey::kYes);
   stage.Option("--solver-iterations", &l.solver_iterations, "solver iterations N per step", CacheKey::kYes);
+  AddRenamedFlag(stage.app(), "--iterations", "--solver-iterations");
   stage.Option("--stiffness", &l.stiffness, "k", CacheKey::kYes);
   stage.Option("--stiffness-formula", &l.stiffness_formula,
                "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)", CacheKey::kYes);

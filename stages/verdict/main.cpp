@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   stage.InputFile("--path", &inputs.path, "path", "the final path artifact (ausbau-path), e.g. path-smooth.h5")
       ->required();
   stage.InputFile("--tau-file", &inputs.tau, "tau", "tau artifact (ausbau-tau-estimate)");
+  AddRenamedFlag(stage.app(), "--tau", "--tau-file");
   stage.Option("--times", &inputs.times, "folder of <stage>.seconds files (scripts/timed.sh)", CacheKey::kNo);
   stage.Option("--budget", &inputs.budget, "seconds; adds within_budget (total <= budget)", CacheKey::kNo)
       ->check(CLI::NonNegativeNumber);

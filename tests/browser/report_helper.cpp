@@ -64,6 +64,7 @@ int Labels(const fs::path& scene_file, const fs::path& output) {
   for (const auto& v : scene.dynamic_mesh.vertices) {
     labels.deformability.push_back((v[axis] - box.min[axis]) / extent);
   }
+  labels.displacement = labels.deformability;
   Provenance provenance{"ausbau-test-report-helper", AUSBAU_VERSION, "", {}};
   provenance.inputs.emplace_back("scene", HashFile(scene.file));
   WriteLabelsArtifact(output, labels, provenance);
