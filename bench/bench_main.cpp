@@ -16,12 +16,12 @@
 #include "cli/stage_main.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "core/random.h"
+#include "ompl_rrtc.h"
 #include "planning/dense_check.h"
 #include "planning/planner.h"
-#include "core/random.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
-#include "ompl_rrtc.h"
 #include "split_list.h"
 
 #ifndef AUSBAU_SOURCE_DIR
@@ -212,17 +212,17 @@ int DenseCheck(const LoadedScene& s, const std::vector<Pose>& path, std::string*
 
 void PrintProgress(const RunRecord& r, int index, int total, const std::string& extra) {
   std::fprintf(stderr, "[%s %d/%d] %-18s seed %3llu  %-7s %9.3f s %11lld checks %9lld nodes%s\n", r.scene.c_str(),
-               index, total, r.label.c_str(), static_cast<unsigned long long>(r.seed),
-               r.success ? "solved" : "failed", r.time_s, static_cast<long long>(r.collision_checks),
-               static_cast<long long>(r.nodes), extra.c_str());
+               index, total, r.label.c_str(), static_cast<unsigned long long>(r.seed), r.success ? "solved" : "failed",
+               r.time_s, static_cast<long long>(r.collision_checks), static_cast<long long>(r.nodes), extra.c_str());
 }
 
 std::string ReferenceFacts(const LoadedScene& s) {
   const PlanningProblem& p = s.problem;
-  return Fmt("S: %zu triangles, D: %zu triangles; D's AABB diagonal %.4g, radius about the reference point %.4g; "
-             "translation bounds diagonal %.4g; goal: %s.",
-             p.environment.triangles.size(), p.robot.triangles.size(), p.robot_diagonal, p.robot_radius,
-             p.bounds.Diagonal(), p.goal ? "a pose" : "disassembly region");
+  return Fmt(
+      "S: %zu triangles, D: %zu triangles; D's AABB diagonal %.4g, radius about the reference point %.4g; "
+      "translation bounds diagonal %.4g; goal: %s.",
+      p.environment.triangles.size(), p.robot.triangles.size(), p.robot_diagonal, p.robot_radius, p.bounds.Diagonal(),
+      p.goal ? "a pose" : "disassembly region");
 }
 
 // How the two edge checks compare on random edges (uniform pairs shortened to
@@ -243,9 +243,10 @@ std::string EdgeCheckFacts(const PlanningProblem& problem, const PoseValidity& v
     theirs += n_ompl;
     worst = std::max(worst, MaxDisplacement(a, b, problem.robot_radius) / n_ompl / step);
   }
-  return Fmt("Edge checks on %d random edges: OMPL checks %.2f x as many poses as Ausbau; a vertex of D moves at "
-             "most %.2f Ausbau steps between OMPL's checked poses.",
-             pairs, theirs / std::max(1.0, ours), worst);
+  return Fmt(
+      "Edge checks on %d random edges: OMPL checks %.2f x as many poses as Ausbau; a vertex of D moves at "
+      "most %.2f Ausbau steps between OMPL's checked poses.",
+      pairs, theirs / std::max(1.0, ours), worst);
 }
 
 // ---- the side-by-side benchmark ----
@@ -334,19 +335,19 @@ int RunBenchmark(const Options& options) {
         }
         result.configs.push_back(c);
       }
-      const std::string edge_mode =
-          ompl_resolution == OmplResolution::kExact
-              ? std::string("motion validator stepping like Ausbau's (mode exact)")
-              : Fmt("longest valid segment fraction %.4g (mode %s)", ompl->SegmentFraction(),
-                    options.ompl_resolution.c_str());
-      result.facts.push_back(Fmt("OMPL: maximum extent %.4g, default range (0.2 x extent) %.4g; %s; Ausbau's step "
-                                 "%.4g = %g%% of D's diagonal.",
-                                 ompl->MaximumExtent(), ompl->DefaultRange(), edge_mode.c_str(), step,
-                                 options.resolution * 100));
+      const std::string edge_mode = ompl_resolution == OmplResolution::kExact
+                                        ? std::string("motion validator stepping like Ausbau's (mode exact)")
+                                        : Fmt("longest valid segment fraction %.4g (mode %s)", ompl->SegmentFraction(),
+                                              options.ompl_resolution.c_str());
+      result.facts.push_back(
+          Fmt("OMPL: maximum extent %.4g, default range (0.2 x extent) %.4g; %s; Ausbau's step "
+              "%.4g = %g%% of D's diagonal.",
+              ompl->MaximumExtent(), ompl->DefaultRange(), edge_mode.c_str(), step, options.resolution * 100));
       result.facts.push_back(EdgeCheckFacts(problem, *loaded->checker, *ompl, step));
       if (problem.bounded_point.norm() > 1e-9) {
-        result.notes.push_back("The scene's bounds apply to a point other than the reference point; OMPL samples "
-                               "the reference point in the box, validity uses the scene's bounds.");
+        result.notes.push_back(
+            "The scene's bounds apply to a point other than the reference point; OMPL samples "
+            "the reference point in the box, validity uses the scene's bounds.");
       }
     }
 
@@ -458,7 +459,8 @@ int RunBenchmark(const Options& options) {
   const std::string summary = WriteSummary(out_dir / "summary.md", machine, settings, results);
   std::fputs(summary.c_str(), stdout);
   std::fflush(stdout);
-  std::fprintf(stderr, "ausbau-bench: wrote %s/{results.csv,summary.md,ompl-benchmark.log,ompl-benchmark-<scene>.log}\n",
+  std::fprintf(stderr,
+               "ausbau-bench: wrote %s/{results.csv,summary.md,ompl-benchmark.log,ompl-benchmark-<scene>.log}\n",
                options.output_dir.c_str());
   for (const SceneResult& r : results) {
     if (!r.loaded) return kExitBadInput;
@@ -568,10 +570,11 @@ int main(int argc, char** argv) {
                        "comma list of Ausbau planners: rrtc (Def-RRTC), rrtc:U:RANGE_MAX (Opt-RRTC), cr-rrtc, est, "
                        "...; unknown ones are reported as skipped")
             ->capture_default_str();
-        runs_option = app.add_option("--runs", options.runs, "runs (seeds) per planner and scene; default 10, "
-                                                             "with --study 5 per cell");
-        time_option = app.add_option("--time-limit", options.time_limit_s,
-                                     "seconds per run; default 60, with --study 10");
+        runs_option = app.add_option("--runs", options.runs,
+                                     "runs (seeds) per planner and scene; default 10, "
+                                     "with --study 5 per cell");
+        time_option =
+            app.add_option("--time-limit", options.time_limit_s, "seconds per run; default 60, with --study 10");
         app.add_option("--seed", options.seed,
                        "first Ausbau seed (runs use seed, seed+1, ...) and OMPL's global RNG seed")
             ->capture_default_str();

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <map>
 #include <set>
@@ -82,7 +82,10 @@ ResultsCsv::ResultsCsv(const std::filesystem::path& path) : out_(path) {
 void ResultsCsv::Add(const RunRecord& r) {
   out_ << r.scene << ',' << r.label << ',' << r.seed << ',' << (r.success ? 1 : 0) << ',' << Fmt("%.6f", r.time_s)
        << ',' << r.collision_checks << ',' << r.iterations << ',' << r.nodes << ','
-       << (r.dense_check < 0 ? "" : r.dense_check ? "ok" : "bad") << '\n';
+       << (r.dense_check < 0 ? ""
+           : r.dense_check   ? "ok"
+                             : "bad")
+       << '\n';
   out_.flush();
 }
 
@@ -160,9 +163,9 @@ std::string TargetsSection(const std::vector<SceneResult>& scenes, double time_l
       const bool tenth = st.median_s <= od.median_s / 10.0;
       const bool vs_best = st.median_s <= ob.median_s;
       all = all && tenth && vs_best;
-      parts.push_back(s.name + ": " + Num(st.median_s) + " s vs OMPL default " + Num(od.median_s) + " s (1/10: " +
-                      (tenth ? "yes" : "no") + "), OMPL best " + Num(ob.median_s) + " s [" + best->label + "] (" +
-                      (vs_best ? "yes" : "no") + ")");
+      parts.push_back(s.name + ": " + Num(st.median_s) + " s vs OMPL default " + Num(od.median_s) +
+                      " s (1/10: " + (tenth ? "yes" : "no") + "), OMPL best " + Num(ob.median_s) + " s [" +
+                      best->label + "] (" + (vs_best ? "yes" : "no") + ")");
     }
     md << "2. CR-RRTC median <= 1/10 of OMPL default and <= OMPL best: "
        << (checked == 0 ? "**not checked**" : MetText(all)) << ".\n";
@@ -183,8 +186,8 @@ std::string TargetsSection(const std::vector<SceneResult>& scenes, double time_l
       parts.push_back(s.name + " " + Num(a.median_s) + " vs " + Num(b.median_s) + " s" + (f ? "" : " (not faster)"));
     }
     md << "3. CR-RRTC faster than Def-RRTC (median) on the majority of scenes: "
-       << (compared == 0 ? "**not checked**" : MetText(2 * faster > compared)) << " (" << faster << " of "
-       << compared << ": ";
+       << (compared == 0 ? "**not checked**" : MetText(2 * faster > compared)) << " (" << faster << " of " << compared
+       << ": ";
     for (std::size_t i = 0; i < parts.size(); ++i) md << (i ? ", " : "") << parts[i];
     md << ").\n";
   }
@@ -196,8 +199,8 @@ std::string TargetsSection(const std::vector<SceneResult>& scenes, double time_l
       md << "**not checked** (not run).\n";
     } else {
       const Stats st = Summarize(s->runs, cr, time_limit_s);
-      md << MetText(st.runs > 0 && st.median_s < 10.0) << " (median " << Num(st.median_s) << " s, "
-         << st.successes << "/" << st.runs << " solved"
+      md << MetText(st.runs > 0 && st.median_s < 10.0) << " (median " << Num(st.median_s) << " s, " << st.successes
+         << "/" << st.runs << " solved"
          << (time_limit_s <= 10.0 ? "; the time limit is <= 10 s, so failures alone cannot push it above" : "")
          << ").\n";
     }
@@ -209,8 +212,8 @@ std::string TargetsSection(const std::vector<SceneResult>& scenes, double time_l
 
 }  // namespace
 
-std::string WriteSummary(const std::filesystem::path& path, const MachineInfo& machine,
-                         const BenchSettings& settings, const std::vector<SceneResult>& scenes) {
+std::string WriteSummary(const std::filesystem::path& path, const MachineInfo& machine, const BenchSettings& settings,
+                         const std::vector<SceneResult>& scenes) {
   std::ostringstream md;
   md << "# ausbau-bench: Ausbau planners side by side with OMPL's RRT-Connect\n\n";
   md << "- Machine: " << machine.cpu << ", " << machine.cores << " logical cores, " << Fmt("%.1f", machine.ram_gib)
@@ -370,9 +373,11 @@ std::string HeatColour(double t) {
   const double x = c * (1 - std::abs(std::fmod(hp, 2.0) - 1));
   double r = 0, g = 0, b = 0;
   if (hp < 1) {
-    r = c; g = x;
+    r = c;
+    g = x;
   } else {
-    r = x; g = c;
+    r = x;
+    g = c;
   }
   const double m = l - c / 2;
   auto to255 = [&](double v) { return static_cast<int>(std::lround(255 * (v + m))); };
@@ -414,18 +419,21 @@ void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study) 
 
   std::ostringstream svg;
   svg << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
-  svg << Fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
-             "font-family=\"DejaVu Sans, Arial, sans-serif\">\n",
-             width, height, width, height);
+  svg << Fmt(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
+      "font-family=\"DejaVu Sans, Arial, sans-serif\">\n",
+      width, height, width, height);
   svg << Fmt("<rect x=\"0\" y=\"0\" width=\"%d\" height=\"%d\" fill=\"white\"/>\n", width, height);
   svg << Fmt("<text x=\"%d\" y=\"26\" font-size=\"17\" font-weight=\"bold\">%s: RRTC parameter study</text>\n", left,
              XmlEscape(study.scene).c_str());
-  svg << Fmt("<text x=\"%d\" y=\"46\" font-size=\"12\">mean time in %% of T_max = %g s (failures count as T_max), "
-             "%d run%s per cell</text>\n",
-             left, study.time_limit_s, study.runs, study.runs == 1 ? "" : "s");
-  svg << Fmt("<text x=\"%d\" y=\"62\" font-size=\"12\">green = fast, red = slow (scale %.1f%% .. %.1f%%); "
-             "n/m = solved runs when not all; framed = best cell</text>\n",
-             left, lo, hi);
+  svg << Fmt(
+      "<text x=\"%d\" y=\"46\" font-size=\"12\">mean time in %% of T_max = %g s (failures count as T_max), "
+      "%d run%s per cell</text>\n",
+      left, study.time_limit_s, study.runs, study.runs == 1 ? "" : "s");
+  svg << Fmt(
+      "<text x=\"%d\" y=\"62\" font-size=\"12\">green = fast, red = slow (scale %.1f%% .. %.1f%%); "
+      "n/m = solved runs when not all; framed = best cell</text>\n",
+      left, lo, hi);
   // Axis titles.
   svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"14\" font-weight=\"bold\" text-anchor=\"middle\">range_max</text>\n",
              left + grid_w / 2, top - 24);
@@ -445,9 +453,10 @@ void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study) 
       const StudyCell& c = study.cells[i * cols + j];
       const int x = left + j * cw, y = top + i * ch;
       const std::string fill = c.runs ? HeatColour(scale(c.mean_pct)) : "rgb(220,220,220)";
-      svg << Fmt("<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"%s\" stroke=\"white\" "
-                 "stroke-width=\"1\"/>\n",
-                 x, y, cw, ch, fill.c_str());
+      svg << Fmt(
+          "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"%s\" stroke=\"white\" "
+          "stroke-width=\"1\"/>\n",
+          x, y, cw, ch, fill.c_str());
       if (c.runs == 0) continue;
       const bool all = c.successes == c.runs;
       svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"12\" text-anchor=\"middle\"%s>%.1f</text>\n", x + cw / 2,
@@ -461,9 +470,10 @@ void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study) 
   if (best) {
     const int index = static_cast<int>(best - study.cells.data());
     const int i = index / cols, j = index % cols;
-    svg << Fmt("<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\" "
-               "stroke-width=\"3\"/>\n",
-               left + j * cw + 1, top + i * ch + 1, cw - 2, ch - 2);
+    svg << Fmt(
+        "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\" "
+        "stroke-width=\"3\"/>\n",
+        left + j * cw + 1, top + i * ch + 1, cw - 2, ch - 2);
   }
   // Legend: a vertical colour bar from the minimum (top) to the maximum.
   svg << "<defs><linearGradient id=\"heat\" x1=\"0\" y1=\"0\" x2=\"0\" y2=\"1\">\n";
@@ -476,13 +486,15 @@ void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study) 
   svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"11\">%.1f%% (fast)</text>\n", legend_x + 24, top + 10, lo);
   svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"11\">%.1f%% (slow)</text>\n", legend_x + 24, top + grid_h, hi);
   if (best) {
-    svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"12\">best: u = %.1f, range_max = %.1f: %.1f%% of T_max, "
-               "%d/%d solved</text>\n",
-               left, top + grid_h + 26, best->u, best->range_max, best->mean_pct, best->successes, best->runs);
+    svg << Fmt(
+        "<text x=\"%d\" y=\"%d\" font-size=\"12\">best: u = %.1f, range_max = %.1f: %.1f%% of T_max, "
+        "%d/%d solved</text>\n",
+        left, top + grid_h + 26, best->u, best->range_max, best->mean_pct, best->successes, best->runs);
   }
-  svg << Fmt("<text x=\"%d\" y=\"%d\" font-size=\"10\" fill=\"#555\">ausbau-bench --study; thesis 3.3.1, tables "
-             "2-9</text>\n",
-             left, top + grid_h + 46);
+  svg << Fmt(
+      "<text x=\"%d\" y=\"%d\" font-size=\"10\" fill=\"#555\">ausbau-bench --study; thesis 3.3.1, tables "
+      "2-9</text>\n",
+      left, top + grid_h + 46);
   svg << "</svg>\n";
   std::ofstream out(path);
   out << svg.str();
@@ -498,9 +510,9 @@ std::string WriteStudySummary(const std::filesystem::path& path, const MachineIn
   md << "- Date: " << machine.date_utc << " (UTC); load average at start " << machine.load_start << ", at end "
      << LoadAverage() << "\n";
   md << "- Grid: `rrtc` with fixed u (rows) and range_max (columns); " << settings.runs
-     << (settings.runs == 1 ? " run" : " runs") << " per cell (seeds " << settings.first_seed << ".." << settings.first_seed + settings.runs - 1
-     << "), T_max = " << Num(settings.time_limit_s) << " s; edge resolution " << Fmt("%g", settings.resolution * 100)
-     << "% of D's diagonal\n";
+     << (settings.runs == 1 ? " run" : " runs") << " per cell (seeds " << settings.first_seed << ".."
+     << settings.first_seed + settings.runs - 1 << "), T_max = " << Num(settings.time_limit_s) << " s; edge resolution "
+     << Fmt("%g", settings.resolution * 100) << "% of D's diagonal\n";
   md << "- Cell value: mean planning time in % of T_max, failed runs counted as T_max (as in the thesis's tables)\n";
   md << "- Command: `" << settings.command_line << "`\n\n";
   for (const StudyResult& study : studies) {
@@ -510,8 +522,7 @@ std::string WriteStudySummary(const std::filesystem::path& path, const MachineIn
       md << "Best cell: **u = " << Fmt("%.1f", best->u) << ", range_max = " << Fmt("%.1f", best->range_max)
          << "**: " << Fmt("%.2f", best->mean_pct) << "% of T_max (mean " << Num(best->mean_time_s) << " s), "
          << best->successes << "/" << best->runs << " solved. Wall time of the grid: " << Num(study.wall_s)
-         << " s. Files: `study-" << SafeName(study.scene) << ".csv`, `study-" << SafeName(study.scene)
-         << ".svg`.\n\n";
+         << " s. Files: `study-" << SafeName(study.scene) << ".csv`, `study-" << SafeName(study.scene) << ".svg`.\n\n";
     }
     md << "| u \\ range_max |";
     for (double r : study.ranges) md << " " << Fmt("%.1f", r) << " |";

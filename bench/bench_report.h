@@ -15,20 +15,18 @@
 
 namespace ausbau::bench {
 
-
-
 // One run of one planner configuration.
 struct RunRecord {
   std::string scene;
-  std::string label;            // "CR-RRTC", "OMPL default", ...
+  std::string label;  // "CR-RRTC", "OMPL default", ...
   std::uint64_t seed = 0;
   bool success = false;
-  int status = 0;               // OMPL PlannerStatus value (exact solution / timeout)
+  int status = 0;  // OMPL PlannerStatus value (exact solution / timeout)
   double time_s = 0;
   std::int64_t collision_checks = 0;
   std::int64_t iterations = 0;  // 0 = unknown (OMPL)
   std::int64_t nodes = 0;
-  int dense_check = -1;         // -1: no path; 1: passed; 0: failed (a bad path)
+  int dense_check = -1;  // -1: no path; 1: passed; 0: failed (a bad path)
 };
 
 // A planner configuration on one scene.
@@ -37,8 +35,8 @@ struct ConfigInfo {
   std::string log_name;  // name in the OMPL benchmark log (no spaces)
   bool ompl = false;
   std::vector<std::pair<std::string, std::string>> settings;  // "common properties"
-  std::string skipped;   // why it did not run (empty: it ran)
-  std::string error;     // first unexpected error during a run, if any
+  std::string skipped;                                        // why it did not run (empty: it ran)
+  std::string error;                                          // first unexpected error during a run, if any
 };
 
 struct SceneResult {
@@ -50,7 +48,7 @@ struct SceneResult {
   std::vector<RunRecord> runs;
   std::string started_iso;
   double wall_s = 0;
-  bool loaded = false;             // false: the scene could not be set up (notes say why)
+  bool loaded = false;  // false: the scene could not be set up (notes say why)
 };
 
 struct Stats {
@@ -86,8 +84,8 @@ class ResultsCsv {
 };
 
 // summary.md (also returned, for stdout).
-std::string WriteSummary(const std::filesystem::path& path, const MachineInfo& machine,
-                         const BenchSettings& settings, const std::vector<SceneResult>& scenes);
+std::string WriteSummary(const std::filesystem::path& path, const MachineInfo& machine, const BenchSettings& settings,
+                         const std::vector<SceneResult>& scenes);
 
 // OMPL's benchmark log format (the one ompl_benchmark_statistics.py reads):
 // one experiment; each planner entry is (log name, config, runs).
@@ -106,19 +104,19 @@ struct StudyCell {
   double range_max = 0;
   int runs = 0;
   int successes = 0;
-  double mean_time_s = 0;    // failures count as T_max
-  double mean_pct = 0;       // mean_time_s / T_max * 100
+  double mean_time_s = 0;  // failures count as T_max
+  double mean_pct = 0;     // mean_time_s / T_max * 100
   double mean_checks = 0;
 };
 struct StudyResult {
   std::string scene;
-  std::vector<double> us;          // rows
-  std::vector<double> ranges;      // columns
-  std::vector<StudyCell> cells;    // row-major: cells[i * ranges.size() + j]
+  std::vector<double> us;        // rows
+  std::vector<double> ranges;    // columns
+  std::vector<StudyCell> cells;  // row-major: cells[i * ranges.size() + j]
   int runs = 0;
   double time_limit_s = 0;
   double wall_s = 0;
-  const StudyCell* Best() const;   // lowest mean_pct, then most successes
+  const StudyCell* Best() const;  // lowest mean_pct, then most successes
 };
 void WriteStudyCsv(const std::filesystem::path& path, const StudyResult& study);
 void WriteStudySvg(const std::filesystem::path& path, const StudyResult& study);

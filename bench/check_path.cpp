@@ -4,9 +4,9 @@
 #include <cstdio>
 
 #include "cli/stage_main.h"
+#include "fixtures/ground_truth_check.h"
 #include "inistate/intersection_volume.h"
 #include "labeling/pbd_label.h"
-#include "fixtures/ground_truth_check.h"
 #include "planning/path_io.h"
 #include "scene/scene.h"
 

@@ -41,16 +41,16 @@
 #include <vector>
 
 #include "cli/stage_main.h"
-#include "parse_args.h"
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "machine.h"
 #include "core/log.h"
-#include "planning/planner.h"
 #include "fixtures/flange.h"
+#include "machine.h"
+#include "parse_args.h"
+#include "planning/planner.h"
 #include "scene/scene.h"
 
 namespace {
@@ -60,7 +60,6 @@ using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 
 double Seconds(Clock::time_point from) { return std::chrono::duration<double>(Clock::now() - from).count(); }
-
 
 // Records every pose the planner checks, with the inner checker's answer.
 class RecordingValidity : public PoseValidity {
@@ -84,7 +83,7 @@ class RecordingValidity : public PoseValidity {
 };
 
 struct BenchOptions {
-  std::vector<std::string> scenes = {"alpha-1.2",   "alpha-1.5",   "Twistycool", "flange-1.00",
+  std::vector<std::string> scenes = {"alpha-1.2",   "alpha-1.5",   "Twistycool",        "flange-1.00",
                                      "flange-0.95", "flange-0.90", "parasol-flange-1.0"};
   int resolution = 256;
   std::string planner = "cr-rrtc";
@@ -288,8 +287,7 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
     }
     // Adaptive FARR learns along the way: a fresh checker per repetition,
     // the samples in the planner's order, interleaved with FCL.
-    const FarrCollisionChecker adaptive(problem.robot, problem.environment, dynamic_field, static_field,
-                                        options.seed);
+    const FarrCollisionChecker adaptive(problem.robot, problem.environment, dynamic_field, static_field, options.seed);
     auto adaptive_check = [&](const Pose& p) { return static_cast<int>(adaptive.InCollision(p)); };
     for (std::size_t b = 0; b < all_idx.size(); b += kChunk) {
       const std::size_t e = std::min(all_idx.size(), b + kChunk);
@@ -304,9 +302,7 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   return r;
 }
 
-std::string Us(double seconds, std::int64_t count) {
-  return count > 0 ? Fmt("%.2f", 1e6 * seconds / count) : "–";
-}
+std::string Us(double seconds, std::int64_t count) { return count > 0 ? Fmt("%.2f", 1e6 * seconds / count) : "–"; }
 std::string Ratio(double a, double b) { return b > 0 && a > 0 ? Fmt("%.2f", a / b) : "–"; }
 
 std::string Summary(const std::vector<SceneResult>& results, const BenchOptions& options, const std::string& machine,
@@ -376,9 +372,9 @@ std::string Summary(const std::vector<SceneResult>& results, const BenchOptions&
        << Fmt("%.2f s", r.fcl_plan_s) << " | " << Fmt("%.2f s", fcl_sum) << " | "
        << Fmt("%.2f + %.2f s (%dx%dx%d / %dx%dx%d)", r.build_static_s, r.build_dynamic_s, r.dims_static[0],
               r.dims_static[1], r.dims_static[2], r.dims_dynamic[0], r.dims_dynamic[1], r.dims_dynamic[2])
-       << " | " << Fmt("%.2f s", r.farr_plan_s) << " | " << Fmt("%.2f s", farr_sum) << " | "
-       << Ratio(fcl_sum, farr_sum) << " | " << Fmt("%.2f s", r.farr30_plan_s) << " | " << Ratio(fcl_sum, farr30_sum)
-       << " | " << (r.same_path && r.same_path30 ? "yes" : "NO") << " |\n";
+       << " | " << Fmt("%.2f s", r.farr_plan_s) << " | " << Fmt("%.2f s", farr_sum) << " | " << Ratio(fcl_sum, farr_sum)
+       << " | " << Fmt("%.2f s", r.farr30_plan_s) << " | " << Ratio(fcl_sum, farr30_sum) << " | "
+       << (r.same_path && r.same_path30 ? "yes" : "NO") << " |\n";
   }
   md << "\nWithout the pre-processing (fields reused from the cache), the planning speedups are:";
   for (const auto& r : results) {
@@ -398,7 +394,8 @@ int main(int argc, char** argv) {
   CLI::App app("FARR against FCL on the configurations a planner checks (thesis 4.3)", "ausbau-farr-bench");
   app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app.add_option("--scenes", scenes, "comma-separated scene names (see the top of bench/farr_bench.cpp)");
-  app.add_option("--field-cells", options.resolution, "distance field: cells along the longest axis")->capture_default_str();
+  app.add_option("--field-cells", options.resolution, "distance field: cells along the longest axis")
+      ->capture_default_str();
   app.add_option("--planner", options.planner, "planner that generates the samples")->capture_default_str();
   app.add_option("--seed", options.seed, "planner seed")->capture_default_str();
   app.add_option("--time-limit", options.time_limit_s, "planning time limit, seconds")->capture_default_str();
@@ -407,7 +404,9 @@ int main(int argc, char** argv) {
   app.add_option("--repetitions", options.reps, "timing repetitions")->capture_default_str();
   AddRenamedFlag(app, "--reps", "--repetitions");
   AddRenamedFlag(app, "--resolution", "--field-cells");
-  app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
+  app.add_option("--threads", options.threads, "field construction threads; 0 = all cores")
+      ->capture_default_str()
+      ->check(ThreadCount());
   app.add_option("--output-dir", options.output_dir, "where farr-summary.md and farr-results.csv go")
       ->capture_default_str();
   if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
@@ -443,8 +442,8 @@ int main(int argc, char** argv) {
          "fcl_prep_s,fcl_plan_s,build_static_s,build_dynamic_s,farr_plan_s,farr30_plan_s,fcl_solved,same_path\n";
   for (const auto& r : results) {
     if (!r.skipped.empty()) continue;
-    csv << r.name << "," << r.robot_triangles << "," << r.environment_triangles << "," << r.samples << ","
-        << r.invalid << ",";
+    csv << r.name << "," << r.robot_triangles << "," << r.environment_triangles << "," << r.samples << "," << r.invalid
+        << ",";
     for (double d : r.detection) csv << d << ",";
     csv << r.fcl_valid_s << "," << r.fcl_invalid_s << "," << r.rays_valid_s << "," << r.farr30_valid_s << ","
         << r.farr30_invalid_s << "," << r.fcl_all_s << "," << r.adaptive_all_s << "," << r.fcl_prep_s << ","

@@ -43,14 +43,11 @@
 #include <vector>
 
 #include "cli/stage_main.h"
-#include "parse_args.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "inistate_end_to_end.h"
-#include "machine.h"
-#include "split_list.h"
 #include "core/log.h"
+#include "fixtures/clip_scenes.h"
 #include "fixtures/ground_truth_check.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/intersection_volume.h"
@@ -58,14 +55,17 @@
 #include "inistate/volume_model.h"
 #include "inistate/volume_smoother.h"
 #include "inistate/voxel_grid.h"
+#include "inistate_end_to_end.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
+#include "machine.h"
+#include "parse_args.h"
 #include "planning/path_io.h"
 #include "planning/planner.h"
 #include "planning/state_space.h"
-#include "fixtures/clip_scenes.h"
 #include "scene/scene.h"
+#include "split_list.h"
 
 namespace ausbau {
 namespace {
@@ -73,10 +73,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-double SecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
+double SecondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 struct BenchOptions {
   std::vector<std::string> families;
@@ -87,7 +84,7 @@ struct BenchOptions {
   double time_limit_s = 20.0;  // per part of the path, and per planning round of the tau estimate
   std::int64_t triangles = 0;  // 0 = the families' defaults (thesis table 14)
   std::string out = "out/bench-inistate";
-  int threads = 0;  // 0 = all cores
+  int threads = 0;                                  // 0 = all cores
   double resolution = PlannerOptions{}.resolution;  // edge check step, fraction of D's diagonal
   bool keep_scenes = false;
   // The stages' knobs that decide how well D's parts are told apart (see
@@ -216,9 +213,8 @@ double DensePathVolume(const PlanningProblem& problem, const std::vector<Pose>& 
 
 // One validity mode on one scene. Never throws: a failure is the run's reason.
 RunResult RunMode(const Scene& scene, const ClipGroundTruth& truth, const PlanningProblem& problem,
-                  const SceneVoxels& voxels, const std::vector<double>& deformability,
-                  const FclCollisionChecker& fcl, ValidityMode mode, const std::string& column,
-                  std::uint64_t seed, const BenchOptions& options) {
+                  const SceneVoxels& voxels, const std::vector<double>& deformability, const FclCollisionChecker& fcl,
+                  ValidityMode mode, const std::string& column, std::uint64_t seed, const BenchOptions& options) {
   RunResult run;
   run.name = column;
   run.family = truth.family;
@@ -311,8 +307,8 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
   SceneResult result;
   result.family = family;
   result.seed = seed;
-  const fs::path dir = fs::path(options.out) / "scenes" / Fmt("%s-seed%llu", family.c_str(),
-                                                               static_cast<unsigned long long>(seed));
+  const fs::path dir =
+      fs::path(options.out) / "scenes" / Fmt("%s-seed%llu", family.c_str(), static_cast<unsigned long long>(seed));
   try {
     auto start = Clock::now();
     ClipSceneOptions scene_options;
@@ -335,9 +331,9 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
     result.voxel_size = voxels.dynamic_grid.geometry.spacing;
     result.dynamic_voxels = voxels.dynamic_grid.CountOccupied();
     std::printf("  %s seed %llu: D %lld triangles, S %lld; voxels %.3g mm, %lld of D; voxelized in %.1f s\n",
-                family.c_str(), static_cast<unsigned long long>(seed),
-                static_cast<long long>(result.dynamic_triangles), static_cast<long long>(result.static_triangles),
-                result.voxel_size, static_cast<long long>(result.dynamic_voxels), result.voxelize_s);
+                family.c_str(), static_cast<unsigned long long>(seed), static_cast<long long>(result.dynamic_triangles),
+                static_cast<long long>(result.static_triangles), result.voxel_size,
+                static_cast<long long>(result.dynamic_voxels), result.voxelize_s);
     std::fflush(stdout);
 
     // Labels (library defaults) when a labeled mode runs; the other modes get
@@ -374,12 +370,12 @@ SceneResult RunScene(const std::string& family, std::uint64_t seed, const BenchO
       const bool gt = column == "labeled-mliv-gt";
       RunResult run =
           RunMode(scene, truth, problem, voxels, gt ? nominal : deformability, fcl, mode, column, seed, options);
-      std::printf("    %-12s tau %-9.5g truth path %-9.5g psi %-6.3g start %-9.5g model %4.1f s, tau %5.1f s, "
-                  "plan %5.1f s, sigma_1 dense %.5g: %s%s%s\n",
-                  column.c_str(), run.tau, run.truth_volume, run.psi, run.start_volume, run.model_s,
-                  run.tau_s, run.plan_s, run.path_volume,
-                  run.solved && run.correct ? "solved, correct" : (run.solved ? "solved" : "FAILED"),
-                  run.reason.empty() ? "" : ": ", run.reason.c_str());
+      std::printf(
+          "    %-12s tau %-9.5g truth path %-9.5g psi %-6.3g start %-9.5g model %4.1f s, tau %5.1f s, "
+          "plan %5.1f s, sigma_1 dense %.5g: %s%s%s\n",
+          column.c_str(), run.tau, run.truth_volume, run.psi, run.start_volume, run.model_s, run.tau_s, run.plan_s,
+          run.path_volume, run.solved && run.correct ? "solved, correct" : (run.solved ? "solved" : "FAILED"),
+          run.reason.empty() ? "" : ": ", run.reason.c_str());
       std::fflush(stdout);
       result.runs.push_back(std::move(run));
     }
@@ -428,14 +424,14 @@ void WriteResultsCsv(const fs::path& file, const std::vector<SceneResult>& scene
          "start_rigid_volume,max_rigid_volume,ends_disassembled,truth_path_volume,sigma1_dense_volume\n";
   for (const SceneResult& scene : scenes) {
     for (const RunResult& r : scene.runs) {
-      csv << r.family << "," << r.seed << "," << r.name << "," << Num(r.tau) << ","
-          << Num(r.tau_lowest) << "," << r.tau_rounds << "," << r.tau_solved << "," << Num(r.psi) << ","
-          << Num(r.start_volume) << "," << Num(r.shrink) << "," << r.solved << "," << r.correct << ","
-          << CsvField(r.reason) << "," << Num(scene.voxelize_s) << "," << Num(scene.spheres_s + scene.labels_s)
-          << "," << Num(r.model_s) << "," << Num(r.tau_s) << "," << Num(r.plan_s) << "," << Num(r.local_s) << ","
-          << Num(r.rigid_s) << "," << Num(r.check_s) << "," << r.nodes << "," << r.checks << "," << r.waypoints
-          << "," << r.inter_index << "," << Num(r.start_rigid_volume) << "," << Num(r.max_rigid_volume) << ","
-          << r.ends_disassembled << "," << Num(r.truth_volume) << "," << Num(r.path_volume) << "\n";
+      csv << r.family << "," << r.seed << "," << r.name << "," << Num(r.tau) << "," << Num(r.tau_lowest) << ","
+          << r.tau_rounds << "," << r.tau_solved << "," << Num(r.psi) << "," << Num(r.start_volume) << ","
+          << Num(r.shrink) << "," << r.solved << "," << r.correct << "," << CsvField(r.reason) << ","
+          << Num(scene.voxelize_s) << "," << Num(scene.spheres_s + scene.labels_s) << "," << Num(r.model_s) << ","
+          << Num(r.tau_s) << "," << Num(r.plan_s) << "," << Num(r.local_s) << "," << Num(r.rigid_s) << ","
+          << Num(r.check_s) << "," << r.nodes << "," << r.checks << "," << r.waypoints << "," << r.inter_index << ","
+          << Num(r.start_rigid_volume) << "," << Num(r.max_rigid_volume) << "," << r.ends_disassembled << ","
+          << Num(r.truth_volume) << "," << Num(r.path_volume) << "\n";
     }
   }
 }
@@ -452,8 +448,8 @@ void WriteScenesCsv(const fs::path& file, const std::vector<SceneResult>& scenes
       return std::string();
     };
     csv << s.family << "," << s.seed << "," << s.dynamic_triangles << "," << s.static_triangles << ","
-        << Num(s.voxel_size) << "," << s.dynamic_voxels << "," << Num(s.generate_s) << "," << Num(s.voxelize_s)
-        << "," << Num(s.spheres_s) << "," << Num(s.labels_s) << "," << s.load_cases << ","
+        << Num(s.voxel_size) << "," << s.dynamic_voxels << "," << Num(s.generate_s) << "," << Num(s.voxelize_s) << ","
+        << Num(s.spheres_s) << "," << Num(s.labels_s) << "," << s.load_cases << ","
         << (s.EndToEnd() >= 0 ? Num(s.EndToEnd()) : "") << "," << label("clip") << "," << label("rail") << ","
         << label("rim") << "," << label("panel") << "," << CsvField(s.error) << "\n";
   }
@@ -461,13 +457,18 @@ void WriteScenesCsv(const fs::path& file, const std::vector<SceneResult>& scenes
 
 // Thesis table 16.
 const char* ThesisCell(const std::string& family, ValidityMode mode) {
-  static const std::map<std::string, std::string> rows = {
-      {"clips-ds1", "--++"}, {"clips-ds2", "-+++"}, {"clips-ds3", "---+"}, {"clips-ds4", "---+"},
-      {"clips-ds5", "-+++"}};
+  static const std::map<std::string, std::string> rows = {{"clips-ds1", "--++"},
+                                                          {"clips-ds2", "-+++"},
+                                                          {"clips-ds3", "---+"},
+                                                          {"clips-ds4", "---+"},
+                                                          {"clips-ds5", "-+++"}};
   const auto it = rows.find(family);
   if (it == rows.end()) return "?";
   // Both labeled modes stand for the thesis's Labeled-MLIV column.
-  const int column = mode == ValidityMode::kShrink ? 0 : mode == ValidityMode::kIv ? 1 : mode == ValidityMode::kMliv ? 2 : 3;
+  const int column = mode == ValidityMode::kShrink ? 0
+                     : mode == ValidityMode::kIv   ? 1
+                     : mode == ValidityMode::kMliv ? 2
+                                                   : 3;
   return it->second[column] == '+' ? "+" : "-";
 }
 
@@ -483,7 +484,8 @@ std::string Summary(const std::vector<SceneResult>& scenes, const BenchOptions& 
      << (options.triangles > 0 ? std::to_string(options.triangles) : std::string("default (thesis table 14)"))
      << "; time limit " << options.time_limit_s
      << " s for sigma_1 (EST), for sigma_2 (CR-RRTC, FCL) and for each planning round of the tau estimate; "
-     << "edge resolution " << options.resolution << " of D's diagonal; threads " << (options.threads > 0 ? std::to_string(options.threads) : std::string("all")) << "\n";
+     << "edge resolution " << options.resolution << " of D's diagonal; threads "
+     << (options.threads > 0 ? std::to_string(options.threads) : std::string("all")) << "\n";
   md << "- Cell: solved and correct (ground truth: rigid parts never penetrate S beyond the installed pose, "
         "ends disassembled) out of the seeds; + when at least 4/5 of them, else -. In brackets: the thesis.\n\n";
 
@@ -518,16 +520,17 @@ std::string Summary(const std::vector<SceneResult>& scenes, const BenchOptions& 
   md << "\n## Runs\n\n";
   md << "tau: the estimate; truth path: the mode's largest volume along the generator's known path (a tau below it "
         "excludes that path); sigma_1 dense: the mode's largest volume along the planned sigma_1 checked every "
-        "0.25% of D's diagonal (above tau where the planner's edge checks stepped over a thin wall); max rigid: the rigid parts' largest MLIV along the planned path (ground-truth check).\n\n";
-  md << "| family | seed | mode | tau | truth path | sigma_1 dense | psi | start volume | max rigid | tau s | plan s | nodes | result |\n"
+        "0.25% of D's diagonal (above tau where the planner's edge checks stepped over a thin wall); max rigid: the "
+        "rigid parts' largest MLIV along the planned path (ground-truth check).\n\n";
+  md << "| family | seed | mode | tau | truth path | sigma_1 dense | psi | start volume | max rigid | tau s | plan s | "
+        "nodes | result |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SceneResult& s : scenes) {
     for (const RunResult& r : s.runs) {
       md << "| " << r.family << " | " << r.seed << " | " << r.name << " | " << Num(r.tau) << " | "
-         << Num(r.truth_volume) << " | " << Num(r.path_volume) << " | " << Num(r.psi) << " | " << Num(r.start_volume) << " | "
-         << Num(r.max_rigid_volume) << " | " << Fmt("%.1f", r.tau_s) << " | "
-         << Fmt("%.1f", r.plan_s) << " | " << r.nodes << " | "
-         << (r.solved && r.correct ? std::string("correct") : r.reason) << " |\n";
+         << Num(r.truth_volume) << " | " << Num(r.path_volume) << " | " << Num(r.psi) << " | " << Num(r.start_volume)
+         << " | " << Num(r.max_rigid_volume) << " | " << Fmt("%.1f", r.tau_s) << " | " << Fmt("%.1f", r.plan_s) << " | "
+         << r.nodes << " | " << (r.solved && r.correct ? std::string("correct") : r.reason) << " |\n";
     }
   }
 
@@ -539,8 +542,8 @@ std::string Summary(const std::vector<SceneResult>& scenes, const BenchOptions& 
   for (const SceneResult& s : scenes) {
     const RunResult* run = s.Run("labeled-mliv");
     md << "| " << s.family << " | " << s.seed << " | " << s.dynamic_triangles << " / " << s.static_triangles << " | "
-       << Fmt("%.3g", s.voxel_size) << " | " << Fmt("%.1f", s.voxelize_s) << " | " << Fmt("%.1f", s.spheres_s)
-       << " | " << Fmt("%.1f (%lld)", s.labels_s, static_cast<long long>(s.load_cases)) << " | "
+       << Fmt("%.3g", s.voxel_size) << " | " << Fmt("%.1f", s.voxelize_s) << " | " << Fmt("%.1f", s.spheres_s) << " | "
+       << Fmt("%.1f (%lld)", s.labels_s, static_cast<long long>(s.load_cases)) << " | "
        << (run ? Fmt("%.1f", run->tau_s) : std::string("")) << " | "
        << (run ? Fmt("%.1f", run->plan_s) : std::string("")) << " | "
        << (s.EndToEnd() >= 0 ? Fmt("%.1f", s.EndToEnd()) : std::string("")) << " |\n";
@@ -574,10 +577,11 @@ int main(int argc, char** argv) {
   BenchOptions options;
   options.families = ClipSceneFamilies();
   std::string families, modes;
-  CLI::App app("Thesis table 16 on the generated clip scenes: shrink, IV, MLIV and Labeled-MLIV (guarded and not) "
-               "InIState planning, "
-               "paths checked against the ground truth",
-               "ausbau-inistate-bench");
+  CLI::App app(
+      "Thesis table 16 on the generated clip scenes: shrink, IV, MLIV and Labeled-MLIV (guarded and not) "
+      "InIState planning, "
+      "paths checked against the ground truth",
+      "ausbau-inistate-bench");
   app.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app.add_option("--families", families, "comma-separated, default all: clips-ds1,...,clips-ds5");
   app.add_option("--seeds", options.seeds, "number of seeds per family (scene seed = planner seed)")
@@ -593,7 +597,8 @@ int main(int argc, char** argv) {
   app.add_option("--output-dir", options.out, "output folder")->capture_default_str();
   AddRenamedFlag(app, "--out", "--output-dir");
   app.add_option("--threads", options.threads, "threads for voxelization, labels and tau probes; 0 = all cores")
-      ->capture_default_str()->check(ThreadCount());
+      ->capture_default_str()
+      ->check(ThreadCount());
   app.add_option("--resolution", options.resolution,
                  "edge check step of every planner (fraction of D's diagonal; library default)")
       ->capture_default_str();

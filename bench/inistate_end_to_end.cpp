@@ -10,9 +10,9 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "machine.h"
 #include "fixtures/box_scenes.h"
 #include "fixtures/clip_scenes.h"
+#include "machine.h"
 
 namespace ausbau::bench {
 namespace {
@@ -98,8 +98,8 @@ void Run(SceneRun& scene, const EndToEndOptions& options) {
             Quoted(run / "path.csv") + " > " + Quoted(run / "oracle.json") + " 2>&1";
   } else {
     check = Quoted(options.bin / "ausbau-check-path") + " --scene " + Quoted(scene.dir / "scene.yaml") +
-            " --ground-truth " + Quoted(scene.dir / "ground_truth.yaml") + " --path " +
-            Quoted(run / "path-smooth.h5") + " > " + Quoted(run / "check.txt") + " 2>&1";
+            " --ground-truth " + Quoted(scene.dir / "ground_truth.yaml") + " --path " + Quoted(run / "path-smooth.h5") +
+            " > " + Quoted(run / "check.txt") + " 2>&1";
   }
   scene.result = std::system(check.c_str()) == 0 ? "correct" : "WRONG";
 }
@@ -197,8 +197,10 @@ int RunEndToEnd(const EndToEndOptions& options) {
       std::any_of(families.begin(), families.end(), [](const std::string& f) { return IsBoxSceneFamily(f); });
   if (needs_oracle) {
     if (options.external.empty() || !fs::is_regular_file(options.external / "oracle.py")) {
-      throw InputError("--external: the panel-* families and the external set are judged by its oracle.py, not found "
-                       "in '" + options.external.string() + "'");
+      throw InputError(
+          "--external: the panel-* families and the external set are judged by its oracle.py, not found "
+          "in '" +
+          options.external.string() + "'");
     }
     const std::string numpy = Quoted(options.python) + " -c 'import numpy' > /dev/null 2>&1";
     if (std::system(numpy.c_str()) != 0) {

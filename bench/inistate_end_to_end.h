@@ -27,13 +27,13 @@ struct EndToEndOptions {
   std::filesystem::path out = "out/inistate-end-to-end";
   std::vector<std::string> families;  // empty: every clips-ds* and panel-* family
   std::vector<int> seeds = {1, 2, 3};
-  std::filesystem::path external;     // folder with scenes/<name>/ and oracle.py; empty: none
-  bool external_scenes = true;        // also run the scenes under external/scenes (else only its oracle)
-  std::string validity;               // pipeline VALIDITY; empty: the pipeline's default
-  std::filesystem::path bin;          // the stages
+  std::filesystem::path external;  // folder with scenes/<name>/ and oracle.py; empty: none
+  bool external_scenes = true;     // also run the scenes under external/scenes (else only its oracle)
+  std::string validity;            // pipeline VALIDITY; empty: the pipeline's default
+  std::filesystem::path bin;       // the stages
   std::filesystem::path pipeline = "pipelines/inistate.mk";
   std::string python = "/usr/bin/python3";
-  std::string command;                // for the summary
+  std::string command;  // for the summary
 };
 
 // Returns 0 when no scene was wrongly removable, 1 otherwise. Throws

@@ -29,16 +29,16 @@
 #include <fstream>
 
 #include "cli/stage_main.h"
-#include "parse_args.h"
 #include "core/error.h"
+#include "parse_args.h"
 
+#include "fixtures/clip_scenes.h"
+#include "fixtures/roc.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
-#include "fixtures/roc.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
 #include "planning/exact_check.h"
-#include "fixtures/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 
@@ -56,8 +56,7 @@ std::vector<double> Lines(std::vector<std::vector<double>> parts) {
   std::vector<double> out;
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }),
-            out.end());
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), out.end());
   return out;
 }
 
@@ -94,8 +93,7 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 }
 
 // Labels one generated clip scene once per budget; prints time and AUCs.
-void BenchClipScene(const std::string& family, std::int64_t triangles, const std::vector<int>& budgets,
-                    int threads) {
+void BenchClipScene(const std::string& family, std::int64_t triangles, const std::vector<int>& budgets, int threads) {
   ClipSceneOptions scene_options;
   scene_options.triangles = triangles;
   const auto dir = std::filesystem::temp_directory_path() / ("ausbau-label-bench-" + family);
@@ -127,10 +125,11 @@ void BenchClipScene(const std::string& family, std::int64_t triangles, const std
       exposed_score.push_back(d);
       exposed_clip.push_back(clip);
     }
-    std::printf("  budget %6d: %6lld load cases in %7.2f s (%.2f ms thread time each, %d glued components): "
-                "ROC AUC %.4f exposed, %.4f all\n",
-                budget, static_cast<long long>(labels.load_cases), labels.seconds, 1e3 * labels.SecondsPerLoadCase(),
-                labels.components, RocAuc(exposed_score, exposed_clip), RocAuc(all_score, all_clip));
+    std::printf(
+        "  budget %6d: %6lld load cases in %7.2f s (%.2f ms thread time each, %d glued components): "
+        "ROC AUC %.4f exposed, %.4f all\n",
+        budget, static_cast<long long>(labels.load_cases), labels.seconds, 1e3 * labels.SecondsPerLoadCase(),
+        labels.components, RocAuc(exposed_score, exposed_clip), RocAuc(all_score, all_clip));
     std::fflush(stdout);
   }
   std::filesystem::remove_all(dir);
@@ -207,7 +206,9 @@ int main(int argc, char** argv) {
   AddRenamedFlag(app, "--cells", "--panel-cells");
   app.add_option("--panel-cells", cells, "generated panel: grid cells along x (42: about 6,500 triangles)")
       ->capture_default_str();
-  app.add_option("--threads", threads, "threads for the parallel run; 0 = all")->capture_default_str()->check(ThreadCount());
+  app.add_option("--threads", threads, "threads for the parallel run; 0 = all")
+      ->capture_default_str()
+      ->check(ThreadCount());
   app.add_flag("--skip-single", skip_single, "skip the single-thread run");
   std::vector<std::string> families;
   std::int64_t triangles = 0;
@@ -220,7 +221,9 @@ int main(int argc, char** argv) {
   app.add_option("--scene", scene_dirs, "scene folder with truth/labels_per_triangle.txt; repeatable");
   PbdLabelOptions scene_label_options;
   app.add_option("--refine", scene_label_options.refine, "scenes: PbdLabelOptions::refine")->capture_default_str();
-  app.add_option("--refine-min-length", scene_label_options.refine_min_length, "scenes: PbdLabelOptions::refine_min_length")->capture_default_str();
+  app.add_option("--refine-min-length", scene_label_options.refine_min_length,
+                 "scenes: PbdLabelOptions::refine_min_length")
+      ->capture_default_str();
   if (const int code = ausbau::bench::ParseArguments(app, argc, argv); code >= 0) return code;
   if (threads <= 0) threads = omp_get_max_threads();
   if (!scene_dirs.empty()) {
@@ -253,8 +256,8 @@ int main(int argc, char** argv) {
   const MedialSpheres spheres = ComputeMedialSpheres(topology, sphere_options);
   std::printf("medial spheres (%d threads): %.3f s, %lld nearest-point queries (%.2f us each), r %.4g .. %.4g\n",
               threads, spheres.seconds, static_cast<long long>(spheres.nearest_queries),
-              1e6 * spheres.seconds * threads / std::max<std::int64_t>(1, spheres.nearest_queries),
-              spheres.MinRadius(), spheres.MaxRadius());
+              1e6 * spheres.seconds * threads / std::max<std::int64_t>(1, spheres.nearest_queries), spheres.MinRadius(),
+              spheres.MaxRadius());
 
   std::vector<std::pair<int, PbdLabels>> runs;
   std::vector<int> thread_counts;
@@ -264,11 +267,12 @@ int main(int argc, char** argv) {
     PbdLabelOptions options;
     options.threads = t;
     const PbdLabels labels = ComputePbdLabels(topology, spheres, options);
-    std::printf("PBD labels (%d thread%s): %.3f s for %lld load cases on %lld vertices, %lld constraints; "
-                "%.3f ms per load case (thread time / load cases), rho %.4g, sigma %.4g\n",
-                t, t == 1 ? "" : "s", labels.seconds, static_cast<long long>(labels.load_cases),
-                static_cast<long long>(labels.simulated_vertices), static_cast<long long>(labels.constraints),
-                1e3 * labels.SecondsPerLoadCase(), labels.density, labels.sigma);
+    std::printf(
+        "PBD labels (%d thread%s): %.3f s for %lld load cases on %lld vertices, %lld constraints; "
+        "%.3f ms per load case (thread time / load cases), rho %.4g, sigma %.4g\n",
+        t, t == 1 ? "" : "s", labels.seconds, static_cast<long long>(labels.load_cases),
+        static_cast<long long>(labels.simulated_vertices), static_cast<long long>(labels.constraints),
+        1e3 * labels.SecondsPerLoadCase(), labels.density, labels.sigma);
     runs.emplace_back(t, labels);
   }
   if (runs.size() == 2) {

@@ -79,8 +79,8 @@ MachineInfo DescribeMachine() {
 
 std::string MachineLine(const MachineInfo& m) {
   char text[512];
-  std::snprintf(text, sizeof text, "%s, %d logical cores, %.1f GiB RAM; %s; FCL %s", m.cpu.c_str(), m.cores,
-                m.ram_gib, m.compiler.c_str(), m.fcl.c_str());
+  std::snprintf(text, sizeof text, "%s, %d logical cores, %.1f GiB RAM; %s; FCL %s", m.cpu.c_str(), m.cores, m.ram_gib,
+                m.compiler.c_str(), m.fcl.c_str());
   return text;
 }
 

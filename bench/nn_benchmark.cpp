@@ -18,9 +18,9 @@
 #include <thread>
 #include <vector>
 
+#include "core/random.h"
 #include "parse_args.h"
 #include "planning/nearest_neighbors.h"
-#include "core/random.h"
 #include "planning/state_space.h"
 
 namespace {
@@ -189,10 +189,9 @@ int main(int argc, char** argv) {
 #else
   std::printf("- build: NOT optimized (assertions on), compiler %s\n", __VERSION__);
 #endif
-  std::printf("- metric: translations in [0, %g]^3, nu = %g; a new u ~ U(0, 1) per query; queries uniform\n",
-              kSide, metric.nu);
-  std::printf("- trees: start at the box centre, steps of at most %g (translation) and 0.1 rad\n\n",
-              0.01 * kSide);
+  std::printf("- metric: translations in [0, %g]^3, nu = %g; a new u ~ U(0, 1) per query; queries uniform\n", kSide,
+              metric.nu);
+  std::printf("- trees: start at the box centre, steps of at most %g (translation) and 0.1 rad\n\n", 0.01 * kSide);
   std::printf("| data | n | kd-tree Nearest (us) | linear scan (us) | speedup | Add (us, mean) | same answers |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---|\n");
 
@@ -221,30 +220,25 @@ int main(int argc, char** argv) {
       for (int i = 0; i < queries; ++i) query_poses[i] = UniformPose(random), weights[i] = random.UniformOpen01();
 
       std::vector<int> tree_answers(queries), scan_answers(queries);
-      const double tree_us = BestMeanMicroseconds(queries, repetitions, [&](int i) {
-        tree_answers[i] = index.Nearest(query_poses[i], weights[i]);
-      });
-      const double scan_us = BestMeanMicroseconds(queries, repetitions, [&](int i) {
-        scan_answers[i] = scan.Nearest(query_poses[i], weights[i]);
-      });
-      const int mismatches = static_cast<int>(queries - std::inner_product(tree_answers.begin(), tree_answers.end(),
-                                                                           scan_answers.begin(), 0, std::plus<>(),
-                                                                           std::equal_to<>()));
+      const double tree_us = BestMeanMicroseconds(
+          queries, repetitions, [&](int i) { tree_answers[i] = index.Nearest(query_poses[i], weights[i]); });
+      const double scan_us = BestMeanMicroseconds(
+          queries, repetitions, [&](int i) { scan_answers[i] = scan.Nearest(query_poses[i], weights[i]); });
+      const int mismatches =
+          static_cast<int>(queries - std::inner_product(tree_answers.begin(), tree_answers.end(), scan_answers.begin(),
+                                                        0, std::plus<>(), std::equal_to<>()));
       for (int a : tree_answers) sink += a;
-      std::printf("| %s | %d | %.2f | %.2f | %.1fx | %.2f | %s |\n", Name(data), n, tree_us, scan_us,
-                  scan_us / tree_us, add_us,
-                  mismatches == 0 ? "yes" : (std::to_string(mismatches) + " differ").c_str());
+      std::printf("| %s | %d | %.2f | %.2f | %.1fx | %.2f | %s |\n", Name(data), n, tree_us, scan_us, scan_us / tree_us,
+                  add_us, mismatches == 0 ? "yes" : (std::to_string(mismatches) + " differ").c_str());
       std::fflush(stdout);
       // The largest n again with fixed weights: how the pruning depends on u.
       if (n == std::min(max_n, 100000)) {
         std::string line = std::string("| ") + Name(data) + " | " + std::to_string(n);
         for (double u : {0.05, 0.5, 0.95}) {
-          const double tree = BestMeanMicroseconds(queries, repetitions, [&](int i) {
-            sink += index.Nearest(query_poses[i], u);
-          });
-          const double linear = BestMeanMicroseconds(queries, repetitions, [&](int i) {
-            sink += scan.Nearest(query_poses[i], u);
-          });
+          const double tree =
+              BestMeanMicroseconds(queries, repetitions, [&](int i) { sink += index.Nearest(query_poses[i], u); });
+          const double linear =
+              BestMeanMicroseconds(queries, repetitions, [&](int i) { sink += scan.Nearest(query_poses[i], u); });
           char cell[64];
           std::snprintf(cell, sizeof cell, " | %.2f / %.0f", tree, linear);
           line += cell;

@@ -51,8 +51,7 @@ void FromPose(const Pose& pose, ob::State* state) {
 // The validity OMPL sees: our bounds test and our collision checker object.
 class AusbauValidityChecker : public ob::StateValidityChecker {
  public:
-  AusbauValidityChecker(const ob::SpaceInformationPtr& si, const PlanningProblem& problem,
-                        const PoseValidity& validity)
+  AusbauValidityChecker(const ob::SpaceInformationPtr& si, const PlanningProblem& problem, const PoseValidity& validity)
       : ob::StateValidityChecker(si), problem_(problem), validity_(validity) {}
   bool isValid(const ob::State* state) const override {
     const Pose pose = ToPose(state);
@@ -222,7 +221,9 @@ OmplRrtConnect::~OmplRrtConnect() = default;
 
 double OmplRrtConnect::MaximumExtent() const { return impl_->space->getMaximumExtent(); }
 double OmplRrtConnect::SegmentFraction() const { return impl_->fraction; }
-double OmplRrtConnect::DefaultRange() const { return impl_->SetupFor(0).getPlanner()->as<og::RRTConnect>()->getRange(); }
+double OmplRrtConnect::DefaultRange() const {
+  return impl_->SetupFor(0).getPlanner()->as<og::RRTConnect>()->getRange();
+}
 
 unsigned int OmplRrtConnect::SegmentCount(const Pose& a, const Pose& b) const {
   og::SimpleSetup& ss = impl_->SetupFor(0);

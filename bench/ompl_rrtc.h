@@ -47,12 +47,12 @@ OmplResolution ParseOmplResolution(const std::string& text);  // throws InputErr
 std::string OmplResolutionName(OmplResolution mode);
 
 struct OmplRun {
-  bool solved = false;          // exact solution only
-  int status = 0;               // ompl::base::PlannerStatus::StatusType
-  double time_s = 0;            // wall clock around solve()
+  bool solved = false;  // exact solution only
+  int status = 0;       // ompl::base::PlannerStatus::StatusType
+  double time_s = 0;    // wall clock around solve()
   std::int64_t collision_checks = 0;
-  std::int64_t nodes = 0;       // planner data vertices (both trees)
-  std::vector<Pose> path;       // planning convention; empty unless solved
+  std::int64_t nodes = 0;  // planner data vertices (both trees)
+  std::vector<Pose> path;  // planning convention; empty unless solved
 };
 
 class OmplRrtConnect {

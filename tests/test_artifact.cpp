@@ -81,8 +81,7 @@ class ArtifactTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("ausbau-test-artifact-" + std::to_string(::getpid()) + "-" + info->name());
+    dir_ = fs::temp_directory_path() / ("ausbau-test-artifact-" + std::to_string(::getpid()) + "-" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -286,8 +285,7 @@ TEST_F(ArtifactTest, RejectsMissingRootAttribute) {
     ASSERT_GE(file, 0);
     H5Fclose(file);
   }
-  ExpectInputError([&] { ArtifactReader r(path, kSchema, 1); },
-                   path.string() + ": missing root attribute 'schema'");
+  ExpectInputError([&] { ArtifactReader r(path, kSchema, 1); }, path.string() + ": missing root attribute 'schema'");
 }
 
 TEST_F(ArtifactTest, RejectsWrongAttributeType) {
@@ -298,8 +296,7 @@ TEST_F(ArtifactTest, RejectsWrongAttributeType) {
                    "root attribute 'scale' has type float64 (expected string)");
   ExpectInputError([&] { r.ReadIntAttribute("", "scale"); }, "root attribute 'scale' has type float64");
   ExpectInputError([&] { r.ReadIntAttribute("", "nothing"); }, "missing root attribute 'nothing'");
-  ExpectInputError([&] { r.ReadIntAttribute("waypoints", "nothing"); },
-                   "missing attribute 'nothing' on 'waypoints'");
+  ExpectInputError([&] { r.ReadIntAttribute("waypoints", "nothing"); }, "missing attribute 'nothing' on 'waypoints'");
   ExpectInputError([&] { r.ReadIntAttribute("nowhere", "units"); }, "missing object 'nowhere'");
 }
 
@@ -401,8 +398,8 @@ TEST_F(ArtifactTest, WriteFailuresAreRuntimeErrorsNamingThePath) {
   const fs::path path = dir_ / "a.h5";
   ArtifactWriter w(path, kSchema, 1, SampleProvenance());
   w.WriteDoubles("x", {1}, {1});
-  EXPECT_THROW(w.WriteDoubles("x", {1}, {1}), std::runtime_error);       // exists already
-  EXPECT_THROW(w.WriteDoubles("y", {1, 2}, {3}), std::logic_error);      // dims mismatch
+  EXPECT_THROW(w.WriteDoubles("x", {1}, {1}), std::runtime_error);        // exists already
+  EXPECT_THROW(w.WriteDoubles("y", {1, 2}, {3}), std::logic_error);       // dims mismatch
   EXPECT_THROW(w.SetAttribute("nowhere", "a", 1.0), std::runtime_error);  // no such object
   EXPECT_THROW(w.SetAttribute("", "provenance", std::string("x")), std::logic_error);
   w.SetAttribute("x", "units", std::string("m"));

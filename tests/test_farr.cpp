@@ -20,11 +20,11 @@
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "core/random.h"
+#include "fixtures/flange.h"
 #include "geometry/closest_point.h"
 #include "geometry/primitives.h"
 #include "planning/planner.h"
-#include "core/random.h"
-#include "fixtures/flange.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
 
@@ -67,11 +67,10 @@ class PointInSolid {
     }
   }
   bool Inside(const Vec3& p) const {
-    static const Vec3 directions[5] = {Vec3(0.3171, 0.8123, -0.4892).normalized(),
-                                       Vec3(-0.7013, 0.1234, 0.7020).normalized(),
-                                       Vec3(0.5521, -0.6619, 0.5071).normalized(),
-                                       Vec3(-0.2310, -0.4411, -0.8672).normalized(),
-                                       Vec3(0.9121, 0.3012, 0.2781).normalized()};
+    static const Vec3 directions[5] = {
+        Vec3(0.3171, 0.8123, -0.4892).normalized(), Vec3(-0.7013, 0.1234, 0.7020).normalized(),
+        Vec3(0.5521, -0.6619, 0.5071).normalized(), Vec3(-0.2310, -0.4411, -0.8672).normalized(),
+        Vec3(0.9121, 0.3012, 0.2781).normalized()};
     int votes = 0;
     for (const Vec3& d : directions) votes += Parity(p, d);
     return votes >= 3;
@@ -183,8 +182,8 @@ TEST(DistanceField, CubeInsideOutsideAndNearestPoints) {
   EXPECT_EQ(field->Locate({100, 0, 0}), field->Locate({1.299, 0, 0}));
   EXPECT_EQ(field->Locate({-100, -100, -100}), field->Index(0, 0, 0));
   // From the centre, the nearest point lies on a face at distance 1.
-  EXPECT_NEAR((field->NearestPoint(field->Locate({0.01, 0.01, 0.01})) -
-               field->CellCenter(32, 32, 32)).norm(), 1.0 - 0.5 * field->spacing(), 1e-5);
+  EXPECT_NEAR((field->NearestPoint(field->Locate({0.01, 0.01, 0.01})) - field->CellCenter(32, 32, 32)).norm(),
+              1.0 - 0.5 * field->spacing(), 1e-5);
 }
 
 TEST(DistanceField, PlateWithHole) {
@@ -202,11 +201,11 @@ TEST(DistanceField, InterlockedRings) {
   rings.Append(RingB());
   const auto field = Field(rings, 96);
   ExpectFieldMatchesReferences(rings, *field, 3000);
-  EXPECT_EQ(field->cell_class(field->Locate({1.5, 0, 0})), CellClass::kInside);     // A's bar in B's hole
-  EXPECT_EQ(field->cell_class(field->Locate({0, 0, 0})), CellClass::kInside);       // B's bar in A's hole
-  EXPECT_EQ(field->cell_class(field->Locate({0, 1.5, 0})), CellClass::kInside);     // A's bar
-  EXPECT_EQ(field->cell_class(field->Locate({0, 0, 1.5})), CellClass::kInside);     // B's top bar
-  EXPECT_EQ(field->cell_class(field->Locate({1.5, 0, 0.75})), CellClass::kOutside); // B's hole above A
+  EXPECT_EQ(field->cell_class(field->Locate({1.5, 0, 0})), CellClass::kInside);      // A's bar in B's hole
+  EXPECT_EQ(field->cell_class(field->Locate({0, 0, 0})), CellClass::kInside);        // B's bar in A's hole
+  EXPECT_EQ(field->cell_class(field->Locate({0, 1.5, 0})), CellClass::kInside);      // A's bar
+  EXPECT_EQ(field->cell_class(field->Locate({0, 0, 1.5})), CellClass::kInside);      // B's top bar
+  EXPECT_EQ(field->cell_class(field->Locate({1.5, 0, 0.75})), CellClass::kOutside);  // B's hole above A
   EXPECT_EQ(field->cell_class(field->Locate({-1.5, 0, 1.5})), CellClass::kOutside);
 }
 
@@ -307,8 +306,7 @@ TEST(DistanceField, ArtifactRoundTripAndCache) {
     EXPECT_EQ(reader.ReadIntAttribute("", "nx"), field->dims()[0]);
     EXPECT_EQ(reader.ReadDoubleAttribute("", "spacing"), field->spacing());
     EXPECT_EQ(reader.ReadStringAttribute("nearest_point", "units"), "mm");
-    EXPECT_EQ(reader.provenance_hash(),
-              DistanceFieldProvenanceHash({MeshContentHash(rings), 40, 1.3}));
+    EXPECT_EQ(reader.provenance_hash(), DistanceFieldProvenanceHash({MeshContentHash(rings), 40, 1.3}));
   }
   // Wrong schema, missing and truncated files are input errors.
   {
@@ -358,20 +356,25 @@ TEST(DistanceField, ArtifactRoundTripAndCache) {
   // A read-only scene folder (shared benchmark data) is left alone.
   const auto readonly = dir / "readonly";
   std::filesystem::create_directories(readonly);
-  std::filesystem::permissions(readonly, std::filesystem::perms::owner_write | std::filesystem::perms::group_write |
-                                             std::filesystem::perms::others_write,
-                               std::filesystem::perm_options::remove);
+  std::filesystem::permissions(
+      readonly,
+      std::filesystem::perms::owner_write | std::filesystem::perms::group_write | std::filesystem::perms::others_write,
+      std::filesystem::perm_options::remove);
   const char* saved_xdg = std::getenv("XDG_CACHE_HOME");
   const std::string saved_xdg_value = saved_xdg ? saved_xdg : "";
   setenv("XDG_CACHE_HOME", (dir / "xdg").c_str(), 1);
   EXPECT_EQ(DefaultDistanceFieldCacheDir(readonly / "scene.yaml"), dir / "xdg" / "ausbau");
-  if (saved_xdg) setenv("XDG_CACHE_HOME", saved_xdg_value.c_str(), 1);
-  else unsetenv("XDG_CACHE_HOME");
+  if (saved_xdg)
+    setenv("XDG_CACHE_HOME", saved_xdg_value.c_str(), 1);
+  else
+    unsetenv("XDG_CACHE_HOME");
   std::filesystem::permissions(readonly, std::filesystem::perms::owner_write, std::filesystem::perm_options::add);
   setenv("AUSBAU_CACHE_DIR", "/tmp/x-cache", 1);
   EXPECT_EQ(DefaultDistanceFieldCacheDir("/a/b/scene.yaml"), std::filesystem::path("/tmp/x-cache"));
-  if (saved) setenv("AUSBAU_CACHE_DIR", saved_value.c_str(), 1);
-  else unsetenv("AUSBAU_CACHE_DIR");
+  if (saved)
+    setenv("AUSBAU_CACHE_DIR", saved_value.c_str(), 1);
+  else
+    unsetenv("AUSBAU_CACHE_DIR");
   std::filesystem::remove_all(dir);
 }
 
@@ -399,8 +402,7 @@ TEST(Farr, RobustTriangleTest) {
 // FARR against FCL
 
 struct Tally {
-  std::int64_t poses = 0, invalid = 0, mismatches = 0, containment = 0, containment_confirmed = 0,
-               witnesses = 0;
+  std::int64_t poses = 0, invalid = 0, mismatches = 0, containment = 0, containment_confirmed = 0, witnesses = 0;
 };
 
 // Records the poses a planner checks.
@@ -437,8 +439,9 @@ std::vector<Pose> SamplePoses(const PlanningProblem& problem, const FclCollision
     if (attempts % 2 == 0) {
       a = problem.start;
       a.t += problem.robot_diagonal * 0.3 * Vec3(random.Normal(), random.Normal(), random.Normal());
-      a.q = (problem.start.q * Eigen::Quaterniond(Eigen::AngleAxisd(
-                                   0.5 * random.Normal(), Vec3(random.Normal(), random.Normal(), random.Normal()).normalized())))
+      a.q = (problem.start.q *
+             Eigen::Quaterniond(Eigen::AngleAxisd(
+                 0.5 * random.Normal(), Vec3(random.Normal(), random.Normal(), random.Normal()).normalized())))
                 .normalized();
     }
     b = problem.SampleUniform(random);
@@ -446,8 +449,10 @@ std::vector<Pose> SamplePoses(const PlanningProblem& problem, const FclCollision
     if (ca == fcl.InCollision(b)) continue;
     for (int k = 0; k < 10; ++k) {
       const Pose m = Interpolate(a, b, 0.5);
-      if (fcl.InCollision(m) == ca) a = m;
-      else b = m;
+      if (fcl.InCollision(m) == ca)
+        a = m;
+      else
+        b = m;
     }
     poses.push_back(a);
     poses.push_back(b);
@@ -528,8 +533,8 @@ PlanningProblem ProblemFromMeshes(const TriangleMesh& robot, const TriangleMesh&
 // Each comparison asserts its number of poses; together (rod-in-cage 30,000,
 // peg-in-plate 30,000, flange 9,000, rings 12,000, cube in cube 6,000,
 // alpha-1.5 12,000 when present) at least 10^5 configurations.
-void CompareOnScene(const std::filesystem::path& yaml, int uniform, int near_contact, int planner_max,
-                    int resolution, std::int64_t at_least) {
+void CompareOnScene(const std::filesystem::path& yaml, int uniform, int near_contact, int planner_max, int resolution,
+                    std::int64_t at_least) {
   const Scene scene = LoadScene(yaml);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const FclCollisionChecker fcl(problem.robot, problem.environment);
@@ -539,11 +544,12 @@ void CompareOnScene(const std::filesystem::path& yaml, int uniform, int near_con
   EXPECT_EQ(tally.mismatches, 0);
   EXPECT_GT(tally.invalid, tally.poses / 50) << "too few collisions to compare";
   EXPECT_GT(tally.witnesses, 0);
-  std::printf("[ farr     ] %s: %lld poses, %lld in collision, %lld proven by rays, %lld mismatches, "
-              "%lld containment (%lld confirmed)\n",
-              scene.name.c_str(), static_cast<long long>(tally.poses), static_cast<long long>(tally.invalid),
-              static_cast<long long>(tally.witnesses), static_cast<long long>(tally.mismatches),
-              static_cast<long long>(tally.containment), static_cast<long long>(tally.containment_confirmed));
+  std::printf(
+      "[ farr     ] %s: %lld poses, %lld in collision, %lld proven by rays, %lld mismatches, "
+      "%lld containment (%lld confirmed)\n",
+      scene.name.c_str(), static_cast<long long>(tally.poses), static_cast<long long>(tally.invalid),
+      static_cast<long long>(tally.witnesses), static_cast<long long>(tally.mismatches),
+      static_cast<long long>(tally.containment), static_cast<long long>(tally.containment_confirmed));
 }
 
 TEST(Farr, EqualsFclOnRodInCage) {
@@ -576,7 +582,8 @@ TEST(Farr, EqualsFclOnInterlockedRings) {
   for (int i = 0; i < 12000; ++i) {
     Pose p;
     p.t = 0.8 * Vec3(random.Normal(), random.Normal(), random.Normal());
-    p.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4 * random.Normal(), Vec3(random.Normal(), random.Normal(), random.Normal()).normalized()));
+    p.q = Eigen::Quaterniond(
+        Eigen::AngleAxisd(0.4 * random.Normal(), Vec3(random.Normal(), random.Normal(), random.Normal()).normalized()));
     poses.push_back(p);
   }
   const Tally tally = Compare(problem, poses, 96);
@@ -731,26 +738,32 @@ TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
   const auto yaml = testing::MakeGeneratedScene("peg-in-plate", 3);
   const auto dir = testing::MakeTempDir("farr-stages");
   const std::string env = "AUSBAU_CACHE_DIR=" + (dir / "cache").string();
-  const std::string s = (dir / "df" / "distfield-static.h5").string(), d = (dir / "df" / "distfield-dynamic.h5").string();
+  const std::string s = (dir / "df" / "distfield-static.h5").string(),
+                    d = (dir / "df" / "distfield-dynamic.h5").string();
 
-  Outcome built = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
+  Outcome built = RunStage(env, "distfield-build",
+                           "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
   ASSERT_EQ(built.exit_code, 0) << built.output;
   EXPECT_NE(built.output.find(s + "," + d), std::string::npos) << built.output;
   EXPECT_TRUE(std::filesystem::exists(dir / "cache"));  // also stored in the cache
-  Outcome again = RunStage(env, "distfield-build", "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
+  Outcome again = RunStage(env, "distfield-build",
+                           "--scene " + yaml.string() + " --field-cells 64 --output-dir " + (dir / "df").string());
   EXPECT_EQ(again.exit_code, 0);
   EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
 
   const std::string common = "--scene " + yaml.string() + " --seed 2 --time-limit 120 ";
-  Outcome fcl = RunStage(env, "plan", common + "-o " + (dir / "fcl.h5").string() + " --csv " + (dir / "fcl.csv").string());
+  Outcome fcl =
+      RunStage(env, "plan", common + "-o " + (dir / "fcl.h5").string() + " --csv " + (dir / "fcl.csv").string());
   ASSERT_EQ(fcl.exit_code, 0) << fcl.output;
-  Outcome given = RunStage(env, "plan", common + "--collision farr --distfield " + s + "," + d + " -o " +
-                                            (dir / "farr.h5").string() + " --csv " + (dir / "farr.csv").string());
+  Outcome given = RunStage(env, "plan",
+                           common + "--collision farr --distfield " + s + "," + d + " -o " +
+                               (dir / "farr.h5").string() + " --csv " + (dir / "farr.csv").string());
   ASSERT_EQ(given.exit_code, 0) << given.output;
   EXPECT_EQ(ReadText(dir / "fcl.csv"), ReadText(dir / "farr.csv"));
   // Without --distfield: built (256 cells) into the cache, then reused.
-  Outcome cached = RunStage(env, "plan", common + "--collision farr -o " + (dir / "farr2.h5").string() + " --csv " +
-                                             (dir / "farr2.csv").string());
+  Outcome cached = RunStage(
+      env, "plan",
+      common + "--collision farr -o " + (dir / "farr2.h5").string() + " --csv " + (dir / "farr2.csv").string());
   ASSERT_EQ(cached.exit_code, 0) << cached.output;
   EXPECT_EQ(ReadText(dir / "fcl.csv"), ReadText(dir / "farr2.csv"));
   Outcome reused = RunStage(env, "plan", common + "--collision farr --force -o " + (dir / "farr2.h5").string());
@@ -761,8 +774,8 @@ TEST(FarrStages, DistfieldBuildThenPlanWithFarrGivesFclsPath) {
   Outcome one = RunStage(env, "plan", common + "--collision farr --distfield " + s + " -o " + (dir / "x.h5").string());
   EXPECT_EQ(one.exit_code, 2);
   EXPECT_NE(one.output.find("--distfield: expected two files"), std::string::npos) << one.output;
-  Outcome swapped = RunStage(env, "plan", common + "--collision farr --distfield " + d + "," + s + " -o " +
-                                              (dir / "x.h5").string());
+  Outcome swapped =
+      RunStage(env, "plan", common + "--collision farr --distfield " + d + "," + s + " -o " + (dir / "x.h5").string());
   EXPECT_EQ(swapped.exit_code, 2);
   EXPECT_NE(swapped.output.find("another mesh"), std::string::npos) << swapped.output;
   Outcome bogus = RunStage(env, "plan", common + "--collision bvh -o " + (dir / "x.h5").string());

@@ -5,13 +5,13 @@
 #include <cmath>
 #include <limits>
 
+#include "core/random.h"
 #include "geometry/closest_point.h"
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
 #include "geometry/triangle_box.h"
 #include "geometry/triangle_bvh.h"
 #include "geometry/weld.h"
-#include "core/random.h"
 #include "planning/state_space.h"
 #include "test_poses.h"
 
@@ -204,9 +204,9 @@ TEST(ClosestPointOnTriangle, EachVoronoiRegion) {
 TEST(ClosestPointOnTriangle, OnTheBoundaryBetweenRegions) {
   const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
   // On the line that bounds vertex a's region and edge ab's: the vertex.
-  EXPECT_EQ(ClosestPointOnTriangle({0, -1, 0}, a, b, c, DegenerateTriangles::kUnguarded,
-                                   FaceWeights::kTimesReciprocalOfSum),
-            a);
+  EXPECT_EQ(
+      ClosestPointOnTriangle({0, -1, 0}, a, b, c, DegenerateTriangles::kUnguarded, FaceWeights::kTimesReciprocalOfSum),
+      a);
   // A point of the triangle is its own closest point.
   EXPECT_EQ(ClosestPointOnTriangle({0.5, 0.5, 0}, a, b, c, DegenerateTriangles::kUnguarded,
                                    FaceWeights::kTimesReciprocalOfSum),
@@ -218,14 +218,13 @@ TEST(ClosestPointOnTriangle, CoincidentCornersAreGuardedOnlyWhereAsked) {
   // 0 / 0. Guarded, the edge answers its first corner; unguarded, NaN (a
   // BVH search then never takes the triangle as nearest).
   const Eigen::Vector3d a(0, 0, 0), b(0, 0, 0), c(1, 0, 0), p(0.5, 1, 0);
-  EXPECT_EQ(ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kNearestEdgePoint,
-                                   FaceWeights::kTimesReciprocalOfSum),
-            a);
+  EXPECT_EQ(
+      ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kNearestEdgePoint, FaceWeights::kTimesReciprocalOfSum),
+      a);
   EXPECT_TRUE(std::isnan(
       ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kUnguarded, FaceWeights::kTimesReciprocalOfSum).x()));
-  EXPECT_TRUE(
-      std::isnan(ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kNearestCorner, FaceWeights::kDividedBySum)
-                     .x()));
+  EXPECT_TRUE(std::isnan(
+      ClosestPointOnTriangle(p, a, b, c, DegenerateTriangles::kNearestCorner, FaceWeights::kDividedBySum).x()));
 }
 
 // ---------------------------------------------------------------- triangle against box
@@ -272,8 +271,8 @@ TEST(TriangleOverlapsBox, BoxAwayFromTheOriginWithUnequalHalfExtents) {
 // ---------------------------------------------------------------- vertex welding
 
 TEST(WeldExactPositions, EqualPositionsShareAnIndexInOrderOfFirstAppearance) {
-  const std::vector<Eigen::Vector3d> vertices = {{1, 2, 3}, {0, 0, 0}, {1, 2, 3}, {-0.0, 0, -0.0},
-                                                 {0, 0, 1e-300}, {0, 0, 0}};
+  const std::vector<Eigen::Vector3d> vertices = {{1, 2, 3},       {0, 0, 0},      {1, 2, 3},
+                                                 {-0.0, 0, -0.0}, {0, 0, 1e-300}, {0, 0, 0}};
   EXPECT_EQ(WeldExactPositions(vertices), (std::vector<int>{0, 1, 0, 1, 2, 1}));
   EXPECT_TRUE(WeldExactPositions({}).empty());
 }
@@ -329,8 +328,8 @@ TriangleMesh RandomTriangleSoup(std::uint64_t seed, int triangles) {
   for (int t = 0; t < triangles; ++t) {
     const Eigen::Vector3d corner(random.Uniform01(), random.Uniform01(), random.Uniform01());
     for (int k = 0; k < 3; ++k) {
-      mesh.vertices.push_back(corner + 0.2 * Eigen::Vector3d(random.Uniform(-1, 1), random.Uniform(-1, 1),
-                                                             random.Uniform(-1, 1)));
+      mesh.vertices.push_back(
+          corner + 0.2 * Eigen::Vector3d(random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(-1, 1)));
     }
     mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
   }

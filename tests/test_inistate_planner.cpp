@@ -11,14 +11,14 @@
 
 #include "collision/fcl_checker.h"
 #include "core/error.h"
-#include "geometry/primitives.h"
+#include "fixtures/clip_scenes.h"
 #include "fixtures/ground_truth_check.h"
+#include "geometry/primitives.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/volume_model.h"
 #include "inistate/volume_smoother.h"
 #include "planning/path_io.h"
-#include "fixtures/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
@@ -70,8 +70,10 @@ TEST(VolumeModel, ARigidKeyCrossingA2mmPlateIsRefusedWhateverTauIs) {
   std::vector<double> deformability(scene.dynamic_mesh.vertices.size(), 0.0);
   for (const auto& tri : scene.dynamic_mesh.triangles) {
     bool clip = true;
-    for (int v : tri) clip = clip && scene.dynamic_mesh.vertices[v].x() > 19 && scene.dynamic_mesh.vertices[v].z() < 10.5;
-    if (clip) for (int v : tri) deformability[v] = 1.0;
+    for (int v : tri)
+      clip = clip && scene.dynamic_mesh.vertices[v].x() > 19 && scene.dynamic_mesh.vertices[v].z() < 10.5;
+    if (clip)
+      for (int v : tri) deformability[v] = 1.0;
   }
   VolumeModel model(problem, scene.dynamic_mesh, voxels, deformability, ValidityMode::kLabeledMliv);
   Pose pushed = problem.start;
@@ -94,8 +96,7 @@ TEST(VolumeModel, ARigidKeyCrossingA2mmPlateIsRefusedWhateverTauIs) {
 // S: a 10 mm cube; D: a 10 x 10 x 4 slab overlapping its top by 1 mm at the
 // start (a 10 x 10 x 1 = 100 mm^3 overlap, plus the voxels' surface margin).
 TEST(VolumeModel, ModesMeasureTheOverlapAndShrinkFreesTheStart) {
-  const Scene scene = MakeScene("slab-on-cube", MakeBox({0, 0, 0}, {10, 10, 10}),
-                                MakeBox({0, 0, 9}, {10, 10, 13}));
+  const Scene scene = MakeScene("slab-on-cube", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({0, 0, 9}, {10, 10, 13}));
   const PlanningProblem problem = MakePlanningProblem(scene);
   VoxelizeOptions voxelize;
   voxelize.voxel_size = 0.25;
@@ -121,8 +122,7 @@ TEST(VolumeModel, ModesMeasureTheOverlapAndShrinkFreesTheStart) {
   EXPECT_LE(shrink.shrink(), 1.0 + 3 * 0.25);
   EXPECT_EQ(shrink.Measure(problem.start), 0.0);
   // A D buried 3 mm deep in a 4 mm slab cannot be freed by shrinking.
-  const Scene buried = MakeScene("buried", MakeBox({0, 0, 0}, {10, 10, 10}),
-                                 MakeBox({0, 0, 7}, {10, 10, 11}));
+  const Scene buried = MakeScene("buried", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({0, 0, 7}, {10, 10, 11}));
   EXPECT_THROW(VolumeModel(MakePlanningProblem(buried), buried.dynamic_mesh, VoxelizeScene(buried, voxelize), {},
                            ValidityMode::kShrink),
                InputError);
@@ -389,7 +389,7 @@ TEST(InIStatePlanner, ReusesAKnownSigma1OnlyWhenItHolds) {
   options.known_local_path = estimate.local_path;
   const InIStateResult reused = PlanInIState(problem, validity, fcl, fcl, options);
   ASSERT_TRUE(planned.solved() && reused.solved());
-  EXPECT_EQ(reused.local.stats.nodes, 0);  // not planned
+  EXPECT_EQ(reused.local.stats.nodes, 0);             // not planned
   EXPECT_GT(reused.local.stats.collision_checks, 0);  // but re-checked
   EXPECT_GT(planned.local.stats.nodes, 0);
   // Same seed, tau and planner: the round's sigma_1 is the one planning finds.

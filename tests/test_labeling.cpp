@@ -12,14 +12,14 @@
 
 #include "artifact/artifact.h"
 #include "core/error.h"
+#include "fixtures/clip_scenes.h"
+#include "fixtures/roc.h"
 #include "geometry/closest_point.h"
 #include "geometry/primitives.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
-#include "fixtures/roc.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
-#include "fixtures/clip_scenes.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
@@ -38,8 +38,7 @@ std::vector<double> Lines(std::vector<std::vector<double>> parts) {
   std::vector<double> out;
   for (const auto& part : parts) out.insert(out.end(), part.begin(), part.end());
   std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }),
-            out.end());
+  out.erase(std::unique(out.begin(), out.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), out.end());
   return out;
 }
 
@@ -224,7 +223,7 @@ TEST(MeshTopology, OpenAndSeparateComponentsAreOrientedOutward) {
   for (std::size_t t = 0; t < topo.triangles.size(); ++t) {
     const auto& tri = topo.triangles[t];
     const Eigen::Vector3d c = (topo.vertices[tri[0]] + topo.vertices[tri[1]] + topo.vertices[tri[2]]) / 3.0;
-    const Eigen::Vector3d centre = c.x() > 2 ? Eigen::Vector3d(3.5, 0.5, 0.5)
+    const Eigen::Vector3d centre = c.x() > 2   ? Eigen::Vector3d(3.5, 0.5, 0.5)
                                    : c.y() > 2 ? Eigen::Vector3d(0.5, 3.5, 0.5)
                                                : Eigen::Vector3d(0.5, 0.5, 0.5);
     EXPECT_GT(topo.triangle_normals[t].dot(c - centre), 0) << "triangle " << t << " at " << c.transpose();
@@ -289,8 +288,8 @@ TEST(MedialSpheres, BoxSpheresReachTheCentre) {
 
 TEST(MedialSpheres, PlateRadiusIsHalfTheThickness) {
   const double thickness = 0.02;
-  const MeshTopology topo = BuildMeshTopology(MakeGridSolidMesh(
-      Steps(0, 1, 10), Steps(0, 0.5, 5), {0, thickness}, [](int, int, int) { return true; }));
+  const MeshTopology topo = BuildMeshTopology(
+      MakeGridSolidMesh(Steps(0, 1, 10), Steps(0, 0.5, 5), {0, thickness}, [](int, int, int) { return true; }));
   const MedialSpheres spheres = ComputeMedialSpheres(topo, {});
   for (int v = 0; v < topo.VertexCount(); ++v) {
     EXPECT_NEAR(spheres.radii[v], thickness / 2, 0.03 * thickness / 2) << topo.vertices[v].transpose();
@@ -357,10 +356,11 @@ TEST(PbdLabels, ThinTongueIsMoreDeformableThanTheThickBox) {
       (part.tongue[i] ? tongue : box) += d[i];
       ++(part.tongue[i] ? tongue_count : box_count);
     }
-    std::printf("measure %s: AUC %.4f, mean deformability tongue %.3f, box %.3f; r_min %.4g sigma %.4g, %lld "
-                "load cases, %.2f ms each\n",
-                measure, auc, tongue / tongue_count, box / box_count, labels.r_min, labels.sigma,
-                static_cast<long long>(labels.load_cases), 1e3 * labels.SecondsPerLoadCase());
+    std::printf(
+        "measure %s: AUC %.4f, mean deformability tongue %.3f, box %.3f; r_min %.4g sigma %.4g, %lld "
+        "load cases, %.2f ms each\n",
+        measure, auc, tongue / tongue_count, box / box_count, labels.r_min, labels.sigma,
+        static_cast<long long>(labels.load_cases), 1e3 * labels.SecondsPerLoadCase());
     EXPECT_GE(auc, 0.9) << measure;
     EXPECT_GT(tongue / tongue_count, 2 * box / box_count) << measure;
     for (double x : d) {
@@ -439,8 +439,8 @@ TEST(PbdLabels, SeparateOverlappingSolidsAreGlued) {
   // all its motion.
   TriangleMesh mesh = SubdividedBox({0, 0, 0}, {1, 0.6, 0.3}, 6);
   const int box_vertices = static_cast<int>(mesh.vertices.size());
-  mesh.Append(MakeGridSolidMesh(Steps(0.8, 1.6, 10), Steps(0.2, 0.4, 3), {0.14, 0.17},
-                                [](int, int, int) { return true; }));
+  mesh.Append(
+      MakeGridSolidMesh(Steps(0.8, 1.6, 10), Steps(0.2, 0.4, 3), {0.14, 0.17}, [](int, int, int) { return true; }));
   std::vector<std::uint8_t> plate(mesh.vertices.size(), 0);
   for (std::size_t i = box_vertices; i < plate.size(); ++i) plate[i] = mesh.vertices[i].x() > 1 ? 1 : 0;
   MeshTopology topo;
@@ -509,8 +509,7 @@ void ExpectTongueSeparated(const std::vector<double>& d, const std::vector<std::
   }
   const std::vector<double> score(d.begin(), d.begin() + tongue.size());
   const double auc = RocAuc(score, tongue);
-  std::printf("%s: AUC %.4f, mean deformability tongue %.3f, box %.3f\n", what, auc, on / on_count,
-              off / off_count);
+  std::printf("%s: AUC %.4f, mean deformability tongue %.3f, box %.3f\n", what, auc, on / on_count, off / off_count);
   EXPECT_GE(auc, min_auc) << what;
   EXPECT_GT(on / on_count, 2 * off / off_count) << what;
 }
@@ -672,8 +671,7 @@ TEST(ClipScenes, LabelsSeparateClipsFromRigidParts) {
   for (const std::string& family : ClipSceneFamilies()) {
     ClipSceneOptions scene_options;
     scene_options.triangles = 2000;
-    const ClipSceneFiles files =
-        GenerateClipScene(family, scene_options, testing::MakeTempDir("labels-" + family));
+    const ClipSceneFiles files = GenerateClipScene(family, scene_options, testing::MakeTempDir("labels-" + family));
     const Scene scene = LoadScene(files.scene_yaml);
     const ClipGroundTruth truth = LoadClipGroundTruth(files.ground_truth_yaml);
     const MeshTopology topo = BuildMeshTopology(scene.dynamic_mesh);
@@ -698,11 +696,12 @@ TEST(ClipScenes, LabelsSeparateClipsFromRigidParts) {
       ++(clip ? clip_count : rigid_count);
     }
     const double auc = RocAuc(exposed_score, exposed_clip);
-    std::printf("%s: %zu triangles, %d parts glued into %d, %lld load cases in %.2f s: ROC AUC %.4f over %zu "
-                "exposed vertices (%.4f over all %zu); mean deformability clips %.3f, rigid parts %.3f\n",
-                family.c_str(), scene.dynamic_mesh.triangles.size(), topo.stats.components, labels.components,
-                static_cast<long long>(labels.load_cases), labels.seconds, auc, exposed_score.size(),
-                RocAuc(all_score, all_clip), d.size(), clip_sum / clip_count, rigid_sum / rigid_count);
+    std::printf(
+        "%s: %zu triangles, %d parts glued into %d, %lld load cases in %.2f s: ROC AUC %.4f over %zu "
+        "exposed vertices (%.4f over all %zu); mean deformability clips %.3f, rigid parts %.3f\n",
+        family.c_str(), scene.dynamic_mesh.triangles.size(), topo.stats.components, labels.components,
+        static_cast<long long>(labels.load_cases), labels.seconds, auc, exposed_score.size(),
+        RocAuc(all_score, all_clip), d.size(), clip_sum / clip_count, rigid_sum / rigid_count);
     if (family != "clips-ds5") {
       EXPECT_GE(auc, 0.9) << family;
       EXPECT_GT(clip_sum / clip_count, 2 * rigid_sum / rigid_count) << family;
@@ -748,13 +747,13 @@ Scene BoxSoupClipScene(bool rotated) {
   Scene scene;
   scene.units = "mm";
   TriangleMesh d = MakeBox({0, 0, 0}, {100, 60, 3});  // the panel (anchor)
-  d.Append(MakeBox({10, 10, 3}, {90, 12, 9}));         // a rib as thin as the clip: rigid
-  d.Append(MakeBox({40, 50, 2}, {52, 52, 10}));        // the clip's beam, overlapping the panel
-  d.Append(MakeBox({40, 49, 8}, {52, 54, 10}));        // its hook: reaches into the plate
+  d.Append(MakeBox({10, 10, 3}, {90, 12, 9}));        // a rib as thin as the clip: rigid
+  d.Append(MakeBox({40, 50, 2}, {52, 52, 10}));       // the clip's beam, overlapping the panel
+  d.Append(MakeBox({40, 49, 8}, {52, 54, 10}));       // its hook: reaches into the plate
   TriangleMesh s = MakeBox({0, 53, 8.5}, {100, 56, 11});
   if (rotated) {
-    const Eigen::Isometry3d place = Eigen::Translation3d(2500, -800, 1200) *
-                                    Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -0.5).normalized());
+    const Eigen::Isometry3d place =
+        Eigen::Translation3d(2500, -800, 1200) * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, -0.5).normalized());
     for (auto& v : d.vertices) v = place * v;
     for (auto& v : s.vertices) v = place * v;
   }
@@ -767,9 +766,8 @@ Scene BoxSoupClipScene(bool rotated) {
 Scene WeldedLInAPlate() {
   Scene scene;
   scene.units = "mm";
-  scene.dynamic_mesh = MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) {
-    return i == 0 || k == 0;
-  });
+  scene.dynamic_mesh =
+      MakeGridSolidMesh({0, 2, 10}, {0, 10}, {0, 2, 10}, [](int i, int, int k) { return i == 0 || k == 0; });
   scene.static_mesh = MakeBox({8, -5, -1}, {20, 15, 1});
   return scene;
 }
@@ -801,13 +799,13 @@ TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
   // throughout (SolidLabelsStage below); this test is about PBD.
   const std::string scene = "--scene " + yaml.string();
   const auto spheres = dir / "spheres.h5", labels = dir / "labels.h5";
-  const Outcome first = RunStage("medial-spheres", scene + " -o " + spheres.string() + " --csv " +
-                                                       (dir / "spheres.csv").string() + " --ply " +
-                                                       (dir / "spheres.ply").string() + " --threads 2");
+  const Outcome first =
+      RunStage("medial-spheres", scene + " -o " + spheres.string() + " --csv " + (dir / "spheres.csv").string() +
+                                     " --ply " + (dir / "spheres.ply").string() + " --threads 2");
   ASSERT_EQ(first.exit_code, 0) << first.output;
-  const Outcome label = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
-                                                  " --csv " + (dir / "labels.csv").string() + " --ply " +
-                                                  (dir / "labels.ply").string());
+  const Outcome label =
+      RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() + " --csv " +
+                                (dir / "labels.csv").string() + " --ply " + (dir / "labels.ply").string());
   ASSERT_EQ(label.exit_code, 0) << label.output;
 
   const Scene loaded = LoadScene(yaml);
@@ -837,17 +835,17 @@ TEST(LabelStages, SpheresThenLabelsWithCachingCsvAndPly) {
 
   // Up to date: reused, byte-identical; other options or --force: recomputed.
   const std::string before = ReadFile(labels);
-  const Outcome again = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
-                                                  " --threads 1");
+  const Outcome again = RunStage(
+      "pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() + " --threads 1");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("up to date"), std::string::npos) << again.output;
-  const Outcome forced = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() +
-                                                   " --threads 1 --force");
+  const Outcome forced = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " +
+                                                   labels.string() + " --threads 1 --force");
   ASSERT_EQ(forced.exit_code, 0) << forced.output;
   EXPECT_EQ(forced.output.find("up to date"), std::string::npos);
   EXPECT_EQ(ReadFile(labels), before);  // same labels with 1 thread as with all
-  const Outcome changed = RunStage("pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " +
-                                                    labels.string() + " --measure self");
+  const Outcome changed = RunStage(
+      "pbd-label", scene + " --rule pbd --spheres " + spheres.string() + " -o " + labels.string() + " --measure self");
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_EQ(changed.output.find("up to date"), std::string::npos);
 }
@@ -857,8 +855,10 @@ TEST(LabelStages, SolidRuleByDefaultOnABoxSoupPbdWhereItDoesNotApply) {
   const auto dir = testing::MakeTempDir("solid-labels");
   WriteScene(BoxSoupClipScene(true), "box-soup-clip", dir);
   const std::string args = "--scene " + (dir / "scene.yaml").string() + " --spheres " + (dir / "spheres.h5").string();
-  ASSERT_EQ(RunStage("medial-spheres", "--scene " + (dir / "scene.yaml").string() + " -o " +
-                                           (dir / "spheres.h5").string()).exit_code, 0);
+  ASSERT_EQ(
+      RunStage("medial-spheres", "--scene " + (dir / "scene.yaml").string() + " -o " + (dir / "spheres.h5").string())
+          .exit_code,
+      0);
   const Outcome label = RunStage("pbd-label", args + " -o " + (dir / "labels.h5").string());
   ASSERT_EQ(label.exit_code, 0) << label.output;
   EXPECT_NE(label.output.find("labels by solids: 4 closed solids, 2 of them"), std::string::npos) << label.output;
@@ -906,24 +906,24 @@ TEST(LabelStages, BadInputIsAOneLineError) {
   box.dynamic_file = other / "part.obj";
   box.static_files = {other / "environment.obj"};
   SaveSceneYaml(box, other / "scene.yaml");
-  ASSERT_EQ(RunStage("medial-spheres", "--scene " + (other / "scene.yaml").string() + " -o " +
-                                           (other / "spheres.h5").string())
+  ASSERT_EQ(RunStage("medial-spheres",
+                     "--scene " + (other / "scene.yaml").string() + " -o " + (other / "spheres.h5").string())
                 .exit_code,
             0);
-  const Outcome wrong = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
-                                                  (other / "spheres.h5").string() + " -o " +
-                                                  (dir / "labels.h5").string());
+  const Outcome wrong =
+      RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " + (other / "spheres.h5").string() + " -o " +
+                                (dir / "labels.h5").string());
   EXPECT_EQ(wrong.exit_code, 2) << wrong.output;
   EXPECT_NE(wrong.output.find("computed for another part D"), std::string::npos) << wrong.output;
-  const Outcome missing = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
-                                                    (dir / "none.h5").string());
+  const Outcome missing =
+      RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " + (dir / "none.h5").string());
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
   EXPECT_NE(missing.output.find("file not found"), std::string::npos) << missing.output;
   const Outcome bad = RunStage("medial-spheres", "--scene " + yaml.string() + " --push-factor 1.5");
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("--push-factor"), std::string::npos) << bad.output;
-  const Outcome measure = RunStage("pbd-label", "--scene " + yaml.string() + " --spheres " +
-                                                    (other / "spheres.h5").string() + " --measure max");
+  const Outcome measure = RunStage(
+      "pbd-label", "--scene " + yaml.string() + " --spheres " + (other / "spheres.h5").string() + " --measure max");
   EXPECT_EQ(measure.exit_code, 2) << measure.output;
 }
 
@@ -943,8 +943,8 @@ TEST(SolidLabels, ATwelveTriangleBoxClipOnABoxPanelIsSeparated) {
 TEST(SolidLabels, ASolidBlockOrPegIsRigidAndNothingDeformableIsAnAnswer) {
   Scene scene;
   scene.units = "mm";
-  scene.dynamic_mesh = MakeBox({-5, -5, 0}, {5, 5, 50});       // a steel peg
-  scene.static_mesh = MakeBox({5.2, -20, 0}, {30, 20, 30});    // the hole's wall, 0.2 mm away
+  scene.dynamic_mesh = MakeBox({-5, -5, 0}, {5, 5, 50});     // a steel peg
+  scene.static_mesh = MakeBox({5.2, -20, 0}, {30, 20, 30});  // the hole's wall, 0.2 mm away
   SolidLabels labels = LabelBySolids(scene, 0.05);
   ASSERT_TRUE(labels.applies) << labels.reason;
   EXPECT_EQ(labels.fasteners, 0);
@@ -987,8 +987,10 @@ TEST(MedialSpheres, AWalkThatLeavesDIsDroppedNotGrownWithoutBound) {
   for (int v = 0; v < topology.VertexCount(); ++v) {
     const bool plate = topology.vertices[v].x() < 15;
     EXPECT_EQ(spheres.valid[v], plate ? 1 : 0) << "vertex " << v;
-    if (plate) EXPECT_NEAR(spheres.radii[v], 0.5, 0.03);
-    else EXPECT_EQ(spheres.radii[v], 0.0);
+    if (plate)
+      EXPECT_NEAR(spheres.radii[v], 0.5, 0.03);
+    else
+      EXPECT_EQ(spheres.radii[v], 0.0);
     EXPECT_LE(spheres.radii[v], 0.5 * (box.max - box.min).maxCoeff()) << "vertex " << v;
   }
   EXPECT_NEAR(spheres.MaxRadius(), 0.5, 0.03);

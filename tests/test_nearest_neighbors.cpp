@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "planning/nearest_neighbors.h"
 #include "core/random.h"
+#include "planning/nearest_neighbors.h"
 #include "planning/state_space.h"
 
 namespace ausbau {

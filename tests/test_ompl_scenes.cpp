@@ -26,8 +26,8 @@ TEST_P(OmplScene, CrRrtcSolvesAndPathsPassTheDenseCheck) {
   for (std::uint64_t seed : {1, 2}) {
     PlannerOptions options;
     options.seed = seed;
-    options.time_limit_s = 1e6;        // the iteration budget decides
-    options.max_iterations = 200000;   // far above what the runs need (see README)
+    options.time_limit_s = 1e6;       // the iteration budget decides
+    options.max_iterations = 200000;  // far above what the runs need (see README)
     const PlanResult result = Plan(problem, checker, options);
     ASSERT_TRUE(result.solved()) << GetParam() << " seed " << seed;
     SmoothOptions smooth;

@@ -42,11 +42,12 @@ Outcome Shell(const std::string& command) {
 // pipeline's default (auto).
 Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "",
                     const std::string& validity = "labeled-mliv") {
-  const std::string command = "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
-                              " BIN=" + testing::BinDir().string() + " SCENE=" + scene.string() + " OUT=" + out.string() +
-                              " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--field-cells 64' "
-                              "LABEL_FLAGS='--max-load-cases 300' " +
-                              (validity.empty() ? "" : "VALIDITY=" + validity + " ") + variables;
+  const std::string command =
+      "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
+      " BIN=" + testing::BinDir().string() + " SCENE=" + scene.string() + " OUT=" + out.string() +
+      " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--field-cells 64' "
+      "LABEL_FLAGS='--max-load-cases 300' " +
+      (validity.empty() ? "" : "VALIDITY=" + validity + " ") + variables;
   return Shell(command);
 }
 
@@ -108,9 +109,9 @@ double PipelineTest::first_seconds_ = 0;
 
 TEST_F(PipelineTest, WritesTheSmoothedPathAsPathCsvAndARemovableVerdict) {
   std::printf("first pipeline run: %.1f s\n", first_seconds_);
-  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "distfield-static.h5", "distfield-dynamic.h5",
-                           "tau.h5", "tau-trace.csv", "path.h5", "path-smooth.h5", "path-smooth.csv", "profile.csv",
-                           "path.csv", "verdict.json"}) {
+  for (const char* name :
+       {"voxels.h5", "spheres.h5", "labels.h5", "distfield-static.h5", "distfield-dynamic.h5", "tau.h5",
+        "tau-trace.csv", "path.h5", "path-smooth.h5", "path-smooth.csv", "profile.csv", "path.csv", "verdict.json"}) {
     EXPECT_TRUE(fs::exists(Out() / name)) << name;
   }
   const std::string csv = testing::ReadTextFile(Out() / "path.csv");
@@ -128,7 +129,8 @@ TEST_F(PipelineTest, WritesTheSmoothedPathAsPathCsvAndARemovableVerdict) {
   EXPECT_TRUE(HasLine(json, "\"max_labeled_mliv\": {")) << json;
   EXPECT_TRUE(HasLine(json, "\"csv\": \"" + (Out() / "path.csv").string() + "\"")) << json;
   EXPECT_TRUE(HasLine(json, "\"waypoints\": " + std::to_string(smoothed.waypoints.size()))) << json;
-  for (const char* stage : {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "tau-estimate", "plan", "smooth"}) {
+  for (const char* stage :
+       {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "tau-estimate", "plan", "smooth"}) {
     EXPECT_TRUE(HasLine(json, std::string("\"") + stage + "\": ")) << stage << " missing in " << json;
   }
   EXPECT_NE(first_->output.find("REMOVABLE"), std::string::npos) << first_->output;
@@ -208,8 +210,8 @@ TEST_F(PipelineTest, ChangingDsMeshReRunsEverythingThatDependsOnD) {
   std::ofstream(obj) << edited.str();
   const Outcome again = RunPipeline(dir / "scene/scene.yaml", dir / "out");
   ASSERT_EQ(again.exit_code, 0) << again.output;
-  for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "distfield-dynamic.h5", "tau.h5", "path.h5",
-                           "path-smooth.h5"}) {
+  for (const char* name :
+       {"voxels.h5", "spheres.h5", "labels.h5", "distfield-dynamic.h5", "tau.h5", "path.h5", "path-smooth.h5"}) {
     EXPECT_FALSE(UpToDate(again, (dir / "out" / name).string())) << name << " was not redone:\n" << again.output;
   }
   // S did not change: its distance field is reused.
@@ -301,11 +303,11 @@ TEST(EndToEndBench, RunsThePipelineAndJudgesEachPathWithTheOracle) {
   if (!fs::exists(external / "oracle.py")) GTEST_SKIP() << "no " << external / "oracle.py";
   if (Shell("/usr/bin/python3 -c 'import numpy'").exit_code != 0) GTEST_SKIP() << "python3 without numpy";
   const fs::path out = testing::MakeTempDir("end-to-end");
-  const Outcome run = Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
-                            " --end-to-end --families panel-straight-pull --seeds 1 --skip-external-scenes --external " +
-                            external.string() + " --pipeline " +
-                            (testing::SourceDir() / "pipelines/inistate.mk").string() + " --bin " +
-                            testing::BinDir().string() + " --output-dir " + out.string());
+  const Outcome run =
+      Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
+            " --end-to-end --families panel-straight-pull --seeds 1 --skip-external-scenes --external " +
+            external.string() + " --pipeline " + (testing::SourceDir() / "pipelines/inistate.mk").string() + " --bin " +
+            testing::BinDir().string() + " --output-dir " + out.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string summary = testing::ReadTextFile(out / "end-to-end-summary.md");
   EXPECT_NE(summary.find("| panel-straight-pull-coarse | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
@@ -338,8 +340,9 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
   const fs::path out = testing::MakeTempDir("verdict");
   const std::string o = " -o " + (out / "v.json").string();
   // Removable: 0; a path artifact without a path: 3.
-  const Outcome ok = testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path-smooth.h5").string() +
-                                                             " --tau-file " + (Out() / "tau.h5").string() + " --budget 1e6" + o);
+  const Outcome ok =
+      testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path-smooth.h5").string() + " --tau-file " +
+                                              (Out() / "tau.h5").string() + " --budget 1e6" + o);
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
   const std::string json = testing::ReadTextFile(out / "v.json");
   EXPECT_TRUE(HasLine(json, "\"within_budget\": true")) << json;
@@ -349,16 +352,16 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
                      "missing.h5");
   ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "labels.h5").string() + o),
                      "schema");
-  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --tau-file " +
-                                                             (Out() / "path.h5").string() + o),
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() +
+                                                             " --tau-file " + (Out() / "path.h5").string() + o),
                      "schema");
   std::ofstream(out / "not-hdf5.h5") << "not an artifact\n";
   ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (out / "not-hdf5.h5").string() + o),
                      "not-hdf5.h5");
   fs::create_directories(out / "times");
   std::ofstream(out / "times/plan.seconds") << "fast\n";
-  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --times " +
-                                                             (out / "times").string() + o),
+  ExpectOneLineError(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() +
+                                                             " --times " + (out / "times").string() + o),
                      "plan.seconds");
   EXPECT_EQ(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --budget -1" + o)
                 .exit_code,

@@ -1,7 +1,7 @@
 // Planners on small generated scenes, each path re-checked densely with the
 // independent checker; nearest neighbours against brute force; smoothing.
-#include <atomic>
 #include <gtest/gtest.h>
+#include <atomic>
 
 #include "collision/fcl_checker.h"
 #include "core/error.h"
@@ -45,8 +45,8 @@ void ExpectValidPath(const Fixture& f, const std::vector<Pose>& path) {
     EXPECT_TRUE(f.problem.InGoalRegion(path.back()));
   }
   const DenseCheckReport report = DenseCheckPath(f.scene, f.problem.reference_point, f.ToScene(path), kDenseStep);
-  EXPECT_TRUE(report.valid) << "segment " << report.first_bad_segment << " at " << report.first_bad_fraction
-                            << ": " << report.reason;
+  EXPECT_TRUE(report.valid) << "segment " << report.first_bad_segment << " at " << report.first_bad_fraction << ": "
+                            << report.reason;
 }
 
 class PlannerOnScene : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};

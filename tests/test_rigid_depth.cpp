@@ -3,10 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "collision/rigid_depth.h"
+#include "fixtures/box_scenes.h"
 #include "geometry/primitives.h"
 #include "geometry/shells.h"
 #include "planning/exact_check.h"
-#include "fixtures/box_scenes.h"
 #include "scene/scene.h"
 #include "test_poses.h"
 
@@ -116,7 +116,8 @@ TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
   // sqrt 2): the edges cross, 0.2 deep along x.
   const Eigen::Isometry3d b_turned(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY()));
   std::vector<Shell> b_moved = b;
-  for (auto* list : {&b_moved[0].corners, &b_moved[0].vertices}) for (auto& p : *list) p = b_turned * p;
+  for (auto* list : {&b_moved[0].corners, &b_moved[0].vertices})
+    for (auto& p : *list) p = b_turned * p;
   for (auto& n : b_moved[0].face_normals) n = b_turned.linear() * n;
   for (auto& e : b_moved[0].edge_directions) e = b_turned.linear() * e;
   EXPECT_NEAR(ConvexSignedDepth(a[0], PoseAt(2 * reach - 0.2, 0, 0, M_PI / 4).ToIsometry(), b_moved[0]), 0.2, 1e-9);
@@ -126,7 +127,7 @@ TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
 struct KeyScene {
   TriangleMesh robot, environment;
   KeyScene() {
-    robot = MakeBox({-50, -50, 5}, {50, 50, 8});      // panel, above the plate
+    robot = MakeBox({-50, -50, 5}, {50, 50, 8});        // panel, above the plate
     robot.Append(MakeBox({-2, -10, -10}, {2, 10, 5}));  // key through a slot, 0.5 mm each side in x
     environment = MakeBox({-100, -100, -2}, {-2.5, 100, 0});
     environment.Append(MakeBox({2.5, -100, -2}, {100, 100, 0}));
@@ -154,10 +155,10 @@ TEST(RigidDepth, ARigidKeyCannotCrossATwoMillimetrePlate) {
 }
 
 TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
-  TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});       // panel (anchor)
-  robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));          // clip beam, in a 4 mm wide hole
-  robot.Append(MakeBox({-0.7, -5, -3.9}, {3, 5, -1.5}));           // hook: 1 mm under the rim, 0.5 mm into it
-  robot.Append(MakeBox({20, -5, -3}, {22, 5, 1.5}));               // a rigid rib in its own hole
+  TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});  // panel (anchor)
+  robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));    // clip beam, in a 4 mm wide hole
+  robot.Append(MakeBox({-0.7, -5, -3.9}, {3, 5, -1.5}));     // hook: 1 mm under the rim, 0.5 mm into it
+  robot.Append(MakeBox({20, -5, -3}, {22, 5, 1.5}));         // a rigid rib in its own hole
   TriangleMesh environment = MakeBox({-100, -100, -2}, {-2, 100, 0});
   environment.Append(MakeBox({2, -100, -2}, {19, 100, 0}));
   environment.Append(MakeBox({-2, -100, -2}, {2, -6, 0}));
@@ -179,8 +180,8 @@ TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   EXPECT_TRUE(checker.IsValid(Pose{}));
   const DepthReport pulled = checker.Measure(PoseAt(0, 0, 1.0));  // the hook passes the rim: the clip bends 1 mm
   EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 1.0)));
-  EXPECT_NEAR(pulled.fastener_depth, 1.0, 1e-12);  // reported, not judged
-  EXPECT_FALSE(checker.IsValid(PoseAt(-1.5, 0, 0)));   // sideways: the rib hits its hole
+  EXPECT_NEAR(pulled.fastener_depth, 1.0, 1e-12);     // reported, not judged
+  EXPECT_FALSE(checker.IsValid(PoseAt(-1.5, 0, 0)));  // sideways: the rib hits its hole
   EXPECT_EQ(checker.Measure(PoseAt(-1.5, 0, 0)).rigid_shell, 3);
 }
 
@@ -200,7 +201,8 @@ TEST(RigidDepth, ANonConvexShellInterferingIsRigid) {
   // pose: its depth is not measured, so it cannot be a fastener.
   TriangleMesh robot = MakeBox({-20, -20, 0}, {20, 20, 2});
   const int base = static_cast<int>(robot.vertices.size());
-  for (const Eigen::Vector3d& v : std::vector<Eigen::Vector3d>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, -4}, {0.5, 0.5, -0.5}})
+  for (const Eigen::Vector3d& v :
+       std::vector<Eigen::Vector3d>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, -4}, {0.5, 0.5, -0.5}})
     robot.vertices.push_back(v);
   for (auto tri : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 4, 2}, {2, 4, 3}, {3, 4, 1}}) {
     for (int& i : tri) i += base;

@@ -2,6 +2,7 @@
 // scenes, a generated scene written and read back, and every input error.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,7 +10,6 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
-#include <unistd.h>
 
 #include "core/error.h"
 #include "geometry/primitives.h"
@@ -42,7 +42,7 @@ Eigen::Vector3d VertexMean(const TriangleMesh& mesh) {
 }
 
 // Loads a benchmark scene, or skips the test when the files are not there.
-#define LOAD_BENCHMARK_OR_SKIP(var, file)                                   \
+#define LOAD_BENCHMARK_OR_SKIP(var, file)                                  \
   const fs::path var##_path = BenchmarkDir() / (file);                     \
   if (!fs::exists(var##_path)) GTEST_SKIP() << var##_path << " not found"; \
   const Scene var = LoadScene(var##_path)
@@ -100,8 +100,7 @@ class SceneFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("ausbau_test_scene_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("ausbau_test_scene_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     SaveObj(MakeBox({-10, -10, -1}, {10, 10, 0}), dir_ / "env.obj");
@@ -121,14 +120,12 @@ class SceneFiles : public ::testing::Test {
   // A valid scene with `extra` appended (a later key may override nothing:
   // duplicate keys are errors, so callers add only keys absent here).
   fs::path WriteScene(const std::string& extra, const std::string& dynamic = "robot.obj") const {
-    return Write("scene.yaml", "format: ausbau-scene/1\nstatic: [env.obj]\ndynamic: " + dynamic +
-                                   "\n" + extra);
+    return Write("scene.yaml", "format: ausbau-scene/1\nstatic: [env.obj]\ndynamic: " + dynamic + "\n" + extra);
   }
 
   // Expects fn to throw InputError whose message contains every string of
   // `parts`; returns the message.
-  static std::string ExpectInputError(const std::function<void()>& fn,
-                                      std::initializer_list<std::string> parts) {
+  static std::string ExpectInputError(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
     try {
       fn();
     } catch (const InputError& e) {
@@ -259,9 +256,7 @@ TEST_F(SceneFiles, SaveObjRoundTripsThroughLoadMesh) {
 
 // ----------------------------------------------------------------- errors
 
-TEST_F(SceneFiles, MissingSceneFile) {
-  ExpectSceneError(dir_ / "absent.yaml", {"absent.yaml", "file not found"});
-}
+TEST_F(SceneFiles, MissingSceneFile) { ExpectSceneError(dir_ / "absent.yaml", {"absent.yaml", "file not found"}); }
 
 TEST_F(SceneFiles, YamlSyntaxError) {
   const fs::path yaml = WriteScene("start: {t: [1, 2, 3]\n");
@@ -284,8 +279,7 @@ TEST_F(SceneFiles, UnknownKeyInsideBounds) {
 }
 
 TEST_F(SceneFiles, WrongFormat) {
-  const fs::path yaml =
-      Write("scene.yaml", "format: ausbau-scene/2\nstatic: env.obj\ndynamic: robot.obj\n");
+  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/2\nstatic: env.obj\ndynamic: robot.obj\n");
   ExpectSceneError(yaml, {"unsupported format 'ausbau-scene/2'", "expected ausbau-scene/1"});
 }
 
@@ -300,8 +294,7 @@ TEST_F(SceneFiles, MissingDynamic) {
 }
 
 TEST_F(SceneFiles, EmptyStaticList) {
-  const fs::path yaml =
-      Write("scene.yaml", "format: ausbau-scene/1\nstatic: []\ndynamic: robot.obj\n");
+  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/1\nstatic: []\ndynamic: robot.obj\n");
   ExpectSceneError(yaml, {"static", "non-empty list"});
 }
 
@@ -331,8 +324,7 @@ TEST_F(SceneFiles, MeshWithNanVertex) {
 
 TEST_F(SceneFiles, MeshWithInfiniteVertex) {
   Write("inf.obj", "v 1e999 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  ExpectInputError([&] { LoadMesh(dir_ / "inf.obj"); },
-                   {"inf.obj", "vertex 0 is not finite (inf, 0, 0)"});
+  ExpectInputError([&] { LoadMesh(dir_ / "inf.obj"); }, {"inf.obj", "vertex 0 is not finite (inf, 0, 0)"});
 }
 
 TEST_F(SceneFiles, QuaternionWithThreeNumbers) {

@@ -84,7 +84,7 @@ TEST(SceneCheck, CleanSceneHasNoFindingAndTheRightNumbers) {
   EXPECT_NEAR(summary.dynamic_mesh_box.diagonal, std::sqrt(300.0), 1e-9);
   EXPECT_TRUE(summary.dynamic_installed_box.center.isApprox(Eigen::Vector3d(5, 5, 5)));
   EXPECT_TRUE(summary.static_box.size.isApprox(Eigen::Vector3d(100, 100, 5)));
-  EXPECT_EQ(summary.installed_box_gap, 0.0);  // D stands on S: the boxes touch
+  EXPECT_EQ(summary.installed_box_gap, 0.0);      // D stands on S: the boxes touch
   EXPECT_EQ(summary.origin_to_dynamic_box, 0.0);  // the mesh origin is D's corner
   EXPECT_FALSE(summary.goal.has_value());
 }

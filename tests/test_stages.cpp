@@ -15,8 +15,8 @@
 #include "inistate/tau_estimate.h"
 #include "inistate/voxel_grid.h"
 #include "planning/dense_check.h"
-#include "scene/mesh_io.h"
 #include "planning/path_io.h"
+#include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
 
@@ -47,10 +47,11 @@ TEST(PlanStage, PlansSmoothsAndTheResultIsValid) {
   const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 2);
   const auto dir = yaml.parent_path();
   const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 4 -o " + (dir / "path.h5").string() +
-                                       " --csv " + (dir / "path.csv").string());
+                                            " --csv " + (dir / "path.csv").string());
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
-  const Outcome smooth = RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
-                                           (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
+  const Outcome smooth =
+      RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
+                             (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
   ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
   EXPECT_NE(smooth.output.find("length"), std::string::npos);
 
@@ -73,8 +74,9 @@ TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {
   const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 3);
   const auto dir = yaml.parent_path();
   for (const char* name : {"a", "b"}) {
-    const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 7 -o " + (dir / (std::string(name) + ".h5")).string() +
-                                         " --csv " + (dir / (std::string(name) + ".csv")).string());
+    const Outcome plan =
+        RunStage("plan", "--scene " + yaml.string() + " --seed 7 -o " + (dir / (std::string(name) + ".h5")).string() +
+                             " --csv " + (dir / (std::string(name) + ".csv")).string());
     ASSERT_EQ(plan.exit_code, 0) << plan.output;
   }
   EXPECT_EQ(ReadFile(dir / "a.csv"), ReadFile(dir / "b.csv"));
@@ -84,9 +86,9 @@ TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {
 TEST(PlanStage, WritesOmplsPathFormat) {
   const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
   const auto dir = yaml.parent_path();
-  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --planner prm --threads 2 -o " +
-                                            (dir / "p.h5").string() + " --csv " + (dir / "p.csv").string() +
-                                            " --ompl-path " + (dir / "p.path").string());
+  const Outcome plan =
+      RunStage("plan", "--scene " + yaml.string() + " --planner prm --threads 2 -o " + (dir / "p.h5").string() +
+                           " --csv " + (dir / "p.csv").string() + " --ompl-path " + (dir / "p.path").string());
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   // Same poses, OMPL's order: x y z qx qy qz qw.
   std::istringstream csv(ReadFile(dir / "p.csv")), ompl(ReadFile(dir / "p.path"));
@@ -95,7 +97,8 @@ TEST(PlanStage, WritesOmplsPathFormat) {
   int rows = 0;
   while (std::getline(csv, row) && std::getline(ompl, line)) {
     double c[7], o[7];
-    ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6]), 7);
+    ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf", &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6]),
+              7);
     std::istringstream fields(line);
     for (double& v : o) fields >> v;
     ASSERT_TRUE(fields) << line;
@@ -134,7 +137,7 @@ TEST(PlanStage, NoPathWithinTheBudgetHasItsOwnExitCode) {
   closed.Append(MakeBox({box.min.x(), box.min.y(), box.max.z() - 1.0}, box.max));  // a solid lid
   SaveObj(closed, dir / "environment.obj");
   const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --time-limit 1 -o " + (dir / "p.h5").string() +
-                                       " --csv " + (dir / "p.csv").string());
+                                            " --csv " + (dir / "p.csv").string());
   EXPECT_EQ(plan.exit_code, 3) << plan.output;
   ExpectOneLineError(plan, "plan", "no path within the budget");
   EXPECT_FALSE(std::filesystem::exists(dir / "p.csv"));
@@ -162,7 +165,9 @@ class BadSceneTest : public ::testing::Test {
     ASSERT_TRUE(replaced) << key;
     WriteFile(yaml_, result);
   }
-  Outcome Plan() { return RunStage("plan", "--scene " + yaml_.string() + " -o " + (yaml_.parent_path() / "p.h5").string()); }
+  Outcome Plan() {
+    return RunStage("plan", "--scene " + yaml_.string() + " -o " + (yaml_.parent_path() / "p.h5").string());
+  }
 
   std::filesystem::path yaml_;
   std::string text_;

@@ -146,8 +146,7 @@ std::string DimsText(const std::vector<std::size_t>& dims) {
 std::string TypeName(hid_t type) {
   const std::size_t bits = H5Tget_size(type) * 8;
   switch (H5Tget_class(type)) {
-    case H5T_INTEGER:
-      return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
+    case H5T_INTEGER: return (H5Tget_sign(type) == H5T_SGN_NONE ? "uint" : "int") + std::to_string(bits);
     case H5T_FLOAT: return "float" + std::to_string(bits);
     case H5T_STRING: return "string";
     case H5T_COMPOUND: return "compound";
@@ -194,10 +193,8 @@ bool ConvertsLosslessly(hid_t stored, Target target) {
       return (cls == H5T_FLOAT && size <= 8) || (cls == H5T_INTEGER && size <= 4);
     case Target::kFloat:  // 24-bit mantissa: integers up to 16 bits
       return (cls == H5T_FLOAT && size <= 4) || (cls == H5T_INTEGER && size <= 2);
-    case Target::kInt64:
-      return cls == H5T_INTEGER && (is_signed ? size <= 8 : size <= 4);
-    case Target::kUint8:
-      return cls == H5T_INTEGER && !is_signed && size == 1;
+    case Target::kInt64: return cls == H5T_INTEGER && (is_signed ? size <= 8 : size <= 4);
+    case Target::kUint8: return cls == H5T_INTEGER && !is_signed && size == 1;
   }
   return false;
 }
@@ -208,8 +205,7 @@ bool ConvertsLosslessly(hid_t stored, Target target) {
 void CheckTarget(herr_t status, const std::filesystem::path& target, const std::string& what) {
   if (status < 0) {
     const std::string detail = Hdf5ErrorDetail();
-    throw std::runtime_error(target.string() + ": " + what +
-                             (detail.empty() ? std::string() : " (" + detail + ")"));
+    throw std::runtime_error(target.string() + ": " + what + (detail.empty() ? std::string() : " (" + detail + ")"));
   }
 }
 
@@ -285,8 +281,8 @@ struct ArtifactWriter::Impl {
       Handle gcpl = PropertyList(H5P_GROUP_CREATE);
       CheckTarget(gcpl.valid() ? H5Pset_obj_track_times(gcpl.get(), 0) : -1, target,
                   "cannot set up group '" + group + "'");
-      Handle g(CheckTargetId(H5Gcreate2(file.get(), group.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
-                             target, "cannot create group '" + group + "'"),
+      Handle g(CheckTargetId(H5Gcreate2(file.get(), group.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT), target,
+                             "cannot create group '" + group + "'"),
                H5Gclose);
     }
   }
@@ -304,8 +300,7 @@ struct ArtifactWriter::Impl {
 
     std::vector<hsize_t> hdims(dims.begin(), dims.end());
     Handle space(CheckTargetId(dims.empty() ? H5Screate(H5S_SCALAR)
-                                            : H5Screate_simple(static_cast<int>(hdims.size()), hdims.data(),
-                                                               nullptr),
+                                            : H5Screate_simple(static_cast<int>(hdims.size()), hdims.data(), nullptr),
                                target, "cannot create dataspace for '" + name + "'"),
                  H5Sclose);
 
@@ -333,8 +328,8 @@ struct ArtifactWriter::Impl {
       CheckTarget(H5Pset_deflate(dcpl.get(), 4), target, "cannot set deflate filter for '" + name + "'");
     }
 
-    Handle dataset(CheckTargetId(H5Dcreate2(file.get(), path.c_str(), file_type, space.get(), H5P_DEFAULT,
-                                            dcpl.get(), H5P_DEFAULT),
+    Handle dataset(CheckTargetId(H5Dcreate2(file.get(), path.c_str(), file_type, space.get(), H5P_DEFAULT, dcpl.get(),
+                                            H5P_DEFAULT),
                                  target, "cannot create dataset '" + name + "'"),
                    H5Dclose);
     if (count > 0) {
@@ -350,8 +345,7 @@ struct ArtifactWriter::Impl {
     EnsureOpen();
     Handle obj;
     if (IsRoot(object)) {
-      obj = Handle(CheckTargetId(H5Gopen2(file.get(), "/", H5P_DEFAULT), target, "cannot open root group"),
-                   H5Gclose);
+      obj = Handle(CheckTargetId(H5Gopen2(file.get(), "/", H5P_DEFAULT), target, "cannot open root group"), H5Gclose);
     } else {
       const std::string path = Join(SplitPath(object), SplitPath(object).size());
       obj = Handle(CheckTargetId(H5Oopen(file.get(), path.c_str(), H5P_DEFAULT), target,
@@ -368,8 +362,8 @@ struct ArtifactWriter::Impl {
 
   void WriteAttribute(hid_t obj, const std::string& name, hid_t file_type, hid_t memory_type, const void* value) {
     Handle space(CheckTargetId(H5Screate(H5S_SCALAR), target, "cannot create dataspace"), H5Sclose);
-    Handle attr(CheckTargetId(H5Acreate2(obj, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                              target, "cannot create attribute '" + name + "'"),
+    Handle attr(CheckTargetId(H5Acreate2(obj, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), target,
+                              "cannot create attribute '" + name + "'"),
                 H5Aclose);
     CheckTarget(H5Awrite(attr.get(), memory_type, value), target, "cannot write attribute '" + name + "'");
   }
@@ -402,13 +396,13 @@ ArtifactWriter::ArtifactWriter(std::filesystem::path path, std::string schema, i
       std::error_code ec;
       std::filesystem::create_directories(parent, ec);
       if (ec) {
-        throw std::runtime_error(impl_->target.string() + ": cannot create directory '" + parent.string() +
-                                 "' (" + ec.message() + ")");
+        throw std::runtime_error(impl_->target.string() + ": cannot create directory '" + parent.string() + "' (" +
+                                 ec.message() + ")");
       }
     }
     impl_->temp = impl_->target;
-    impl_->temp += ".tmp-" + std::to_string(static_cast<long>(::getpid())) + "-" +
-                   std::to_string(temp_counter.fetch_add(1));
+    impl_->temp +=
+        ".tmp-" + std::to_string(static_cast<long>(::getpid())) + "-" + std::to_string(temp_counter.fetch_add(1));
 
     Handle fcpl = PropertyList(H5P_FILE_CREATE);
     CheckTargetId(fcpl.get(), impl_->target, "cannot set up file creation");
@@ -426,10 +420,8 @@ ArtifactWriter::ArtifactWriter(std::filesystem::path path, std::string schema, i
       impl_->WriteAttribute(root, "schema_version", H5T_STD_I64LE, H5T_NATIVE_INT64, &version);
     });
     const std::pair<const char*, std::string> strings[] = {
-        {"producer", provenance.producer},
-        {"producer_version", provenance.producer_version},
-        {"parameters", provenance.parameters_yaml},
-        {"inputs", InputsYaml(provenance.inputs)},
+        {"producer", provenance.producer},          {"producer_version", provenance.producer_version},
+        {"parameters", provenance.parameters_yaml}, {"inputs", InputsYaml(provenance.inputs)},
         {"provenance", provenance.Hash()},
     };
     for (const auto& entry : strings) {
@@ -491,16 +483,14 @@ void ArtifactWriter::SetAttribute(const std::string& object, const std::string& 
 
 void ArtifactWriter::SetAttribute(const std::string& object, const std::string& name, double value) {
   CheckNotReserved(impl_->target, object, name);
-  impl_->WithObject(object, name, [&](hid_t obj) {
-    impl_->WriteAttribute(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value);
-  });
+  impl_->WithObject(object, name,
+                    [&](hid_t obj) { impl_->WriteAttribute(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value); });
 }
 
 void ArtifactWriter::SetAttribute(const std::string& object, const std::string& name, std::int64_t value) {
   CheckNotReserved(impl_->target, object, name);
-  impl_->WithObject(object, name, [&](hid_t obj) {
-    impl_->WriteAttribute(obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value);
-  });
+  impl_->WithObject(object, name,
+                    [&](hid_t obj) { impl_->WriteAttribute(obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value); });
 }
 
 void ArtifactWriter::Commit() {
@@ -510,8 +500,8 @@ void ArtifactWriter::Commit() {
   std::error_code ec;
   std::filesystem::rename(impl_->temp, impl_->target, ec);
   if (ec) {
-    throw std::runtime_error(impl_->target.string() + ": cannot rename temporary file onto target (" +
-                             ec.message() + ")");
+    throw std::runtime_error(impl_->target.string() + ": cannot rename temporary file onto target (" + ec.message() +
+                             ")");
   }
   impl_->committed = true;
 }
@@ -532,8 +522,7 @@ struct ArtifactReader::Impl {
   }
 
   static std::string Describe(const std::string& object, const std::string& attribute) {
-    return IsRoot(object) ? "root attribute '" + attribute + "'"
-                          : "attribute '" + attribute + "' on '" + object + "'";
+    return IsRoot(object) ? "root attribute '" + attribute + "'" : "attribute '" + attribute + "' on '" + object + "'";
   }
 
   bool Has(const std::string& name) const {
@@ -656,8 +645,8 @@ struct ArtifactReader::Impl {
     const int rank = H5Sget_simple_extent_ndims(space.get());
     if (rank < 0) Fail("cannot read dataset '" + name + "' (corrupt file?)");
     if (expected_rank >= 0 && rank != expected_rank) {
-      Fail("dataset '" + name + "' has rank " + std::to_string(rank) + " (expected " +
-           std::to_string(expected_rank) + ")");
+      Fail("dataset '" + name + "' has rank " + std::to_string(rank) + " (expected " + std::to_string(expected_rank) +
+           ")");
     }
     if (!ConvertsLosslessly(type.get(), target)) {
       Fail("dataset '" + name + "' has type " + TypeName(type.get()) + " (expected a type convertible to " +
@@ -691,9 +680,9 @@ ArtifactReader::ArtifactReader(std::filesystem::path path, const std::string& sc
     if (!fapl.valid() || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG) < 0) {
       impl_->Fail("cannot set up file access");
     }
-#if H5_VERS_MAJOR > 1 || (H5_VERS_MAJOR == 1 && (H5_VERS_MINOR > 12 ||                               \
-                                                  (H5_VERS_MINOR == 12 && H5_VERS_RELEASE >= 1) || \
-                                                  (H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7)))
+#if H5_VERS_MAJOR > 1 ||                                                                           \
+    (H5_VERS_MAJOR == 1 && (H5_VERS_MINOR > 12 || (H5_VERS_MINOR == 12 && H5_VERS_RELEASE >= 1) || \
+                            (H5_VERS_MINOR == 10 && H5_VERS_RELEASE >= 7)))
     // Read-only: where the file system has no locks (NFS), read anyway.
     H5Pset_file_locking(fapl.get(), true, true);
 #endif

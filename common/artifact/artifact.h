@@ -36,14 +36,13 @@ struct Provenance {
 
 template <typename T>
 struct Array {
-  std::vector<T> data;          // row-major
+  std::vector<T> data;  // row-major
   std::vector<std::size_t> dims;
 };
 
 class ArtifactWriter {
  public:
-  ArtifactWriter(std::filesystem::path path, std::string schema, int schema_version,
-                 const Provenance& provenance);
+  ArtifactWriter(std::filesystem::path path, std::string schema, int schema_version, const Provenance& provenance);
   ~ArtifactWriter();  // removes the temporary file unless committed
   ArtifactWriter(const ArtifactWriter&) = delete;
   ArtifactWriter& operator=(const ArtifactWriter&) = delete;
@@ -51,14 +50,10 @@ class ArtifactWriter {
   // Datasets at a path like "stats/iterations" (groups are created). dims
   // must multiply to data.size(). Large datasets (> 64 KiB) are chunked and
   // deflate-compressed.
-  void WriteDoubles(const std::string& name, const std::vector<double>& data,
-                    const std::vector<std::size_t>& dims);
-  void WriteFloats(const std::string& name, const std::vector<float>& data,
-                   const std::vector<std::size_t>& dims);
-  void WriteInts(const std::string& name, const std::vector<std::int64_t>& data,
-                 const std::vector<std::size_t>& dims);
-  void WriteBytes(const std::string& name, const std::vector<std::uint8_t>& data,
-                  const std::vector<std::size_t>& dims);
+  void WriteDoubles(const std::string& name, const std::vector<double>& data, const std::vector<std::size_t>& dims);
+  void WriteFloats(const std::string& name, const std::vector<float>& data, const std::vector<std::size_t>& dims);
+  void WriteInts(const std::string& name, const std::vector<std::int64_t>& data, const std::vector<std::size_t>& dims);
+  void WriteBytes(const std::string& name, const std::vector<std::uint8_t>& data, const std::vector<std::size_t>& dims);
   // Attributes on the root ("") or on an existing dataset or group.
   void SetAttribute(const std::string& object, const std::string& name, const std::string& value);
   void SetAttribute(const std::string& object, const std::string& name, double value);
@@ -106,7 +101,7 @@ class ArtifactReader {
 // nothing when the file is missing, unreadable or of another schema/version.
 // Stages use it to skip work: they reuse an output only when its hash equals
 // the one they would produce, never because the file exists.
-std::optional<std::string> ExistingProvenanceHash(const std::filesystem::path& path,
-                                                  const std::string& schema, int schema_version);
+std::optional<std::string> ExistingProvenanceHash(const std::filesystem::path& path, const std::string& schema,
+                                                  int schema_version);
 
 }  // namespace ausbau

@@ -34,8 +34,7 @@ void StageDefinition::Output(std::string* path, const std::string& default_file,
   *path = default_file;
   output_schema_ = std::move(schema);
   output_schema_version_ = schema_version;
-  app_.add_option("-o,--output", *path, "output artifact (HDF5, schema " + output_schema_ + ")")
-      ->capture_default_str();
+  app_.add_option("-o,--output", *path, "output artifact (HDF5, schema " + output_schema_ + ")")->capture_default_str();
   app_.add_flag("--force", force_, "compute even when the output is up to date");
   not_in_cache_key_.insert("output");
   not_in_cache_key_.insert("force");
@@ -116,7 +115,8 @@ int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& comput
     for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
     std::printf("provenance hash: %s\n", provenance.Hash().c_str());
     if (output_) {
-      const bool current = ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash();
+      const bool current =
+          ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash();
       std::printf("output %s: %s\n", output_->c_str(), current ? "up to date" : "would be computed");
     }
     return kExitOk;

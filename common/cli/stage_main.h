@@ -53,11 +53,12 @@ inline CLI::Validator NonNegative() { return Within(0, 1.8e19); }
 // A flag that was renamed (one meaning per flag, README "Flags"): hidden
 // from --help; given, it is a usage error that names the new flag.
 inline void AddRenamedFlag(CLI::App& app, const std::string& old_name, const std::string& new_name) {
-  app.add_option_function<std::string>(
-         old_name,
-         [old_name, new_name](const std::string&) {
-           throw CLI::ValidationError(old_name, "was renamed " + new_name + " (one meaning per flag: README \"Flags\")");
-         })
+  app.add_option_function<std::string>(old_name,
+                                       [old_name, new_name](const std::string&) {
+                                         throw CLI::ValidationError(
+                                             old_name,
+                                             "was renamed " + new_name + " (one meaning per flag: README \"Flags\")");
+                                       })
       ->group("");
 }
 

@@ -1,7 +1,7 @@
 #include "collision/distance_field.h"
 
-#include <Eigen/Geometry>
 #include <omp.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <atomic>
@@ -32,15 +32,15 @@ class DistanceFieldBuilder {
  private:
   using Vec3 = Eigen::Vector3d;
 
-  void BuildSurfaceCells();    // octree -> slot_, list_begin_, list_tris_
+  void BuildSurfaceCells();  // octree -> slot_, list_begin_, list_tris_
   // The triangles the votes use: duplicates removed, consistently oriented.
   // *closed: every edge shared by exactly two of them, consistently
   // oriented; then the votes count winding numbers, else parities.
   std::vector<std::array<Vec3, 3>> OrientedTriangles(bool* closed) const;
-  void ComputeVotes();         // six-ray winding votes -> vote_
-  void MarkBand();             // dilation of the surface cells -> band_
-  void ComputeBand();          // exact nearest points in the band
-  void Propagate();            // separable sweeps + refinement for far cells
+  void ComputeVotes();  // six-ray winding votes -> vote_
+  void MarkBand();      // dilation of the surface cells -> band_
+  void ComputeBand();   // exact nearest points in the band
+  void Propagate();     // separable sweeps + refinement for far cells
   void Classify();
 
   Vec3 Center(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -61,9 +61,9 @@ class DistanceFieldBuilder {
   std::vector<std::int32_t> slot_;        // surface cell -> its list, -1 otherwise
   std::vector<std::int64_t> list_begin_;  // CSR over surface cells
   std::vector<std::int32_t> list_tris_;
-  std::vector<std::int16_t> vote_;        // sum of the six ray winding numbers
-  std::vector<std::uint8_t> band_;        // 1 = surface band (exact nearest point)
-  bool winding_ = true;                   // votes are winding numbers (closed, oriented) or parities
+  std::vector<std::int16_t> vote_;  // sum of the six ray winding numbers
+  std::vector<std::uint8_t> band_;  // 1 = surface band (exact nearest point)
+  bool winding_ = true;             // votes are winding numbers (closed, oriented) or parities
   Progress progress_;
 };
 
@@ -162,7 +162,8 @@ DistanceFieldPlan PlanDistanceField(const TriangleMesh& mesh, const DistanceFiel
   options.Check();
   if (mesh.triangles.empty() || mesh.vertices.empty()) throw InputError("distance field: the mesh has no triangles");
   const Aabb box = mesh.Bounds();
-  if (!box.min.allFinite() || !box.max.allFinite()) throw InputError("distance field: the mesh has non-finite vertices");
+  if (!box.min.allFinite() || !box.max.allFinite())
+    throw InputError("distance field: the mesh has non-finite vertices");
   const Vec3 size = box.Size();
   double longest = size.maxCoeff();
   if (!(longest > 0)) longest = std::max(1e-6, 1e-6 * box.max.cwiseAbs().maxCoeff());
@@ -350,9 +351,8 @@ void DistanceFieldBuilder::BuildSurfaceCells() {
     // the invariant: nodes are cells here.
     throw std::logic_error("distance field: octree did not reach the cell level");
   }
-  std::sort(nodes.begin(), nodes.end(), [this](const Node& a, const Node& b) {
-    return Index(a.x, a.y, a.z) < Index(b.x, b.y, b.z);
-  });
+  std::sort(nodes.begin(), nodes.end(),
+            [this](const Node& a, const Node& b) { return Index(a.x, a.y, a.z) < Index(b.x, b.y, b.z); });
   list_begin_.resize(nodes.size() + 1);
   list_tris_.clear();
   list_tris_.reserve(lists.size());
@@ -410,13 +410,13 @@ std::vector<std::array<Vec3, 3>> DistanceFieldBuilder::OrientedTriangles(bool* c
   for (std::size_t t = 0; t < unique.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
       const int a = unique[t].v[k], b = unique[t].v[(k + 1) % 3];
-      const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+      const std::uint64_t key =
+          (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
       uses.push_back({key, static_cast<int>(t), a < b});
     }
   }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.key < y.key || (x.key == y.key && x.tri < y.tri);
-  });
+  std::sort(uses.begin(), uses.end(),
+            [](const EdgeUse& x, const EdgeUse& y) { return x.key < y.key || (x.key == y.key && x.tri < y.tri); });
   // neighbours[t]: (other triangle, same traversal direction?) over manifold edges.
   std::vector<std::vector<std::pair<int, bool>>> neighbours(unique.size());
   *closed = true;
@@ -493,10 +493,14 @@ void DistanceFieldBuilder::ComputeVotes() {
       const P2 A = p[0], B = sign > 0 ? p[1] : p[2], C = sign > 0 ? p[2] : p[1];
       const double umin = std::min({A.u, B.u, C.u}), umax = std::max({A.u, B.u, C.u});
       const double vmin = std::min({A.v, B.v, C.v}), vmax = std::max({A.v, B.v, C.v});
-      const std::int64_t iu0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((umin - origin_[u]) / h_ - 0.5)));
-      const std::int64_t iu1 = std::min<std::int64_t>(dims[u] - 1, static_cast<std::int64_t>(std::floor((umax - origin_[u]) / h_ - 0.5)));
-      const std::int64_t iv0 = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((vmin - origin_[v]) / h_ - 0.5)));
-      const std::int64_t iv1 = std::min<std::int64_t>(dims[v] - 1, static_cast<std::int64_t>(std::floor((vmax - origin_[v]) / h_ - 0.5)));
+      const std::int64_t iu0 =
+          std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((umin - origin_[u]) / h_ - 0.5)));
+      const std::int64_t iu1 =
+          std::min<std::int64_t>(dims[u] - 1, static_cast<std::int64_t>(std::floor((umax - origin_[u]) / h_ - 0.5)));
+      const std::int64_t iv0 =
+          std::max<std::int64_t>(0, static_cast<std::int64_t>(std::ceil((vmin - origin_[v]) / h_ - 0.5)));
+      const std::int64_t iv1 =
+          std::min<std::int64_t>(dims[v] - 1, static_cast<std::int64_t>(std::floor((vmax - origin_[v]) / h_ - 0.5)));
       for (std::int64_t iv = iv0; iv <= iv1; ++iv) {
         const double pv = origin_[v] + (iv + 0.5) * h_;
         for (std::int64_t iu = iu0; iu <= iu1; ++iu) {
@@ -567,7 +571,7 @@ void DistanceFieldBuilder::MarkBand() {
   std::vector<std::uint8_t> a(n_), b(n_);
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::int64_t i = 0; i < n_; ++i) a[i] = slot_[i] >= 0;
-  // x
+    // x
 #pragma omp parallel for schedule(static) num_threads(threads_)
   for (std::int64_t row = 0; row < ny_ * nz_; ++row) {
     const std::uint8_t* src = a.data() + row * nx_;
@@ -772,8 +776,8 @@ void DistanceFieldBuilder::Classify() {
       // Winding: the mean of the six at least 1/2 in magnitude; parity: at
       // least five of the six rays odd (open meshes: a hole fools one ray).
       const int vote = std::abs(static_cast<int>(vote_[i]));
-      classes[i] = static_cast<std::uint8_t>((winding_ ? vote >= 3 : vote >= 5) ? CellClass::kInside
-                                                                                     : CellClass::kOutside);
+      classes[i] =
+          static_cast<std::uint8_t>((winding_ ? vote >= 3 : vote >= 5) ? CellClass::kInside : CellClass::kOutside);
     }
   }
   std::vector<std::int32_t>().swap(slot_);
@@ -866,7 +870,8 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
   if (origin.data.size() != 3 || dims.data.size() != 3 || spacing.data.size() != 1) {
     throw InputErrorAt(where, "grid/origin and grid/dims must hold 3 values, grid/spacing one");
   }
-  if (!(spacing.data[0] > 0) || !std::isfinite(spacing.data[0])) throw InputErrorAt(where, "grid/spacing must be positive");
+  if (!(spacing.data[0] > 0) || !std::isfinite(spacing.data[0]))
+    throw InputErrorAt(where, "grid/spacing must be positive");
   for (int k = 0; k < 3; ++k) {
     if (dims.data[k] < 1 || dims.data[k] > 4 * kMaxDistanceFieldResolution) {
       throw InputErrorAt(where, "grid/dims out of range");
@@ -901,7 +906,8 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
     check_shape("triangle", triangles.dims, shape);
     for (std::size_t i = 0; i < n; ++i) {
       const std::int64_t t = triangles.data[i];
-      if (t < 0 || t >= field->triangle_count_) throw InputErrorAt(where, "dataset 'triangle' holds an index out of range");
+      if (t < 0 || t >= field->triangle_count_)
+        throw InputErrorAt(where, "dataset 'triangle' holds an index out of range");
       field->cells_[i].triangle = static_cast<std::int32_t>(t);
     }
   }
@@ -938,14 +944,12 @@ std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& 
 }
 
 std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options,
-                                                        const std::filesystem::path& cache_dir,
-                                                        const std::string& name, const std::string& units,
-                                                        const std::string& frame, CachedFieldInfo* info) {
+                                                        const std::filesystem::path& cache_dir, const std::string& name,
+                                                        const std::string& units, const std::string& frame,
+                                                        CachedFieldInfo* info) {
   options.Check();
   const auto begin = std::chrono::steady_clock::now();
-  auto seconds = [&begin] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-  };
+  auto seconds = [&begin] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count(); };
   CachedFieldInfo local;
   CachedFieldInfo& out = info != nullptr ? *info : local;
   out = CachedFieldInfo{};
@@ -975,8 +979,8 @@ std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh
       WriteDistanceField(path, *field, units, frame);
       out.path = path;
     } catch (const std::exception& e) {
-      LogWarn("%s: cannot write the cache file %s (%s); continuing without it", name.c_str(),
-              path.string().c_str(), e.what());
+      LogWarn("%s: cannot write the cache file %s (%s); continuing without it", name.c_str(), path.string().c_str(),
+              e.what());
     }
     out.seconds = build_s;
     LogInfo("%s: built %d x %d x %d cells in %.2f s%s%s", name.c_str(), field->dims()[0], field->dims()[1],

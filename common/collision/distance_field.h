@@ -71,11 +71,11 @@ namespace ausbau {
 enum class CellClass : std::uint8_t { kOutside = 0, kInside = 1, kSurface = 2 };
 
 struct DistanceFieldOptions {
-  int resolution = 256;        // cells along the longest axis of the padded AABB
-  int threads = 0;             // 0 = all cores
-  double padding = 1.3;        // the grid covers this factor times the AABB (about its centre)
+  int resolution = 256;  // cells along the longest axis of the padded AABB
+  int threads = 0;       // 0 = all cores
+  double padding = 1.3;  // the grid covers this factor times the AABB (about its centre)
   std::uint64_t memory_budget_bytes = std::uint64_t{4} << 30;  // refuse larger fields
-  bool progress = true;        // report progress through core/log.h
+  bool progress = true;                                        // report progress through core/log.h
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;
@@ -88,8 +88,8 @@ class DistanceField {
  public:
   // One cell as the query reads it: 16 bytes, one cache line access.
   struct Cell {
-    float nearest[3];        // nearest surface point to the cell centre
-    std::int32_t triangle;   // the triangle it lies on
+    float nearest[3];       // nearest surface point to the cell centre
+    std::int32_t triangle;  // the triangle it lies on
   };
 
   DistanceField() = default;

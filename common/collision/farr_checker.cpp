@@ -5,10 +5,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <mutex>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -72,8 +72,10 @@ bool RobustTrianglesIntersect(const Vec3 p_in[3], const Vec3 q_in[3], double tol
   // side of the other plane) against the other two.
   auto interval = [&dir](const Vec3 t[3], const double d[3], double* lo, double* hi) {
     int lone = 0;
-    if ((d[0] > 0) == (d[1] > 0)) lone = 2;
-    else if ((d[0] > 0) == (d[2] > 0)) lone = 1;
+    if ((d[0] > 0) == (d[1] > 0))
+      lone = 2;
+    else if ((d[0] > 0) == (d[2] > 0))
+      lone = 1;
     const int i1 = (lone + 1) % 3, i2 = (lone + 2) % 3;
     const double pl = dir.dot(t[lone]), p1 = dir.dot(t[i1]), p2 = dir.dot(t[i2]);
     const double s1 = pl + (p1 - pl) * d[lone] / (d[lone] - d[i1]);
@@ -249,8 +251,8 @@ struct FarrCollisionChecker::QueryFrame {
 
 // The online cost model of the adaptive mode (see farr_checker.h).
 struct FarrCollisionChecker::Adaptive {
-  std::vector<int> candidates;                        // ascending, the last = options.rays
-  std::atomic<int> rays{0};                           // current choice
+  std::vector<int> candidates;  // ascending, the last = options.rays
+  std::atomic<int> rays{0};     // current choice
   // Explored queries (a uniform sample of all), those that ran rays, and per
   // lowest witness ray r: how many, and FCL's time on them (what r + 1 or
   // more rays save).
@@ -262,14 +264,14 @@ struct FarrCollisionChecker::Adaptive {
   // witness (warm).
   std::atomic<std::int64_t> explore_lookups{0}, explore_rays{0}, explore_ns{0};
   std::atomic<std::int64_t> warm_lookups{0}, warm_ns{0};
-  std::atomic<std::int64_t> fcl_ns{0};                // FCL's time on all explored queries
+  std::atomic<std::int64_t> fcl_ns{0};  // FCL's time on all explored queries
   std::mutex update;
 };
 
 FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment,
                                            std::shared_ptr<const DistanceField> robot_field,
-                                           std::shared_ptr<const DistanceField> environment_field,
-                                           std::uint64_t seed, const FarrOptions& options)
+                                           std::shared_ptr<const DistanceField> environment_field, std::uint64_t seed,
+                                           const FarrOptions& options)
     : fcl_(robot, environment),
       robot_field_(std::move(robot_field)),
       environment_field_(std::move(environment_field)),
@@ -294,10 +296,10 @@ FarrCollisionChecker::FarrCollisionChecker(const TriangleMesh& robot, const Tria
   const double diagonal = robot.Bounds().Diagonal();
   const double eps = options_.epsilon * diagonal;
   epsilon2_ = eps * eps;
-  robot_view_ = std::make_unique<FieldView>(
-      *robot_field_, std::max(eps, options_.band * sqrt3 * robot_field_->spacing()));
-  environment_view_ = std::make_unique<FieldView>(
-      *environment_field_, std::max(eps, options_.band * sqrt3 * environment_field_->spacing()));
+  robot_view_ =
+      std::make_unique<FieldView>(*robot_field_, std::max(eps, options_.band * sqrt3 * robot_field_->spacing()));
+  environment_view_ = std::make_unique<FieldView>(*environment_field_,
+                                                  std::max(eps, options_.band * sqrt3 * environment_field_->spacing()));
   std::vector<int> incident(robot.vertices.size(), -1);
   for (std::size_t t = 0; t < robot.triangles.size(); ++t) {
     for (int v : robot.triangles[t]) {
@@ -326,8 +328,8 @@ FarrCollisionChecker::~FarrCollisionChecker() = default;
 // triangle straddles the other's plane; then by the robust test in world
 // coordinates, confirmed by FCL's leaf test in FCL's frame (D's mesh frame, S
 // moved by the relative transform), exactly as FCL's traversal calls it.
-bool FarrCollisionChecker::PatchWitness(QueryFrame& frame, int robot_triangle, int environment_triangle,
-                                        bool* rejected, std::int64_t* pair_tests) const {
+bool FarrCollisionChecker::PatchWitness(QueryFrame& frame, int robot_triangle, int environment_triangle, bool* rejected,
+                                        std::int64_t* pair_tests) const {
   constexpr int kPatch = MeshData::kPatch;
   const auto& dp = robot_->patches[robot_triangle];
   const auto& sp = environment_->patches[environment_triangle];
@@ -361,9 +363,9 @@ bool FarrCollisionChecker::PatchWitness(QueryFrame& frame, int robot_triangle, i
         frame.fcl_ready = true;
       }
       const auto& rtri = robot_->triangles[dp[i]];
-      if (fcl::detail::Intersect<double>::intersect_Triangle(
-              robot_->vertices[rtri[0]], robot_->vertices[rtri[1]], robot_->vertices[rtri[2]], q[0], q[1], q[2],
-              frame.fcl_R, frame.fcl_T)) {
+      if (fcl::detail::Intersect<double>::intersect_Triangle(robot_->vertices[rtri[0]], robot_->vertices[rtri[1]],
+                                                             robot_->vertices[rtri[2]], q[0], q[1], q[2], frame.fcl_R,
+                                                             frame.fcl_T)) {
         return true;
       }
       *rejected = true;
@@ -377,7 +379,8 @@ bool FarrCollisionChecker::Skip(const Pose& pose) const {
   // D's bounding sphere (about its reference point) clear of S by the
   // field's estimate: no ray can end on a crossing. Only a shortcut to FCL.
   const FieldView& s = *environment_view_;
-  const float x = static_cast<float>(pose.t.x()), y = static_cast<float>(pose.t.y()), z = static_cast<float>(pose.t.z());
+  const float x = static_cast<float>(pose.t.x()), y = static_cast<float>(pose.t.y()),
+              z = static_cast<float>(pose.t.z());
   const DistanceField::Cell& c = s.cells[s.Locate(x, y, z)];
   const double dx = x - c.nearest[0], dy = y - c.nearest[1], dz = z - c.nearest[2];
   const double d = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -407,14 +410,14 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
 
   // Ray state, structure of arrays; the active rays are kept in the first
   // n_active lanes, so that the arithmetic loops vectorize.
-  alignas(64) float ax[kMax], ay[kMax], az[kMax];      // a on D (D's frame)
-  alignas(64) float wx[kMax], wy[kMax], wz[kMax];      // a in the world
-  alignas(64) float bx[kMax], by[kMax], bz[kMax];      // b on S (world, then D's frame)
-  alignas(64) float cx[kMax], cy[kMax], cz[kMax];      // a' on D
+  alignas(64) float ax[kMax], ay[kMax], az[kMax];  // a on D (D's frame)
+  alignas(64) float wx[kMax], wy[kMax], wz[kMax];  // a in the world
+  alignas(64) float bx[kMax], by[kMax], bz[kMax];  // b on S (world, then D's frame)
+  alignas(64) float cx[kMax], cy[kMax], cz[kMax];  // a' on D
   alignas(64) float d2[kMax], last_d2[kMax];
   alignas(64) std::int32_t ta[kMax], tb[kMax], tc[kMax];
   alignas(64) std::int64_t index[kMax];
-  std::int32_t id[kMax];                               // the ray's number (lanes are compacted)
+  std::int32_t id[kMax];  // the ray's number (lanes are compacted)
   PoseStream stream(seed_, pose);
   const std::uint32_t n_start = static_cast<std::uint32_t>(start_vertices_.size());
   for (int r = 0; r < k; ++r) {
@@ -433,8 +436,8 @@ FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, i
   bool rejected = false;
   std::int64_t pair_tests = 0;
   auto test = [&](std::int32_t robot_t, std::int32_t env_t) {
-    const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(robot_t)) << 32) |
-                              static_cast<std::uint32_t>(env_t);
+    const std::uint64_t key =
+        (static_cast<std::uint64_t>(static_cast<std::uint32_t>(robot_t)) << 32) | static_cast<std::uint32_t>(env_t);
     if (!tested.Insert(key)) return false;
     return PatchWitness(frame, robot_t, env_t, &rejected, &pair_tests);
   };
@@ -676,10 +679,11 @@ void FarrCollisionChecker::Recompute() const {
   const double threshold = 0.02 * static_cast<double>(model.fcl_ns.load()) / explored;
   if (best_value > current_value - threshold) best_k = current;
   if (best_k != current) {
-    LogDebug("FARR: %d rays from now on (%.1f look-ups of %.1f ns per ray, %s; %.0f of %.0f explored queries "
-             "proven, saving %.0f ns per query)",
-             best_k, explore_lookups / explore_rays, ns_per_lookup, warm_lookups >= 2000 ? "warm" : "cold",
-             proven, explored, saved_ns / explored);
+    LogDebug(
+        "FARR: %d rays from now on (%.1f look-ups of %.1f ns per ray, %s; %.0f of %.0f explored queries "
+        "proven, saving %.0f ns per query)",
+        best_k, explore_lookups / explore_rays, ns_per_lookup, warm_lookups >= 2000 ? "warm" : "cold", proven, explored,
+        saved_ns / explored);
   }
   model.rays.store(best_k);
 }
@@ -700,8 +704,8 @@ FarrStats FarrCollisionChecker::stats() const {
 }
 
 void FarrCollisionChecker::ResetStats() const {
-  for (auto* counter : {&queries_, &witnesses_, &fcl_calls_, &fcl_collisions_, &containments_, &skipped_,
-                        &pair_tests_, &pair_rejects_}) {
+  for (auto* counter : {&queries_, &witnesses_, &fcl_calls_, &fcl_collisions_, &containments_, &skipped_, &pair_tests_,
+                        &pair_rejects_}) {
     counter->store(0);
   }
 }

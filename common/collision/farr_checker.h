@@ -72,9 +72,9 @@
 namespace ausbau {
 
 struct FarrOptions {
-  int rays = 30;                 // k, random start vertices per query (at most kMaxRays)
-  int max_alternations = 19;     // per ray
-  double epsilon = 6e-6;         // convergence distance, times D's AABB diagonal
+  int rays = 30;              // k, random start vertices per query (at most kMaxRays)
+  int max_alternations = 19;  // per ray
+  double epsilon = 6e-6;      // convergence distance, times D's AABB diagonal
   // Triangle pairs are also tested when a look-up lands within this many
   // cell diagonals of the surface (0: only the thesis's epsilon test).
   double band = 1.0;
@@ -98,15 +98,15 @@ struct FarrOptions {
 
 struct FarrStats {
   std::int64_t queries = 0;
-  std::int64_t witnesses = 0;        // collisions proven by a ray
-  std::int64_t fcl_calls = 0;        // fallbacks to FCL
-  std::int64_t fcl_collisions = 0;   // collisions only FCL found
-  std::int64_t containments = 0;     // FCL free, but one surface inside the other's solid
-  std::int64_t skipped = 0;          // rays skipped: D's bounding sphere clear of S
-  std::int64_t pair_tests = 0;       // triangle pairs tested
-  std::int64_t pair_rejects = 0;     // pairs the robust test accepted but FCL's leaf test did not
-  std::int64_t explored = 0;         // adaptive: queries probed with all rays to measure
-  int rays_now = 0;                  // adaptive: the number of rays currently used
+  std::int64_t witnesses = 0;       // collisions proven by a ray
+  std::int64_t fcl_calls = 0;       // fallbacks to FCL
+  std::int64_t fcl_collisions = 0;  // collisions only FCL found
+  std::int64_t containments = 0;    // FCL free, but one surface inside the other's solid
+  std::int64_t skipped = 0;         // rays skipped: D's bounding sphere clear of S
+  std::int64_t pair_tests = 0;      // triangle pairs tested
+  std::int64_t pair_rejects = 0;    // pairs the robust test accepted but FCL's leaf test did not
+  std::int64_t explored = 0;        // adaptive: queries probed with all rays to measure
+  int rays_now = 0;                 // adaptive: the number of rays currently used
 };
 
 class FarrCollisionChecker : public PoseValidity {
@@ -162,16 +162,16 @@ class FarrCollisionChecker : public PoseValidity {
   std::unique_ptr<FieldView> robot_view_, environment_view_;
   std::unique_ptr<MeshData> robot_, environment_;
   std::unique_ptr<Adaptive> adaptive_;
-  std::vector<int> start_vertices_;      // vertices of D used by a triangle
+  std::vector<int> start_vertices_;        // vertices of D used by a triangle
   std::vector<int> environment_vertices_;  // vertices of S used by a triangle
-  std::vector<int> start_triangle_;      // one triangle per start vertex
-  double robot_radius_ = 0;              // farthest vertex of D from its reference point
+  std::vector<int> start_triangle_;        // one triangle per start vertex
+  double robot_radius_ = 0;                // farthest vertex of D from its reference point
   std::uint64_t seed_;
   FarrOptions options_;
-  double epsilon2_ = 0;                  // squared absolute epsilon
+  double epsilon2_ = 0;  // squared absolute epsilon
 
-  mutable std::atomic<std::int64_t> queries_{0}, witnesses_{0}, fcl_calls_{0}, fcl_collisions_{0},
-      containments_{0}, skipped_{0}, pair_tests_{0}, pair_rejects_{0};
+  mutable std::atomic<std::int64_t> queries_{0}, witnesses_{0}, fcl_calls_{0}, fcl_collisions_{0}, containments_{0},
+      skipped_{0}, pair_tests_{0}, pair_rejects_{0};
 };
 
 // Robust triangle-triangle intersection: true only when the triangles cross

@@ -35,16 +35,16 @@ bool FclCollisionChecker::InCollision(const Pose& pose) const {
   // concurrent queries are safe.
   fcl::CollisionRequestd request;  // one contact is enough: an early out
   fcl::CollisionResultd result;
-  fcl::collide(models_->robot.get(), ToFcl(pose), models_->environment.get(),
-               fcl::Transform3d::Identity(), request, result);
+  fcl::collide(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
+               result);
   return result.isCollision();
 }
 
 double FclCollisionChecker::Distance(const Pose& pose) const {
   fcl::DistanceRequestd request;
   fcl::DistanceResultd result;
-  fcl::distance(models_->robot.get(), ToFcl(pose), models_->environment.get(),
-                fcl::Transform3d::Identity(), request, result);
+  fcl::distance(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
+                result);
   return std::max(0.0, result.min_distance);
 }
 

@@ -62,9 +62,8 @@ class ShellTree {
     int axis = 0;
     box.Size().maxCoeff(&axis);
     const int mid = (begin + end) / 2;
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end, [&](int a, int b) {
-      return (*shells_)[a].center[axis] < (*shells_)[b].center[axis];
-    });
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](int a, int b) { return (*shells_)[a].center[axis] < (*shells_)[b].center[axis]; });
     const int left = Build(begin, mid);
     const int right = Build(mid, end);
     nodes_[index].left = left;
@@ -125,8 +124,8 @@ std::string PartModel::Describe(int shell, bool robot) const {
   if (shell < 0 || shell >= static_cast<int>(shells.size())) return "none";
   const Shell& s = shells[shell];
   return Fmt("shell %d (%s, %zu triangles, centre [%.6g, %.6g, %.6g], size %.3g x %.3g x %.3g)", shell,
-             s.convex ? "convex" : (s.closed ? "non-convex" : "open"), s.triangles.size(), s.center.x(),
-             s.center.y(), s.center.z(), s.box.Size().x(), s.box.Size().y(), s.box.Size().z());
+             s.convex ? "convex" : (s.closed ? "non-convex" : "open"), s.triangles.size(), s.center.x(), s.center.y(),
+             s.center.z(), s.box.Size().x(), s.box.Size().y(), s.box.Size().z());
 }
 
 struct RigidDepthChecker::Impl {

@@ -47,15 +47,15 @@ namespace ausbau {
 enum class ShellRole { kRigid, kFastener };
 
 struct PartModel {
-  std::vector<Shell> robot_shells;       // D, in the frame its poses refer to
-  std::vector<Shell> static_shells;      // S, world
-  std::vector<ShellRole> role;           // per robot shell
-  std::vector<int> cluster;              // per robot shell: fastener cluster, -1 for rigid
-  std::vector<double> cluster_limit;     // per cluster: the depth it may reach (infinite: not limited)
-  std::vector<double> installed_depth;   // per robot shell: deepest penetration of S at the installed pose
-  int anchor = -1;                       // index of the anchor shell
-  std::vector<int> rigid_interference;   // rigid shells deeper than the tolerance at the installed pose
-  double tolerance = 0;                  // the one used to classify
+  std::vector<Shell> robot_shells;      // D, in the frame its poses refer to
+  std::vector<Shell> static_shells;     // S, world
+  std::vector<ShellRole> role;          // per robot shell
+  std::vector<int> cluster;             // per robot shell: fastener cluster, -1 for rigid
+  std::vector<double> cluster_limit;    // per cluster: the depth it may reach (infinite: not limited)
+  std::vector<double> installed_depth;  // per robot shell: deepest penetration of S at the installed pose
+  int anchor = -1;                      // index of the anchor shell
+  std::vector<int> rigid_interference;  // rigid shells deeper than the tolerance at the installed pose
+  double tolerance = 0;                 // the one used to classify
 
   int FastenerCount() const;
   // "shell 3 (convex, 12 triangles, centre [x, y, z])": how a report names a

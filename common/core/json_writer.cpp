@@ -41,8 +41,7 @@ std::string JsonVector(const Eigen::Vector3d& v) {
 }
 
 std::string JsonQuaternion(const Eigen::Quaterniond& q) {
-  return "[" + JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " + JsonNumber(q.z()) +
-         "]";
+  return "[" + JsonNumber(q.w()) + ", " + JsonNumber(q.x()) + ", " + JsonNumber(q.y()) + ", " + JsonNumber(q.z()) + "]";
 }
 
 std::string JsonWriter::Text() const {

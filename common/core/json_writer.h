@@ -19,7 +19,7 @@ namespace ausbau {
 std::string JsonString(const std::string& text);  // quoted and escaped; UTF-8 passes through
 std::string JsonNumber(double value);             // %.10g, or null where not finite
 inline std::string JsonBool(bool value) { return value ? "true" : "false"; }
-std::string JsonVector(const Eigen::Vector3d& v);        // [x, y, z]
+std::string JsonVector(const Eigen::Vector3d& v);         // [x, y, z]
 std::string JsonQuaternion(const Eigen::Quaterniond& q);  // [w, x, y, z]
 
 // An object (or array) whose nested values are passed as their text and

@@ -9,8 +9,7 @@ namespace ausbau {
 inline TriangleMesh MakeBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   TriangleMesh mesh;
   for (int i = 0; i < 8; ++i) {
-    mesh.vertices.emplace_back((i & 1) ? max.x() : min.x(), (i & 2) ? max.y() : min.y(),
-                               (i & 4) ? max.z() : min.z());
+    mesh.vertices.emplace_back((i & 1) ? max.x() : min.x(), (i & 2) ? max.y() : min.y(), (i & 4) ? max.z() : min.z());
   }
   // Two counter-clockwise triangles per face, seen from outside.
   mesh.triangles = {{0, 2, 3}, {0, 3, 1},   // z = min
@@ -25,8 +24,8 @@ inline TriangleMesh MakeBox(const Eigen::Vector3d& min, const Eigen::Vector3d& m
 // A rectangular plate in the xy-plane, z in [z0, z1], outer half-widths
 // (ox, oy), with a rectangular through-hole of half-widths (hx, hy) centred at
 // (cx, cy). Built from four boxes, so it is a closed (if not merged) solid.
-inline TriangleMesh MakePlateWithRectHole(double ox, double oy, double hx, double hy, double cx, double cy,
-                                          double z0, double z1) {
+inline TriangleMesh MakePlateWithRectHole(double ox, double oy, double hx, double hy, double cx, double cy, double z0,
+                                          double z1) {
   TriangleMesh plate;
   plate.Append(MakeBox({-ox, -oy, z0}, {ox, cy - hy, z1}));           // front strip
   plate.Append(MakeBox({-ox, cy + hy, z0}, {ox, oy, z1}));            // back strip

@@ -185,58 +185,62 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   // box's own edges where no other solid touches), then the shared ones,
   // where a candidate already joined to the triangle settles it.
   for (int pass = 0; pass < 2; ++pass) {
-  for (int t = 0; t < triangle_count; ++t) {
-    const Eigen::Vector3d normal = (positions[corner(t, 1)] - positions[corner(t, 0)])
-                                       .cross(positions[corner(t, 2)] - positions[corner(t, 0)]);
-    for (int e = 0; e < 3; ++e) {
-      const int a = corner(t, e), b = corner(t, (e + 1) % 3);
-      const auto reverse = directed.find(key_of(b, a));
-      if (reverse == directed.end()) {
-        // Inconsistently oriented: join where the edge has one other triangle.
-        const auto& same = directed[key_of(a, b)];
-        if (pass == 0 && same.size() == 2) join(same[0], same[1]);
-        continue;
+    for (int t = 0; t < triangle_count; ++t) {
+      const Eigen::Vector3d normal =
+          (positions[corner(t, 1)] - positions[corner(t, 0)]).cross(positions[corner(t, 2)] - positions[corner(t, 0)]);
+      for (int e = 0; e < 3; ++e) {
+        const int a = corner(t, e), b = corner(t, (e + 1) % 3);
+        const auto reverse = directed.find(key_of(b, a));
+        if (reverse == directed.end()) {
+          // Inconsistently oriented: join where the edge has one other triangle.
+          const auto& same = directed[key_of(a, b)];
+          if (pass == 0 && same.size() == 2) join(same[0], same[1]);
+          continue;
+        }
+        const auto& candidates = reverse->second;
+        if (candidates.size() == 1) {
+          if (pass == 0) join(t, candidates[0]);
+          continue;
+        }
+        if (pass == 0) continue;
+        const bool settled = std::any_of(candidates.begin(), candidates.end(),
+                                         [&](int c) { return Find(parent, c) == Find(parent, t); });
+        if (settled) continue;
+        const Eigen::Vector3d axis = (positions[b] - positions[a]).normalized();
+        auto inward = [&](int tri) {  // in the triangle's plane, from the edge to its third corner
+          const Eigen::Vector3d d = positions[third(tri, a, b)] - positions[a];
+          return Eigen::Vector3d(d - d.dot(axis) * axis).normalized();
+        };
+        const Eigen::Vector3d u = inward(t);
+        const Eigen::Vector3d w = -(normal - normal.dot(axis) * axis).normalized();  // into the solid
+        int best = -1;
+        double best_angle = 0;
+        for (int c : candidates) {
+          const Eigen::Vector3d d = inward(c);
+          double angle = std::atan2(d.dot(w), d.dot(u));
+          if (angle <= kSameDirection) angle += 2 * M_PI;  // coincident (or behind): last
+          // Overlapping solids of a soup may share an edge with a face of one
+          // inside the other's wedge, or flush with it (a rail's leg and foot),
+          // so the angle alone can mislead: among the locally convex
+          // candidates (within half a turn) the triangle written nearest to
+          // this one wins, as exports write a solid's triangles together
+          // (STL: every triangle has its own vertices).
+          const bool convex = angle <= M_PI + kSameDirection;
+          const bool best_convex = best >= 0 && best_angle <= M_PI + kSameDirection;
+          bool better;
+          if (best < 0)
+            better = true;
+          else if (convex != best_convex)
+            better = convex;
+          else if (convex)
+            better = std::abs(c - t) < std::abs(best - t);
+          else
+            better = angle < best_angle;
+          if (better) best = c, best_angle = angle;
+        }
+        join(t, best);
       }
-      const auto& candidates = reverse->second;
-      if (candidates.size() == 1) {
-        if (pass == 0) join(t, candidates[0]);
-        continue;
-      }
-      if (pass == 0) continue;
-      const bool settled = std::any_of(candidates.begin(), candidates.end(),
-                                       [&](int c) { return Find(parent, c) == Find(parent, t); });
-      if (settled) continue;
-      const Eigen::Vector3d axis = (positions[b] - positions[a]).normalized();
-      auto inward = [&](int tri) {  // in the triangle's plane, from the edge to its third corner
-        const Eigen::Vector3d d = positions[third(tri, a, b)] - positions[a];
-        return Eigen::Vector3d(d - d.dot(axis) * axis).normalized();
-      };
-      const Eigen::Vector3d u = inward(t);
-      const Eigen::Vector3d w = -(normal - normal.dot(axis) * axis).normalized();  // into the solid
-      int best = -1;
-      double best_angle = 0;
-      for (int c : candidates) {
-        const Eigen::Vector3d d = inward(c);
-        double angle = std::atan2(d.dot(w), d.dot(u));
-        if (angle <= kSameDirection) angle += 2 * M_PI;  // coincident (or behind): last
-        // Overlapping solids of a soup may share an edge with a face of one
-        // inside the other's wedge, or flush with it (a rail's leg and foot),
-        // so the angle alone can mislead: among the locally convex
-        // candidates (within half a turn) the triangle written nearest to
-        // this one wins, as exports write a solid's triangles together
-        // (STL: every triangle has its own vertices).
-        const bool convex = angle <= M_PI + kSameDirection;
-        const bool best_convex = best >= 0 && best_angle <= M_PI + kSameDirection;
-        bool better;
-        if (best < 0) better = true;
-        else if (convex != best_convex) better = convex;
-        else if (convex) better = std::abs(c - t) < std::abs(best - t);
-        else better = angle < best_angle;
-        if (better) best = c, best_angle = angle;
-      }
-      join(t, best);
     }
-  }
   }
   std::vector<Shell> shells;
   std::unordered_map<int, int> shell_of_root;

@@ -26,11 +26,11 @@
 namespace ausbau {
 
 struct Shell {
-  std::vector<Eigen::Vector3d> vertices;        // welded, in the mesh's coordinates
-  std::vector<std::array<int, 3>> triangles;    // into `vertices`
-  std::vector<int> source_triangles;            // index of each triangle in the input mesh
-  bool closed = false;                          // every edge shared by exactly two triangles
-  bool convex = false;                          // closed, and on one side of every face plane
+  std::vector<Eigen::Vector3d> vertices;      // welded, in the mesh's coordinates
+  std::vector<std::array<int, 3>> triangles;  // into `vertices`
+  std::vector<int> source_triangles;          // index of each triangle in the input mesh
+  bool closed = false;                        // every edge shared by exactly two triangles
+  bool convex = false;                        // closed, and on one side of every face plane
   // Convex shells only: the corners (vertices where three or more face
   // directions meet; the projections' extremes are always attained there),
   // the distinct face normals and the distinct feature-edge directions
@@ -59,7 +59,6 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
 //         (a separating axis: a lower bound on their distance).
 // `stop_gap` > 0 ends the search at the first axis with a gap larger than it
 // (the value is then that gap, negated). Both shells must be convex.
-double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b,
-                         double stop_gap = 0.0);
+double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b, double stop_gap = 0.0);
 
 }  // namespace ausbau

@@ -19,8 +19,8 @@ std::vector<int> WeldExactPositions(const std::vector<Eigen::Vector3d>& vertices
 
 // How the distance between two vertices is measured for welding.
 enum class WeldDistance {
-  kEuclidean,         // |p - q| <= tolerance (the labeling topology)
-  kLargestCoordinate, // max over k of |p[k] - q[k]| <= tolerance (the shell split)
+  kEuclidean,          // |p - q| <= tolerance (the labeling topology)
+  kLargestCoordinate,  // max over k of |p[k] - q[k]| <= tolerance (the shell split)
 };
 
 // Vertices within `tolerance` of a representative become that one: the

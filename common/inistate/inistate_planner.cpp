@@ -96,7 +96,8 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
   if (!options.known_local_path.empty()) {
     const auto begin = std::chrono::steady_clock::now();
     const std::int64_t checks = volume_validity.checks(), invalid = volume_validity.invalid_checks();
-    const std::string fault = KnownLocalPathFault(local_problem, volume_validity, options.local, options.known_local_path);
+    const std::string fault =
+        KnownLocalPathFault(local_problem, volume_validity, options.local, options.known_local_path);
     if (fault.empty()) {
       result.local.status = PlanStatus::kSolved;
       result.local.path = options.known_local_path;
@@ -113,8 +114,8 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
     result.local = Plan(local_problem, volume_validity, LocalPlannerOptions(problem, options.psi, options.local));
   }
   LogInfo("InIState part 1 (%s, volume validity): %s after %.2f s, %lld nodes, %lld checks", planner.c_str(),
-          result.local.solved() ? "clear of the fasteners" : "no path",
-          result.local.stats.time_s, static_cast<long long>(result.local.stats.nodes),
+          result.local.solved() ? "clear of the fasteners" : "no path", result.local.stats.time_s,
+          static_cast<long long>(result.local.stats.nodes),
           static_cast<long long>(result.local.stats.collision_checks));
   if (!result.local.solved()) {
     result.status = result.local.status;
@@ -125,8 +126,8 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
   PlanningProblem rigid_problem = problem;
   rigid_problem.start = result.local.path.back();
   result.rigid = Plan(rigid_problem, rigid_validity, options.rigid);
-  LogInfo("InIState part 2 (%s, collision): %s after %.2f s, %lld nodes, %lld checks",
-          options.rigid.planner.c_str(), result.rigid.solved() ? "solved" : "no path", result.rigid.stats.time_s,
+  LogInfo("InIState part 2 (%s, collision): %s after %.2f s, %lld nodes, %lld checks", options.rigid.planner.c_str(),
+          result.rigid.solved() ? "solved" : "no path", result.rigid.stats.time_s,
           static_cast<long long>(result.rigid.stats.nodes),
           static_cast<long long>(result.rigid.stats.collision_checks));
   if (!result.rigid.solved()) {

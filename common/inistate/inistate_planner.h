@@ -22,9 +22,9 @@ namespace ausbau {
 class FclCollisionChecker;
 
 struct InIStateOptions {
-  PlannerOptions local;   // sigma_1; planner "est" by default
-  PlannerOptions rigid;   // sigma_2; planner "cr-rrtc" by default
-  double psi = 0;         // scene units; > 0
+  PlannerOptions local;  // sigma_1; planner "est" by default
+  PlannerOptions rigid;  // sigma_2; planner "cr-rrtc" by default
+  double psi = 0;        // scene units; > 0
   // A sigma_1 found before under the same validity (ausbau-tau-estimate's
   // successful round, planning convention), or empty. It is used instead of
   // planning sigma_1 if it holds here: it starts at the start, every segment

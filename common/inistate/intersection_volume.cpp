@@ -252,8 +252,7 @@ double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQu
   const Eigen::Matrix3d to_s = d.s_geometry.axes.transpose();
   const Eigen::Matrix3d m = to_s * rotation * d.d_geometry.axes * (hd / hs);
   const Eigen::Vector3d first_center = d.d_geometry.Center(0, 0, 0);
-  const Eigen::Vector3d g0 =
-      to_s * (rotation * (first_center - d.reference_point) + pose.t - d.s_geometry.origin) / hs;
+  const Eigen::Vector3d g0 = to_s * (rotation * (first_center - d.reference_point) + pose.t - d.s_geometry.origin) / hs;
   const int snx = d.s_geometry.dims[0], sny = d.s_geometry.dims[1], snz = d.s_geometry.dims[2];
   const std::int64_t splane = std::int64_t{snx} * sny;
   const std::uint8_t* distance = d.s_distance.data();
@@ -401,12 +400,9 @@ double IntersectionVolume::Measure(VolumeMeasure measure, const Pose& pose, doub
     return std::numeric_limits<double>::infinity();
   }
   switch (measure) {
-    case VolumeMeasure::kIv:
-      return Iv(pose, query);
-    case VolumeMeasure::kMliv:
-      return Mliv(pose, query);
-    case VolumeMeasure::kLabeledMliv:
-      return LabeledMliv(pose, tau, query);
+    case VolumeMeasure::kIv: return Iv(pose, query);
+    case VolumeMeasure::kMliv: return Mliv(pose, query);
+    case VolumeMeasure::kLabeledMliv: return LabeledMliv(pose, tau, query);
   }
   return LabeledMliv(pose, tau, query);
 }

@@ -35,9 +35,8 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(Clock::time_point begin) { return std::chrono::duration<double>(Clock::now() - begin).count(); }
 
-TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
-                  double tau, double psi, const TauEstimateOptions& options,
-                  const std::atomic<bool>* cancel = nullptr) {
+TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure, double tau,
+                  double psi, const TauEstimateOptions& options, const std::atomic<bool>* cancel = nullptr) {
   const auto begin = Clock::now();
   const VolumeValidity validity(volume, measure, tau);
   PlannerOptions probe = LocalPlannerOptions(problem, psi, options.planner);
@@ -63,8 +62,7 @@ TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volu
 std::string Describe(const TauProbe& p) {
   char line[200];
   std::snprintf(line, sizeof line, "tau %.6g: %lld nodes in %lld attempts, %lld checks -> %s nodes/s", p.tau,
-                static_cast<long long>(p.nodes), static_cast<long long>(p.attempts),
-                static_cast<long long>(p.checks),
+                static_cast<long long>(p.nodes), static_cast<long long>(p.attempts), static_cast<long long>(p.checks),
                 std::isinf(p.speed) ? "goal reached" : std::to_string(p.speed).c_str());
   return line;
 }
@@ -139,8 +137,7 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
       }
     }
     if (found < 0) {
-      lines->push_back("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) +
-                       " nodes/s");
+      lines->push_back("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) + " nodes/s");
       return Search::kExhausted;
     }
     state.k_pass = found;
@@ -376,9 +373,9 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
                             attempts = r.ReadInts("trace/attempts", 1), checks = r.ReadInts("trace/checks", 1),
                             planning = r.ReadInts("trace/planning_round", 1), solved = r.ReadInts("trace/solved", 1);
   const std::size_t n = taus.data.size();
-  for (const std::size_t size : {speeds.data.size(), targets.data.size(), seconds.data.size(), rounds.data.size(),
-                                 nodes.data.size(), attempts.data.size(), checks.data.size(), planning.data.size(),
-                                 solved.data.size()}) {
+  for (const std::size_t size :
+       {speeds.data.size(), targets.data.size(), seconds.data.size(), rounds.data.size(), nodes.data.size(),
+        attempts.data.size(), checks.data.size(), planning.data.size(), solved.data.size()}) {
     if (size != n) throw InputErrorAt(file.string(), "trace datasets differ in length");
   }
   for (std::size_t i = 0; i < n; ++i) {

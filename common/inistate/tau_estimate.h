@@ -49,26 +49,29 @@ namespace ausbau {
 inline constexpr double kChecksPerReferenceSecond = 2000.0;
 
 struct TauEstimateOptions {
-  double initial_speed = 4.0;   // s_init, nodes per reference second
-  double speed_step = 5.0;      // delta_2
-  int max_rounds = 5;           // planning rounds
+  double initial_speed = 4.0;         // s_init, nodes per reference second
+  double speed_step = 5.0;            // delta_2
+  int max_rounds = 5;                 // planning rounds
   std::int64_t probe_attempts = 300;  // expansion attempts per probe
   int bisection_steps = 4;
-  double max_tau = 0;           // 0 = D's whole volume (IV of all of D)
-  PlannerOptions planner;       // local planner (est), seed, time limit per planning round
-  int threads = 0;              // parallel probes; 0 = all cores
+  double max_tau = 0;                                // 0 = D's whole volume (IV of all of D)
+  PlannerOptions planner;                            // local planner (est), seed, time limit per planning round
+  int threads = 0;                                   // parallel probes; 0 = all cores
   std::function<void(const std::string&)> progress;  // one line per step, optional
   // 10 s per round: successful rounds on the clip scenes take 0.1-5 s;
   // five rounds then stay within the 60 s a scene may take end to end.
-  TauEstimateOptions() { planner.planner = "est"; planner.time_limit_s = 10.0; }
+  TauEstimateOptions() {
+    planner.planner = "est";
+    planner.time_limit_s = 10.0;
+  }
   void Check() const;  // throws InputError
 };
 
 struct TauProbe {
-  int round = 0;              // planning round this probe belongs to (0-based)
-  double target_speed = 0;    // nodes per reference second
+  int round = 0;            // planning round this probe belongs to (0-based)
+  double target_speed = 0;  // nodes per reference second
   double tau = 0;
-  double speed = 0;           // measured; infinite when the probe reached the goal
+  double speed = 0;  // measured; infinite when the probe reached the goal
   std::int64_t nodes = 0, attempts = 0, checks = 0;
   bool planning_round = false;  // a full planning round rather than a probe
   bool solved = false;          // planning round: sigma_1 found
@@ -76,12 +79,12 @@ struct TauProbe {
 };
 
 struct TauEstimate {
-  double tau = 0;          // the estimate (the last round's tau)
-  double tau_lowest = 0;   // volume at the installed pose
+  double tau = 0;         // the estimate (the last round's tau)
+  double tau_lowest = 0;  // volume at the installed pose
   double psi = 0;
-  double speed_target = 0; // of the last round
+  double speed_target = 0;  // of the last round
   int rounds = 0;
-  bool solved = false;     // the last planning round found sigma_1
+  bool solved = false;  // the last planning round found sigma_1
   std::vector<TauProbe> trace;
   double seconds = 0;
   std::vector<Pose> local_path;  // sigma_1 of the successful round (planning convention)

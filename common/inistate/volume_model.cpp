@@ -6,8 +6,8 @@
 #include <numeric>
 #include <queue>
 
-#include "core/error.h"
 #include "collision/rigid_depth.h"
+#include "core/error.h"
 #include "core/log.h"
 #include "geometry/weld.h"
 
@@ -33,13 +33,10 @@ std::string ValidityModeName(ValidityMode mode) { return ValidityModeNames()[sta
 
 VolumeMeasure MeasureOf(ValidityMode mode) {
   switch (mode) {
-    case ValidityMode::kMliv:
-      return VolumeMeasure::kMliv;
+    case ValidityMode::kMliv: return VolumeMeasure::kMliv;
     case ValidityMode::kLabeledMliv:
-    case ValidityMode::kLabeledMlivUnguarded:
-      return VolumeMeasure::kLabeledMliv;
-    default:
-      return VolumeMeasure::kIv;
+    case ValidityMode::kLabeledMlivUnguarded: return VolumeMeasure::kLabeledMliv;
+    default: return VolumeMeasure::kIv;
   }
 }
 
@@ -89,7 +86,9 @@ double PsiOf(const VoxelGrid& grid, const std::vector<float>& colors) {
   std::vector<std::int64_t> stack;
   std::int64_t best_count = 0;
   double best_extent = 0;
-  auto deformable = [&](std::int64_t v) { return grid.cells[v] != kVoxelEmpty && colors[v] < VolumeModel::kDeformableColor; };
+  auto deformable = [&](std::int64_t v) {
+    return grid.cells[v] != kVoxelEmpty && colors[v] < VolumeModel::kDeformableColor;
+  };
   for (std::int64_t start = 0; start < n; ++start) {
     if (seen[start] || !deformable(start)) continue;
     seen[start] = 1;
@@ -222,12 +221,14 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
     GuardFasteners(voxels_.dynamic_grid, *volume_, problem.start, psi_, &weights, &start_voxels_, &reach_voxels_);
     volume_ = std::make_unique<IntersectionVolume>(volume_->Reweighted(weights));
     if (start_voxels_ == 0) {
-      LogInfo("fastener guard: D does not intersect S at the start, so no fastener is engaged: every intersection "
-              "is refused (labeled-mliv-unguarded allows them up to tau)");
+      LogInfo(
+          "fastener guard: D does not intersect S at the start, so no fastener is engaged: every intersection "
+          "is refused (labeled-mliv-unguarded allows them up to tau)");
     } else {
-      LogInfo("fastener guard: %lld voxels of D intersect S at the start; %lld within psi = %.4g of them (through "
-              "D); intersections elsewhere are refused",
-              static_cast<long long>(start_voxels_), static_cast<long long>(reach_voxels_), psi_);
+      LogInfo(
+          "fastener guard: %lld voxels of D intersect S at the start; %lld within psi = %.4g of them (through "
+          "D); intersections elsewhere are refused",
+          static_cast<long long>(start_voxels_), static_cast<long long>(reach_voxels_), psi_);
     }
   }
   triangle_part_ = TriangleParts(dynamic_mesh, &part_count_);
@@ -237,13 +238,14 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
 VolumeModel::~VolumeModel() = default;
 
 int VolumeModel::GuardRigidParts(const PlanningProblem& problem, double tolerance) {
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
-                                   UnmeasuredInterference::kFastener);
+  const auto parts =
+      ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kFastener);
   if (!parts->rigid_interference.empty()) {
-    LogWarn("rigid guard off: %s of D already penetrates S %.4g deep at the start (the verdict's exact check will "
-            "refuse any path)",
-            parts->Describe(parts->rigid_interference.front(), true).c_str(),
-            parts->installed_depth[parts->rigid_interference.front()]);
+    LogWarn(
+        "rigid guard off: %s of D already penetrates S %.4g deep at the start (the verdict's exact check will "
+        "refuse any path)",
+        parts->Describe(parts->rigid_interference.front(), true).c_str(),
+        parts->installed_depth[parts->rigid_interference.front()]);
     return 0;
   }
   int rigid = 0;

@@ -58,11 +58,11 @@ bool NeedsLabels(ValidityMode mode);         // the two labeled modes
 
 // One intersection of D with S at a pose, described for a user.
 struct VolumeReport {
-  double value = 0;            // the mode's volume (Labeled-MLIV weighted), scene units^3; +infinity
-                               // when the component reaches beyond the fasteners (labeled-mliv)
-  std::int64_t voxels = 0;     // voxels of the reported component (IV: all intersecting)
-  int part = -1;               // D's part (connected mesh component) nearest the component's centre; -1 none
-  double deformability = 0;    // mean deformability (1 - colorValue) over the component's voxels
+  double value = 0;          // the mode's volume (Labeled-MLIV weighted), scene units^3; +infinity
+                             // when the component reaches beyond the fasteners (labeled-mliv)
+  std::int64_t voxels = 0;   // voxels of the reported component (IV: all intersecting)
+  int part = -1;             // D's part (connected mesh component) nearest the component's centre; -1 none
+  double deformability = 0;  // mean deformability (1 - colorValue) over the component's voxels
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // component's centre, D's mesh coordinates
 };
 
@@ -86,7 +86,7 @@ class VolumeModel {
   // thread-safe, as Measure.
   IntersectionVolume& volume() { return *volume_; }
   double voxel_size() const { return voxels_.dynamic_grid.geometry.spacing; }
-  double shrink() const { return shrink_; }  // erosion distance (shrink mode), scene units
+  double shrink() const { return shrink_; }                           // erosion distance (shrink mode), scene units
   const std::vector<float>& color_values() const { return colors_; }  // the labels' colorValues, unguarded
   // The fastener guard (labeled-mliv): D's voxels intersecting S at the
   // start, and those within psi of them (the reach; the start's included).

@@ -38,9 +38,8 @@ double MaxVolumeAlong(const PlanningProblem& problem, IntersectionVolume& volume
   return worst;
 }
 
-VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, IntersectionVolume& volume,
-                                     VolumeMeasure measure, const std::vector<Pose>& input,
-                                     const SmoothOptions& options) {
+VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, IntersectionVolume& volume, VolumeMeasure measure,
+                                     const std::vector<Pose>& input, const SmoothOptions& options) {
   options.Check();
   const double step = options.resolution * problem.robot_diagonal / 4.0;
   VolumeSmoothResult result;
@@ -57,9 +56,8 @@ VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, Intersectio
   for (double m : segment_max) result.max_before = std::max(result.max_before, m);
 
   Random random(options.seed);
-  const int attempts = options.attempts > 0
-                           ? options.attempts
-                           : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
+  const int attempts =
+      options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
   for (int attempt = 0; attempt < attempts && path.size() >= 3; ++attempt) {
     if (std::chrono::steady_clock::now() >= deadline) break;

@@ -17,7 +17,7 @@
 namespace ausbau {
 
 struct VolumeSmoothResult {
-  std::vector<Pose> path;    // planning convention
+  std::vector<Pose> path;                // planning convention
   double max_before = 0, max_after = 0;  // largest volume along the path, densely
   int shortcuts = 0, attempts = 0;
 };
@@ -26,9 +26,8 @@ struct VolumeSmoothResult {
 // options.resolution x D's diagonal / 4 between two of them (the smoother's
 // and the certification's step). `volume` is used with its own buffers (not
 // thread-safe; pass a clone).
-VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, IntersectionVolume& volume,
-                                     VolumeMeasure measure, const std::vector<Pose>& path,
-                                     const SmoothOptions& options);
+VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, IntersectionVolume& volume, VolumeMeasure measure,
+                                     const std::vector<Pose>& path, const SmoothOptions& options);
 
 // The largest volume along a path, densely at `step` (world units of vertex
 // motion between checked poses).

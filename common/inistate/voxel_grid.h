@@ -112,7 +112,7 @@ class WindingBvh {
   // All triangles of `mesh`, or those listed; `flip[t]` (optional, per
   // triangle of the mesh) reverses a triangle's orientation.
   explicit WindingBvh(const TriangleMesh& mesh, const std::vector<int>* triangles = nullptr,
-                       const std::vector<bool>* flip = nullptr);
+                      const std::vector<bool>* flip = nullptr);
 
   bool empty() const { return tris_.empty(); }
   // Generalized winding number at p: hierarchical (a BVH node seen from
@@ -148,14 +148,14 @@ class WindingBvh {
 };
 
 struct VoxelizeOptions {
-  double voxel_size = 0;                              // scene units; 0 = automatic (AutomaticVoxelSize)
+  double voxel_size = 0;  // scene units; 0 = automatic (AutomaticVoxelSize)
   // Automatic size: about this many voxels in D's AABB (why 4M, not 1M:
   // stages/voxelize/README.md).
   std::int64_t voxel_budget = 4000000;
   // Bytes. Grids at an explicit voxel_size that need more are refused
   // (InputError); the automatic size is coarsened until they fit.
   std::int64_t memory_limit = std::int64_t{2} << 30;
-  double shrink = 0;                                  // erode D's voxels by this distance (scene units), thesis 5.3
+  double shrink = 0;  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
   // S's grid: all of S instead of S near D (VoxelizeScene). For checkers
   // that judge a whole path by its voxels (ausbau-check-path).
@@ -186,7 +186,6 @@ double AutomaticVoxelSize(const Aabb& dynamic_box, std::int64_t budget);
 // of margin on every side (the grid is centred on the box), so that a face of
 // the box never touches the outermost voxels.
 VoxelGridGeometry GridAround(const Aabb& box, double spacing, int padding = 1);
-
 
 // Bytes VoxelizeMesh needs for a grid (the cells, region labels and the
 // intersection volume's distance grid). Throws InputError naming `what` when

@@ -45,8 +45,8 @@
 namespace ausbau {
 
 struct MedialSphereOptions {
-  double delta = 1e-4;         // start offset along -n, fraction of D's AABB diagonal
-  double step = 0.75;          // eps while growing and at the start of cooling, in (0, 1)
+  double delta = 1e-4;  // start offset along -n, fraction of D's AABB diagonal
+  double step = 0.75;   // eps while growing and at the start of cooling, in (0, 1)
   int cooling_iterations = 30;
   int growth_iterations = 200;  // cap on the growth phase; 0 = cool from the start (thesis)
   int threads = 0;              // 0 = all (OpenMP)
@@ -95,7 +95,7 @@ struct SpheresArtifact {
   std::vector<Eigen::Vector3d> normals;  // the consistent outward vertex normals used
   std::vector<std::uint8_t> valid;
   std::vector<std::uint8_t> contact;
-  std::string units;                     // the scene's units, informative ("" if not given)
+  std::string units;  // the scene's units, informative ("" if not given)
 };
 
 // Expands per-welded-vertex results to the original vertices.

@@ -17,9 +17,10 @@ namespace {
 
 // Fixed, deliberately irregular directions for ray-parity tests (no axis
 // alignment, so rays rarely run along edges of CAD meshes).
-const Eigen::Vector3d kRayDirections[3] = {Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
-                                           Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
-                                           Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
+const Eigen::Vector3d kRayDirections[3] = {
+    Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
+    Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
+    Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
 
 int Find(std::vector<int>& parent, int x) {
   while (parent[x] != x) {
@@ -45,10 +46,9 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   // Cells of the weld's grid are counted from the input's box; with no
   // tolerance they are still small, so that few vertices share one.
   const double weld_tolerance = std::max(0.0, options.weld_tolerance) * input_diagonal;
-  const double weld_cell =
-      weld_tolerance > 0 ? weld_tolerance : (input_diagonal > 0 ? input_diagonal * 1e-9 : 1.0);
-  topo.welded_of_original = WeldWithinTolerance(mesh.vertices, weld_tolerance, WeldDistance::kEuclidean,
-                                                input_box.min, weld_cell, &topo.vertices);
+  const double weld_cell = weld_tolerance > 0 ? weld_tolerance : (input_diagonal > 0 ? input_diagonal * 1e-9 : 1.0);
+  topo.welded_of_original = WeldWithinTolerance(mesh.vertices, weld_tolerance, WeldDistance::kEuclidean, input_box.min,
+                                                weld_cell, &topo.vertices);
   const int n = topo.VertexCount();
   stats.welded_vertices = n;
 
@@ -227,8 +227,9 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
         for (int t : samples_of(list)) {
           int odd = 0;
           for (const auto& direction : kRayDirections) {
-            odd += bvh.CountCrossings(centroid(t), direction, t_min,
-                                      [&](int u) { return topo.triangle_patch[u] == p; }) % 2;
+            odd += bvh.CountCrossings(centroid(t), direction, t_min, [&](int u) {
+              return topo.triangle_patch[u] == p;
+            }) % 2;
           }
           if (odd < 2) {
             all_inside = false;

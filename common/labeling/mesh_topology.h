@@ -59,26 +59,26 @@ struct MeshTopologyStats {
   int input_vertices = 0;
   int input_triangles = 0;
   int welded_vertices = 0;
-  int unreferenced_vertices = 0;   // welded vertices in no kept triangle
-  int degenerate_triangles = 0;    // dropped: collapsed by welding or zero area
-  int duplicate_triangles = 0;     // dropped: same three vertices as an earlier triangle
-  int boundary_edges = 0;          // one triangle
-  int non_manifold_edges = 0;      // three or more triangles
-  int patches = 0;                 // consistently oriented patches
+  int unreferenced_vertices = 0;  // welded vertices in no kept triangle
+  int degenerate_triangles = 0;   // dropped: collapsed by welding or zero area
+  int duplicate_triangles = 0;    // dropped: same three vertices as an earlier triangle
+  int boundary_edges = 0;         // one triangle
+  int non_manifold_edges = 0;     // three or more triangles
+  int patches = 0;                // consistently oriented patches
   int closed_patches = 0;
-  int cavity_patches = 0;          // closed patches found inside other surfaces
-  int flipped_triangles = 0;       // kept triangles whose orientation differs from the input
-  int components = 0;              // connected components (over shared edges)
+  int cavity_patches = 0;     // closed patches found inside other surfaces
+  int flipped_triangles = 0;  // kept triangles whose orientation differs from the input
+  int components = 0;         // connected components (over shared edges)
 };
 
 struct MeshTopology {
-  std::vector<Eigen::Vector3d> vertices;      // welded
-  std::vector<int> welded_of_original;        // input vertex -> welded vertex
-  std::vector<std::array<int, 3>> triangles;  // welded indices, oriented outward
-  std::vector<int> source_triangle;           // kept triangle -> input triangle
+  std::vector<Eigen::Vector3d> vertices;          // welded
+  std::vector<int> welded_of_original;            // input vertex -> welded vertex
+  std::vector<std::array<int, 3>> triangles;      // welded indices, oriented outward
+  std::vector<int> source_triangle;               // kept triangle -> input triangle
   std::vector<Eigen::Vector3d> triangle_normals;  // unit, outward
   std::vector<double> triangle_areas;
-  std::vector<int> triangle_patch;            // orientation patch of each triangle
+  std::vector<int> triangle_patch;  // orientation patch of each triangle
 
   // Unique undirected edges (a < b), sorted; the triangles of edge e are
   // edge_triangles[edge_triangle_offsets[e] .. edge_triangle_offsets[e + 1]).

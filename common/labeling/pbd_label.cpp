@@ -1,7 +1,7 @@
 #include "labeling/pbd_label.h"
 
-#include <omp.h>
 #include <immintrin.h>
+#include <omp.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -57,12 +57,12 @@ double PbdLabelOptions::SolverStiffness() const {
 
 namespace {
 
-constexpr int kLanes = 8;  // load cases simulated together (SIMD lanes)
+constexpr int kLanes = 8;              // load cases simulated together (SIMD lanes)
 constexpr double kLoadStrength = 0.1;  // lambda of the automatic density (pbd_label.h)
 
 struct Constraint {
-  int i, j;    // simulation vertex indices, i < j
-  float rest;  // rest length
+  int i, j;      // simulation vertex indices, i < j
+  float rest;    // rest length
   float wi, wj;  // k' w_i / (w_i + w_j), k' w_j / (w_i + w_j)
 };
 
@@ -75,7 +75,7 @@ struct Constraint {
 // (Auto-vectorization does not happen here: GCC keeps the 8-lane loops
 // scalar.)
 __attribute__((target("avx"))) void ProjectConstraintsAvx(const Constraint* constraints, int count, float* p,
-                                                           int base) {
+                                                          int base) {
   const __m256 tiny = _mm256_set1_ps(1e-20f);
   for (int c = 0; c < count; ++c) {
     const Constraint& k = constraints[c];
@@ -106,8 +106,10 @@ void ProjectConstraintsSse(const Constraint* constraints, int count, float* p, i
     float* pj = p + static_cast<std::size_t>(k.j - base) * 3 * kLanes;
     const __m128 rest = _mm_set1_ps(k.rest), wi = _mm_set1_ps(k.wi), wj = _mm_set1_ps(k.wj);
     for (int h = 0; h < kLanes; h += 4) {
-      const __m128 xi = _mm_loadu_ps(pi + h), yi = _mm_loadu_ps(pi + kLanes + h), zi = _mm_loadu_ps(pi + 2 * kLanes + h);
-      const __m128 xj = _mm_loadu_ps(pj + h), yj = _mm_loadu_ps(pj + kLanes + h), zj = _mm_loadu_ps(pj + 2 * kLanes + h);
+      const __m128 xi = _mm_loadu_ps(pi + h), yi = _mm_loadu_ps(pi + kLanes + h),
+                   zi = _mm_loadu_ps(pi + 2 * kLanes + h);
+      const __m128 xj = _mm_loadu_ps(pj + h), yj = _mm_loadu_ps(pj + kLanes + h),
+                   zj = _mm_loadu_ps(pj + 2 * kLanes + h);
       const __m128 dx = _mm_sub_ps(xj, xi), dy = _mm_sub_ps(yj, yi), dz = _mm_sub_ps(zj, zi);
       const __m128 length =
           _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)), _mm_mul_ps(dz, dz)));
@@ -153,11 +155,11 @@ __attribute__((target_clones("avx2", "default"))) void UpdateVelocities(float* _
 }
 
 struct Model {
-  int n = 0;                     // simulated vertices
-  std::vector<int> welded;       // simulation index -> welded vertex
-  std::vector<float> rest;       // [n][3], scaled and centred
-  std::vector<double> mass;      // [n]
-  std::vector<float> load_dv;    // [n][3]: velocity increment per step of the load case on that vertex
+  int n = 0;                   // simulated vertices
+  std::vector<int> welded;     // simulation index -> welded vertex
+  std::vector<float> rest;     // [n][3], scaled and centred
+  std::vector<double> mass;    // [n]
+  std::vector<float> load_dv;  // [n][3]: velocity increment per step of the load case on that vertex
   std::vector<Constraint> constraints;
   std::vector<int> vertex_begin;      // per component, size components + 1
   std::vector<int> constraint_begin;  // per component, size components + 1
@@ -165,8 +167,8 @@ struct Model {
 
 struct Batch {
   int component;
-  int count;           // load cases in the batch, <= kLanes
-  int load[kLanes];    // load vertex of each lane (simulation index)
+  int count;         // load cases in the batch, <= kLanes
+  int load[kLanes];  // load vertex of each lane (simulation index)
 };
 
 // Mass-weighted best rigid transform of `rest` onto lane `lane` of `x`; writes
@@ -228,9 +230,10 @@ std::vector<std::pair<int, int>> FindGlue(const MeshTopology& topology, double t
     }
   }
   const TriangleBvh bvh(topology.vertices, topology.triangles);
-  static const Eigen::Vector3d kDirections[3] = {Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
-                                                 Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
-                                                 Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
+  static const Eigen::Vector3d kDirections[3] = {
+      Eigen::Vector3d(0.5773502691896258, 0.5914394147712337, 0.5632542613410031),
+      Eigen::Vector3d(-0.7071067811865476, 0.3111442126341125, 0.6348234758123451),
+      Eigen::Vector3d(0.1357890123456789, -0.8124038404635961, 0.5670102939401234)};
   std::vector<std::vector<int>> targets(n);
 #pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
   for (int v = 0; v < n; ++v) {
@@ -463,8 +466,8 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   const double mean_edge = edge_sum / std::max<std::size_t>(1, topology.edges.size());
   labels->mean_edge = mean_edge;
   labels->density = options.density > 0 ? options.density
-                                         : options.time_step * options.time_step * options.kappa /
-                                               (2.0 * kLoadStrength * mean_edge * mean_edge * mean_edge);
+                                        : options.time_step * options.time_step * options.kappa /
+                                              (2.0 * kLoadStrength * mean_edge * mean_edge * mean_edge);
   for (double& m : model.mass) m *= labels->density;
   mass_sum *= labels->density;
   const double mass_floor = 1e-6 * mass_sum / n;
@@ -560,7 +563,8 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   // Load: f = -sigma n_i, as a velocity increment dt w_i f per step.
   model.load_dv.resize(3 * static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d dv = -options.time_step / model.mass[i] * labels->sigma * topology.vertex_normals[model.welded[i]];
+    const Eigen::Vector3d dv =
+        -options.time_step / model.mass[i] * labels->sigma * topology.vertex_normals[model.welded[i]];
     for (int k = 0; k < 3; ++k) model.load_dv[3 * i + k] = static_cast<float>(dv[k]);
   }
   return model;
@@ -763,8 +767,7 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   MeshTopology refined_topology;
   std::vector<double> refined_radii;
   if (options.refine > 0) {
-    const RefinedMesh refined =
-        Refine(topology, radii, options.refine, options.refine_min_length * topology.diagonal);
+    const RefinedMesh refined = Refine(topology, radii, options.refine, options.refine_min_length * topology.diagonal);
     MeshTopologyOptions keep;
     keep.weld_tolerance = 0;
     keep.orient = false;

@@ -118,23 +118,23 @@ struct PbdLabelOptions {
   double time_step = 0.03;  // s
   double duration = 1.0;    // s; steps = ceil(duration / time_step)
   int solver_iterations = 3;
-  double damping = 0.99;    // v <- damping x v every step
-  double stiffness = 0.99;  // k
+  double damping = 0.99;                     // v <- damping x v every step
+  double stiffness = 0.99;                   // k
   std::string stiffness_formula = "thesis";  // thesis: 1 - (1 - k)^N; mueller: 1 - (1 - k)^(1/N)
-  double kappa = 5.25;      // sigma = kappa x r_min
-  double density = 0.0;     // rho, in the scaled mesh; 0 = automatic (see above)
-  bool bending = true;      // bending constraints (thesis figure 42: needed)
-  bool thickness = true;    // masses from the sphere diameters (false: a constant height, the mean diameter)
+  double kappa = 5.25;                       // sigma = kappa x r_min
+  double density = 0.0;                      // rho, in the scaled mesh; 0 = automatic (see above)
+  bool bending = true;                       // bending constraints (thesis figure 42: needed)
+  bool thickness = true;        // masses from the sphere diameters (false: a constant height, the mean diameter)
   std::string measure = "sum";  // sum | self
   // "sum": load only a well-spread subset of at most this many vertices, each
   // weighted by the area it stands for (see above); 0 = every vertex.
   int max_load_cases = 1024;
-  double refine = 0.0;            // split edges longer than refine x local diameter; 0 = off
+  double refine = 0.0;              // split edges longer than refine x local diameter; 0 = off
   double refine_min_length = 0.02;  // never split below this fraction of D's AABB diagonal
-  bool area_weighted = true;       // "sum": weight load cases by their vertex's area
-  bool glue = true;               // tie separate components where they touch or overlap
-  double glue_tolerance = 1e-4;   // "touch": closer than this fraction of D's AABB diagonal
-  int threads = 0;          // 0 = all (OpenMP)
+  bool area_weighted = true;        // "sum": weight load cases by their vertex's area
+  bool glue = true;                 // tie separate components where they touch or overlap
+  double glue_tolerance = 1e-4;     // "touch": closer than this fraction of D's AABB diagonal
+  int threads = 0;                  // 0 = all (OpenMP)
   // Called from one thread with the number of load cases done so far.
   std::function<void(std::int64_t done, std::int64_t total)> progress;
 
@@ -150,20 +150,20 @@ struct PbdLabels {
   // "sum": the weight of the load case on each vertex (the area it stands
   // for, 1 = the mean vertex area); 0 where no load was applied.
   std::vector<double> load_weight;
-  double scale = 1.0;                 // mesh units -> scaled mesh
-  double r_min = 0.0;                 // smallest medial-sphere radius, scaled mesh
-  double sigma = 0.0;                 // kappa x r_min
-  double density = 0.0;               // rho used
-  double mean_edge = 0.0;             // mean edge length, scaled mesh
+  double scale = 1.0;      // mesh units -> scaled mesh
+  double r_min = 0.0;      // smallest medial-sphere radius, scaled mesh
+  double sigma = 0.0;      // kappa x r_min
+  double density = 0.0;    // rho used
+  double mean_edge = 0.0;  // mean edge length, scaled mesh
   int steps = 0;
-  double solver_stiffness = 0.0;      // k'
+  double solver_stiffness = 0.0;        // k'
   std::int64_t load_cases = 0;          // = simulated vertices
   std::int64_t simulated_vertices = 0;  // after refinement
   std::int64_t constraints = 0;
   std::int64_t glue_constraints = 0;  // vertex pairs tied across components
   int components = 0;                 // simulated components (after gluing)
-  double seconds = 0.0;         // wall-clock time of the labeling (set-up included)
-  double thread_seconds = 0.0;  // time spent simulating, summed over threads
+  double seconds = 0.0;               // wall-clock time of the labeling (set-up included)
+  double thread_seconds = 0.0;        // time spent simulating, summed over threads
   double SecondsPerLoadCase() const { return load_cases > 0 ? thread_seconds / load_cases : 0.0; }
 };
 
@@ -201,8 +201,7 @@ struct LabelsArtifact {
 };
 
 LabelsArtifact ToLabelsArtifact(const MeshTopology& topology, const PbdLabels& labels, const std::string& measure);
-void WriteLabelsArtifact(const std::filesystem::path& path, const LabelsArtifact& labels,
-                         const Provenance& provenance);
+void WriteLabelsArtifact(const std::filesystem::path& path, const LabelsArtifact& labels, const Provenance& provenance);
 LabelsArtifact ReadLabelsArtifact(const std::filesystem::path& path);
 // CSV `x,y,z,deformability`, one row per original vertex in D's mesh
 // coordinates, 17 significant digits. Written atomically.

@@ -57,8 +57,7 @@ namespace {
 // bisected between the last free pose and that one, so that the distance
 // does not depend on where the steps fell) or D's box clears S's.
 BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const RigidDepthChecker& checker,
-                   const Aabb& robot_box, const Aabb& static_box, double tolerance, double reach,
-                   double largest_step) {
+                   const Aabb& robot_box, const Aabb& static_box, double tolerance, double reach, double largest_step) {
   BlockingProbe probe;
   probe.direction = direction;
   const auto at = [&](double distance) {
@@ -136,14 +135,16 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
                      " already penetrates S at the installed pose";
   } else if (report.farthest >= 0) {
     const BlockingProbe& p = report.probes[report.farthest];
-    report.summary = Fmt("%d of %zu straight pulls along D's principal axes are blocked; the farthest, towards "
-                         "[%.3f, %.3f, %.3f], after %.4g: rigid %s of D against %s of S, %.4g deep",
-                         blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(),
-                         p.free_distance, report.parts->Describe(p.rigid_shell, true).c_str(),
-                         report.parts->Describe(p.static_shell, false).c_str(), p.depth);
+    report.summary =
+        Fmt("%d of %zu straight pulls along D's principal axes are blocked; the farthest, towards "
+            "[%.3f, %.3f, %.3f], after %.4g: rigid %s of D against %s of S, %.4g deep",
+            blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(), p.free_distance,
+            report.parts->Describe(p.rigid_shell, true).c_str(), report.parts->Describe(p.static_shell, false).c_str(),
+            p.depth);
   } else {
-    report.summary = "every straight pull along D's principal axes gets D out; what holds it is a fastener or a "
-                     "motion the planner did not find";
+    report.summary =
+        "every straight pull along D's principal axes gets D out; what holds it is a fastener or a "
+        "motion the planner did not find";
   }
   return report;
 }
@@ -202,8 +203,7 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     const double angle = std::abs(relative.angle());
     const Eigen::Vector3d omega = relative.axis() * relative.angle();
     const Eigen::Vector3d v = b.t - a.t;
-    const double per_unit =
-        (v + omega.cross(a.q * c)).norm() + angle * angle * c.norm() + angle * radius_c + 1e-300;
+    const double per_unit = (v + omega.cross(a.q * c)).norm() + angle * angle * c.norm() + angle * radius_c + 1e-300;
     double s = 0;
     while (s < 1.0) {
       s = std::min(1.0, s + std::max(slack, tolerance / 10) / per_unit);
@@ -214,9 +214,10 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   if (!report.starts_at_start) problems.push_back("the first waypoint is not the start (installed) pose");
   if (!report.ends_separated) problems.push_back("at the last waypoint D's AABB still overlaps S's");
   if (!report.parts->rigid_interference.empty())
-    problems.push_back("a rigid part of D penetrates S at the installed pose (or intersects it where the depth is "
-                       "not measured): " +
-                       report.parts->Describe(report.parts->rigid_interference.front(), true));
+    problems.push_back(
+        "a rigid part of D penetrates S at the installed pose (or intersects it where the depth is "
+        "not measured): " +
+        report.parts->Describe(report.parts->rigid_interference.front(), true));
   if (report.max_rigid_depth > tolerance)
     problems.push_back(Fmt("a rigid part of D penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",
                            report.max_rigid_depth, tolerance, report.worst_segment,

@@ -32,15 +32,15 @@ struct Scene;
 
 struct ExactCheckReport {
   bool valid = false;
-  std::string reason;                  // empty when valid
+  std::string reason;  // empty when valid
   std::int64_t poses_checked = 0;
-  double max_rigid_depth = 0;          // >= 0; deepest rigid penetration along the path
+  double max_rigid_depth = 0;  // >= 0; deepest rigid penetration along the path
   int rigid_shell = -1, static_shell = -1;
-  int worst_segment = -1;              // where the deepest rigid penetration is
+  int worst_segment = -1;  // where the deepest rigid penetration is
   double worst_fraction = 0;
-  Pose worst_pose;                     // scene convention
-  double max_fastener_depth = 0;       // deepest fastener penetration (reported)
-  int first_bad_segment = -1;          // first segment that breaks the limits
+  Pose worst_pose;                // scene convention
+  double max_fastener_depth = 0;  // deepest fastener penetration (reported)
+  int first_bad_segment = -1;     // first segment that breaks the limits
   bool starts_at_start = false;
   bool ends_separated = false;
   std::shared_ptr<const PartModel> parts;
@@ -74,16 +74,16 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
 // not go so far).
 struct BlockingProbe {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // world, unit
-  double free_distance = 0;  // how far D moved within the tolerance (scene units)
-  bool separated = false;    // the pull got D's AABB clear of S's
-  double depth = 0;          // the rigid penetration that stopped it
+  double free_distance = 0;                             // how far D moved within the tolerance (scene units)
+  bool separated = false;                               // the pull got D's AABB clear of S's
+  double depth = 0;                                     // the rigid penetration that stopped it
   int rigid_shell = -1, static_shell = -1;
 };
 struct BlockingReport {
   std::vector<BlockingProbe> probes;  // +axis 0, -axis 0, +axis 1, ... (largest spread first)
   int farthest = -1;                  // the blocked probe that got farthest (-1: none blocked)
   std::shared_ptr<const PartModel> parts;
-  std::string summary;                // one line for a user
+  std::string summary;  // one line for a user
 };
 // `parts`: D's solids as ClassifySceneParts(scene, tolerance, unmeasured)
 // gives them, when the caller has them already (null: classified here).

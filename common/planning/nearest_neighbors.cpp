@@ -8,9 +8,9 @@
 namespace ausbau {
 namespace {
 
-constexpr int kLeafCapacity = 32;  // a leaf holding more points is split
-constexpr int kLeafBuild = 24;     // largest leaf a (re)build makes
-constexpr double kAlpha = 0.72;    // a child above this share of its parent's points triggers a rebuild
+constexpr int kLeafCapacity = 32;               // a leaf holding more points is split
+constexpr int kLeafBuild = 24;                  // largest leaf a (re)build makes
+constexpr double kAlpha = 0.72;                 // a child above this share of its parent's points triggers a rebuild
 constexpr int kMinRebuild = 4 * kLeafCapacity;  // smaller subtrees are never rebuilt for balance
 // Lower bounds are multiplied by this before they prune: it covers the few
 // ulps by which the bound and a computed distance may each be off.
@@ -331,8 +331,8 @@ double NearestNeighbors::LowerBound(const Node& node, const Query& query, double
     const double a = q * lo, b = q * hi;
     max_dot += std::max(a, b);
     min_dot += std::min(a, b);
-    const double plus = std::max(0.0, std::max(lo - q, q - hi));     // from q
-    const double minus = std::max(0.0, std::max(lo + q, -q - hi));   // from -q
+    const double plus = std::max(0.0, std::max(lo - q, q - hi));    // from q
+    const double minus = std::max(0.0, std::max(lo + q, -q - hi));  // from -q
     plus2 += plus * plus;
     minus2 += minus * minus;
   }
@@ -346,8 +346,7 @@ void NearestNeighbors::ScanLeaf(const Node& leaf, const Query& query, Collector&
   const int count = leaf.right, bucket = -1 - leaf.left;
   const double* tx = &coords_[std::size_t(7) * kLeafCapacity * bucket];
   const double *ty = tx + kLeafCapacity, *tz = ty + kLeafCapacity;
-  const double *qx = tz + kLeafCapacity, *qy = qx + kLeafCapacity, *qz = qy + kLeafCapacity,
-               *qw = qz + kLeafCapacity;
+  const double *qx = tz + kLeafCapacity, *qy = qx + kLeafCapacity, *qz = qy + kLeafCapacity, *qw = qz + kLeafCapacity;
   const int* ids = &ids_[std::size_t(kLeafCapacity) * bucket];
   // Pass 1, branch-free: per point, the squared weighted translation a and
   // the squared weighted chord b of the rotation (|dot| grown by dot_margin,

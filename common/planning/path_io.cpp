@@ -2,9 +2,9 @@
 
 #include <unistd.h>
 
-#include <cstdio>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -54,8 +54,10 @@ std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& 
 void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance) {
   ArtifactWriter writer(file, kPathSchema, kPathSchemaVersion, provenance);
   WritePoseRows(writer, "waypoints", path.waypoints);
-  writer.WriteDoubles("reference_point", {path.reference_point.x(), path.reference_point.y(), path.reference_point.z()}, {3});
-  writer.WriteDoubles("dynamic_origin", {path.dynamic_origin.x(), path.dynamic_origin.y(), path.dynamic_origin.z()}, {3});
+  writer.WriteDoubles("reference_point", {path.reference_point.x(), path.reference_point.y(), path.reference_point.z()},
+                      {3});
+  writer.WriteDoubles("dynamic_origin", {path.dynamic_origin.x(), path.dynamic_origin.y(), path.dynamic_origin.z()},
+                      {3});
   writer.WriteInts("stats/success", {path.success ? 1 : 0}, {});
   writer.WriteDoubles("stats/time_s", {path.stats.time_s}, {});
   writer.WriteInts("stats/iterations", {path.stats.iterations}, {});
@@ -120,10 +122,10 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.stats.invalid_checks = ReadIntScalar(reader, "stats/invalid_checks");
   path.length_normalized = ReadScalar(reader, "stats/length");
   // Informational; absent in artifacts written before they were recorded.
-  path.length_translation = reader.Has("stats/length_translation") ? ReadScalar(reader, "stats/length_translation")
-                                                                   : std::nan("");
-  path.length_rotation = reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation")
-                                                             : std::nan("");
+  path.length_translation =
+      reader.Has("stats/length_translation") ? ReadScalar(reader, "stats/length_translation") : std::nan("");
+  path.length_rotation =
+      reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation") : std::nan("");
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
   path.validity = reader.ReadStringAttribute("", "validity");
@@ -132,7 +134,8 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
     path.psi = ReadScalar(reader, "inistate/psi");
     path.inter_index = static_cast<int>(ReadIntScalar(reader, "inistate/inter_index"));
     path.waypoint_volume = reader.ReadDoubles("inistate/volume", 1).data;
-    for (std::int64_t part : reader.ReadInts("inistate/part", 1).data) path.waypoint_part.push_back(static_cast<int>(part));
+    for (std::int64_t part : reader.ReadInts("inistate/part", 1).data)
+      path.waypoint_part.push_back(static_cast<int>(part));
     path.waypoint_deformability = reader.ReadDoubles("inistate/deformability", 1).data;
     const std::size_t n = path.waypoints.size();
     if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n ||
@@ -180,7 +183,8 @@ std::vector<Pose> ReadPathCsv(const std::filesystem::path& file) {
     Pose pose;
     pose.t = {v[0], v[1], v[2]};
     pose.q = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
-    if (std::abs(pose.q.norm() - 1) > 1e-3) throw InputErrorAt(file.string(), Fmt("line %d: not a unit quaternion", number));
+    if (std::abs(pose.q.norm() - 1) > 1e-3)
+      throw InputErrorAt(file.string(), Fmt("line %d: not a unit quaternion", number));
     pose.q.normalize();
     poses.push_back(pose);
   }
@@ -192,8 +196,8 @@ void WritePathCsv(const std::filesystem::path& file, const std::vector<Pose>& wa
   std::string text = "x,y,z,qw,qx,qy,qz\n";
   char line[512];
   for (const Pose& p : waypoints) {
-    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", p.t.x(), p.t.y(), p.t.z(),
-                  p.q.w(), p.q.x(), p.q.y(), p.q.z());
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", p.t.x(), p.t.y(), p.t.z(), p.q.w(),
+                  p.q.x(), p.q.y(), p.q.z());
     text += line;
   }
   WriteTextFileAtomically(file, text);

@@ -15,8 +15,8 @@ inline constexpr char kPathSchema[] = "ausbau-path";
 inline constexpr int kPathSchemaVersion = 1;
 
 struct PathArtifact {
-  std::vector<Pose> waypoints;                                  // scene convention
-  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();    // interpolation centre, D's mesh coordinates
+  std::vector<Pose> waypoints;                                // scene convention
+  Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();  // interpolation centre, D's mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   std::string planner;
   std::string scene;
@@ -72,6 +72,5 @@ std::vector<Pose> ReadPathCsv(const std::filesystem::path& file);
 // pose of the reference point OMPL.app uses, i.e. the scene convention when
 // dynamic_origin is D's centroid as in the OMPL.app scenes).
 void WriteOmplPath(const std::filesystem::path& file, const std::vector<Pose>& waypoints);
-
 
 }  // namespace ausbau

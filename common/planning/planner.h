@@ -17,7 +17,7 @@ struct PlannerOptions {
   // Gaussian / bridge-test standard deviation as a fraction of the metric's
   // unit (nu for translation, pi for rotation); 0 = automatic.
   double sampler_sigma = 0.0;
-  int threads = 0;                  // prm edge verification; 0 = all cores
+  int threads = 0;  // prm edge verification; 0 = all cores
   std::uint64_t seed = 1;
   double time_limit_s = 60.0;       // wall-clock budget
   std::int64_t max_iterations = 0;  // 0 = unlimited (tests use it for exact budgets)
@@ -43,7 +43,7 @@ struct PlanStats {
   std::int64_t iterations = 0;
   std::int64_t nodes = 0;
   std::int64_t collision_checks = 0;
-  std::int64_t invalid_checks = 0;   // collision checks that found D invalid
+  std::int64_t invalid_checks = 0;  // collision checks that found D invalid
 };
 
 struct PlanResult {

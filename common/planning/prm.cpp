@@ -88,8 +88,7 @@ PrmResult RunPrm(const PlanningProblem& problem, const MotionChecker& motion, co
   Random random(options.seed);
   Sampler sampler(problem, motion, ParseSamplerKind(options.sampler), options.sampler_sigma);
   Roadmap roadmap(problem.metric);
-  const bool any_region_query =
-      std::any_of(queries.begin(), queries.end(), [](const PrmQuery& q) { return !q.goal; });
+  const bool any_region_query = std::any_of(queries.begin(), queries.end(), [](const PrmQuery& q) { return !q.goal; });
 
   std::vector<int> start_vertex, goal_vertex;
   for (const PrmQuery& query : queries) {

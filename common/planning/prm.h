@@ -14,10 +14,10 @@ struct PrmQuery {
 };
 
 struct PrmSettings {
-  double radius = 0.1;     // connection radius in d'_c with u = 1/2
-  int max_neighbours = 15; // of those, only the nearest k are tried
-  int first_batch = 200;   // samples in the first round; each round doubles it
-  int threads = 0;         // edge verification threads; 0 = all cores
+  double radius = 0.1;      // connection radius in d'_c with u = 1/2
+  int max_neighbours = 15;  // of those, only the nearest k are tried
+  int first_batch = 200;    // samples in the first round; each round doubles it
+  int threads = 0;          // edge verification threads; 0 = all cores
 };
 
 struct PrmResult {

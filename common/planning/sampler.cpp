@@ -66,12 +66,9 @@ Pose Sampler::SampleBridge(Random& random) {
 
 Pose Sampler::Sample(Random& random) {
   switch (kind_) {
-    case SamplerKind::kUniform:
-      return problem_->SampleUniform(random);
-    case SamplerKind::kGaussian:
-      return SampleGaussian(random);
-    case SamplerKind::kBridge:
-      return SampleBridge(random);
+    case SamplerKind::kUniform: return problem_->SampleUniform(random);
+    case SamplerKind::kGaussian: return SampleGaussian(random);
+    case SamplerKind::kBridge: return SampleBridge(random);
     case SamplerKind::kMixed: {
       const std::uint64_t which = random.Index(3);
       return which == 0 ? problem_->SampleUniform(random) : which == 1 ? SampleGaussian(random) : SampleBridge(random);

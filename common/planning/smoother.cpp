@@ -34,8 +34,8 @@ double SegmentCost(const PlanningProblem& problem, const std::vector<Pose>& path
 
 }  // namespace
 
-SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity,
-                        const std::vector<Pose>& input, const SmoothOptions& options) {
+SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& input,
+                        const SmoothOptions& options) {
   options.Check();
   // Shortcuts are few: check them at the certification step (planner step / 4,
   // planning/certify.h) so that smoothing never trades certainty for length.
@@ -44,9 +44,8 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   result.path = input;
   result.before = MeasurePath(problem, input);
   Random random(options.seed);
-  const int attempts = options.attempts > 0
-                           ? options.attempts
-                           : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
+  const int attempts =
+      options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
 
   std::vector<Pose>& path = result.path;
@@ -63,8 +62,8 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
     if (i > j) std::swap(i, j);
     const Pose a = fa == 0.0 ? path[i] : Interpolate(path[i], path[i + 1], fa);
     const Pose b = Interpolate(path[j], path[j + 1], fb);
-    const double old_cost = problem.metric.Distance(a, path[i + 1], 0.5) +
-                            SegmentCost(problem, path, i + 1, j) + problem.metric.Distance(path[j], b, 0.5);
+    const double old_cost = problem.metric.Distance(a, path[i + 1], 0.5) + SegmentCost(problem, path, i + 1, j) +
+                            problem.metric.Distance(path[j], b, 0.5);
     const double new_cost = problem.metric.Distance(a, b, 0.5);
     if (!(new_cost < old_cost - 1e-12)) continue;
     if (!motion.IsValid(a) || !motion.MotionValid(a, b)) continue;

@@ -12,9 +12,9 @@ namespace ausbau {
 
 struct SmoothOptions {
   std::uint64_t seed = 1;
-  int attempts = 0;             // 0 = automatic: 100 + 10 per waypoint, at most 2000
+  int attempts = 0;  // 0 = automatic: 100 + 10 per waypoint, at most 2000
   double time_limit_s = 10.0;
-  double resolution = 0.01;     // as PlannerOptions::resolution
+  double resolution = 0.01;  // as PlannerOptions::resolution
   void Check() const;
 };
 
@@ -33,7 +33,7 @@ struct SmoothResult {
   int attempts = 0;
 };
 
-SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity,
-                        const std::vector<Pose>& path, const SmoothOptions& options);
+SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& path,
+                        const SmoothOptions& options);
 
 }  // namespace ausbau

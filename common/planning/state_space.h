@@ -13,9 +13,9 @@
 #include <optional>
 
 #include "collision/validity.h"
+#include "core/random.h"
 #include "geometry/mesh.h"
 #include "geometry/pose.h"
-#include "core/random.h"
 
 namespace ausbau {
 
@@ -37,14 +37,12 @@ struct Metric {
     return u * Translation(a.t, b.t) + (1.0 - u) * Rotation(a.q, b.q);
   }
   // range(c1, c2) = max(d'_t, d'_q), eq. 3.
-  double Range(const Pose& a, const Pose& b) const {
-    return std::max(Translation(a.t, b.t), Rotation(a.q, b.q));
-  }
+  double Range(const Pose& a, const Pose& b) const { return std::max(Translation(a.t, b.t), Rotation(a.q, b.q)); }
 };
 
 struct PlanningProblem {
-  TriangleMesh robot;        // D relative to reference_point (its mesh frame, shifted)
-  TriangleMesh environment;  // S in world coordinates
+  TriangleMesh robot;                                         // D relative to reference_point (its mesh frame, shifted)
+  TriangleMesh environment;                                   // S in world coordinates
   Eigen::Vector3d reference_point = Eigen::Vector3d::Zero();  // in D's mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();   // in D's mesh coordinates
   // Translation bounds apply to the world position of the point
@@ -54,12 +52,12 @@ struct PlanningProblem {
   Aabb bounds;
   Eigen::Vector3d bounded_point = Eigen::Vector3d::Zero();
   bool bounds_given = false;
-  Pose start;                // planning convention
-  std::optional<Pose> goal;  // planning convention; none = disassembly region
-  Aabb robot_local_box;      // AABB of `robot`
-  double robot_radius = 0;   // max distance of a vertex of D from the reference point
-  double robot_diagonal = 0; // diagonal of D's AABB
-  Aabb environment_box;      // AABB of S
+  Pose start;                 // planning convention
+  std::optional<Pose> goal;   // planning convention; none = disassembly region
+  Aabb robot_local_box;       // AABB of `robot`
+  double robot_radius = 0;    // max distance of a vertex of D from the reference point
+  double robot_diagonal = 0;  // diagonal of D's AABB
+  Aabb environment_box;       // AABB of S
   Metric metric;
 
   Pose SceneToPlanning(const Pose& scene_pose) const;

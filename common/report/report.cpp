@@ -14,11 +14,11 @@
 #include "artifact/artifact.h"
 #include "collision/fcl_checker.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "labeling/pbd_label.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
-#include "core/format.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -137,7 +137,8 @@ std::string MeshJson(const TriangleMesh& mesh, const Eigen::Vector3d& shift, Buf
   positions.reserve(mesh.vertices.size() * 3);
   for (const Eigen::Vector3d& v : mesh.vertices) {
     const Eigen::Vector3d p = v - shift;  // in double, then rounded once
-    positions.insert(positions.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
+    positions.insert(positions.end(),
+                     {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
   }
   std::vector<std::uint32_t> indices;
   indices.reserve(mesh.triangles.size() * 3);
@@ -152,7 +153,7 @@ std::string MeshJson(const TriangleMesh& mesh, const Eigen::Vector3d& shift, Buf
 // ------------------------------------------------------------------- paths
 
 struct PathEntry {
-  std::string key;    // "planned" / "smoothed"
+  std::string key;  // "planned" / "smoothed"
   fs::path file;
   PathArtifact artifact;
   std::string producer;
@@ -206,7 +207,8 @@ std::vector<double> AnimationTimes(const PathArtifact& path, const TriangleMesh&
   std::vector<double> lengths(n - 1);
   double total = 0;
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    lengths[i] = MaxDisplacement(ToReference(path, path.waypoints[i]), ToReference(path, path.waypoints[i + 1]), radius);
+    lengths[i] =
+        MaxDisplacement(ToReference(path, path.waypoints[i]), ToReference(path, path.waypoints[i + 1]), radius);
     total += lengths[i];
   }
   for (std::size_t i = 1; i < n; ++i) {
@@ -242,8 +244,7 @@ void ComputeClearance(PathEntry* entry, const PlanningProblem& problem, const Fc
   for (int k = 0; k <= samples; ++k) {
     const double u = static_cast<double>(k) / samples;
     entry->sample_times.push_back(u);
-    entry->sample_clearance.push_back(
-        checker.Distance(problem.SceneToPlanning(PoseAtTime(path, entry->times, u))));
+    entry->sample_clearance.push_back(checker.Distance(problem.SceneToPlanning(PoseAtTime(path, entry->times, u))));
   }
 }
 
@@ -284,7 +285,8 @@ std::string TableHtml(const Table& table, const std::string& id) {
   out += "</tr></thead><tbody>\n";
   for (const auto& row : table.rows) {
     out += "<tr>";
-    for (std::size_t i = 0; i < row.size(); ++i) out += (i == 0 ? "<th>" : "<td>") + row[i] + (i == 0 ? "</th>" : "</td>");
+    for (std::size_t i = 0; i < row.size(); ++i)
+      out += (i == 0 ? "<th>" : "<td>") + row[i] + (i == 0 ? "</th>" : "</td>");
     out += "</tr>\n";
   }
   return out + "</tbody></table>\n";
@@ -293,7 +295,8 @@ std::string TableHtml(const Table& table, const std::string& id) {
 std::string StatsTable(const std::vector<PathEntry>& paths) {
   Table t;
   t.header.push_back("");
-  for (const auto& e : paths) t.header.push_back(HtmlEscape(e.key) + "<br><code>" + HtmlEscape(e.file.string()) + "</code>");
+  for (const auto& e : paths)
+    t.header.push_back(HtmlEscape(e.key) + "<br><code>" + HtmlEscape(e.file.string()) + "</code>");
   auto row = [&](const std::string& name, auto cell) {
     std::vector<std::string> r{name};
     for (const auto& e : paths) r.push_back(cell(e));
@@ -313,15 +316,17 @@ std::string StatsTable(const std::vector<PathEntry>& paths) {
            (s.collision_checks > 0 ? Fmt(" (%.1f%%)", 100.0 * s.invalid_checks / s.collision_checks) : std::string());
   });
   row("length (normalized)", [](const PathEntry& e) { return Num(e.artifact.length_normalized); });
-  row("length, translation", [](const PathEntry& e) { return e.length_translation ? Num(*e.length_translation) : "–"; });
+  row("length, translation",
+      [](const PathEntry& e) { return e.length_translation ? Num(*e.length_translation) : "–"; });
   row("length, rotation (rad)", [](const PathEntry& e) { return e.length_rotation ? Num(*e.length_rotation) : "–"; });
   row("min clearance at waypoints", [](const PathEntry& e) {
     return e.waypoint_clearance.empty() ? std::string("–") : Num(MinOf(e.waypoint_clearance));
   });
   row("min clearance along the path", [](const PathEntry& e) {
-    return e.sample_clearance.empty() ? std::string("–")
-                                      : Num(std::min(MinOf(e.sample_clearance), MinOf(e.waypoint_clearance))) +
-                                            Fmt(" (%zu poses)", e.sample_clearance.size() + e.waypoint_clearance.size());
+    return e.sample_clearance.empty()
+               ? std::string("–")
+               : Num(std::min(MinOf(e.sample_clearance), MinOf(e.waypoint_clearance))) +
+                     Fmt(" (%zu poses)", e.sample_clearance.size() + e.waypoint_clearance.size());
   });
   return TableHtml(t, "stats");
 }
@@ -340,7 +345,8 @@ std::string SceneTable(const Scene& scene, const PlanningProblem& problem) {
   row("file", "<code>" + HtmlEscape(scene.file.string()) + "</code>");
   if (!scene.units.empty()) row("units", HtmlEscape(scene.units));
   std::string statics;
-  for (const auto& f : scene.static_files) statics += (statics.empty() ? "" : ", ") + ("<code>" + HtmlEscape(f.string()) + "</code>");
+  for (const auto& f : scene.static_files)
+    statics += (statics.empty() ? "" : ", ") + ("<code>" + HtmlEscape(f.string()) + "</code>");
   row("S (static)", statics + Fmt(": %zu triangles, %zu vertices", scene.static_mesh.triangles.size(),
                                   scene.static_mesh.vertices.size()));
   row("D (dynamic)", "<code>" + HtmlEscape(scene.dynamic_file.string()) + "</code>" +
@@ -400,8 +406,7 @@ std::string ImportMap(const ReportAssets& assets) {
   const std::string three = Base64Encode(assets.three_module.data(), assets.three_module.size());
   const std::string orbit = Base64Encode(assets.orbit_controls.data(), assets.orbit_controls.size());
   return "<script type=\"importmap\">{\"imports\":{\"three\":\"data:text/javascript;base64," + three +
-         "\",\"three/addons/controls/OrbitControls.js\":\"data:text/javascript;base64," + orbit +
-         "\"}}</script>\n";
+         "\",\"three/addons/controls/OrbitControls.js\":\"data:text/javascript;base64," + orbit + "\"}}</script>\n";
 }
 
 bool IsRegularFile(const fs::path& file) {
@@ -525,12 +530,14 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
       values.dims = {stored.deformability.size()};
       values.data.assign(stored.deformability.begin(), stored.deformability.end());
       if (values.data.size() != scene.dynamic_mesh.vertices.size()) {
-        throw InputErrorAt(labels_file.string(), Fmt("dataset 'deformability' has %zu values (expected one per vertex of D: %zu)",
-                                                     values.data.size(), scene.dynamic_mesh.vertices.size()));
+        throw InputErrorAt(labels_file.string(),
+                           Fmt("dataset 'deformability' has %zu values (expected one per vertex of D: %zu)",
+                               values.data.size(), scene.dynamic_mesh.vertices.size()));
       }
       float lo = std::numeric_limits<float>::infinity(), hi = -lo;
       for (float v : values.data) {
-        if (!std::isfinite(v)) throw InputErrorAt(labels_file.string(), "dataset 'deformability' holds a non-finite value");
+        if (!std::isfinite(v))
+          throw InputErrorAt(labels_file.string(), "dataset 'deformability' holds a non-finite value");
         lo = std::min(lo, v);
         hi = std::max(hi, v);
       }
@@ -555,11 +562,13 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
       text = ReadTextFile(file);
     } catch (const InputError& e) {
       summary->notes.push_back(e.what());
-      artifacts.emplace_back(file.filename().string(), "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
+      artifacts.emplace_back(file.filename().string(),
+                             "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
       continue;
     }
-    json_files += (json_files.size() > 1 ? "," : "") + ("{\"name\":" + JsonString(name) + ",\"file\":" +
-                                                         JsonString(file.string()) + ",\"text\":" + JsonString(text) + "}");
+    json_files += (json_files.size() > 1 ? "," : "") +
+                  ("{\"name\":" + JsonString(name) + ",\"file\":" + JsonString(file.string()) +
+                   ",\"text\":" + JsonString(text) + "}");
     summary->used.push_back(name + ": " + file.string());
     artifacts.emplace_back(file.filename().string(), "used: shown as a table");
   }
@@ -589,10 +598,10 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
        << HtmlEscape(assets.three_version) << "\">\n"
        << "<title>Ausbau report: " << HtmlEscape(scene.name) << "</title>\n<style>" << kStyle << "</style>\n"
        << ImportMap(assets) << "</head>\n<body>\n";
-  html << "<header><h1>Ausbau report: " << HtmlEscape(scene.name) << "</h1><p>S "
-       << scene.static_mesh.triangles.size() << " triangles, D " << scene.dynamic_mesh.triangles.size()
-       << " triangles";
-  for (const auto& e : paths) html << "; " << HtmlEscape(e.key) << " path: " << e.artifact.waypoints.size() << " waypoints";
+  html << "<header><h1>Ausbau report: " << HtmlEscape(scene.name) << "</h1><p>S " << scene.static_mesh.triangles.size()
+       << " triangles, D " << scene.dynamic_mesh.triangles.size() << " triangles";
+  for (const auto& e : paths)
+    html << "; " << HtmlEscape(e.key) << " path: " << e.artifact.waypoints.size() << " waypoints";
   html << ". Written by ausbau-report " << AUSBAU_VERSION << " (three.js " << HtmlEscape(assets.three_version)
        << ", inlined; works offline).</p></header>\n<main>\n";
   html << "<div id=\"view\"><canvas id=\"canvas3d\"></canvas><div id=\"status\">loading…</div>"
@@ -600,13 +609,15 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
           " · D orange, S blue, line: path of D's reference point</div></div>\n";
   html << "<div id=\"controls\">"
           "<button id=\"play\" type=\"button\">Play</button>"
-          "<input id=\"scrubber\" type=\"range\" min=\"0\" max=\"1000\" step=\"1\" value=\"0\" aria-label=\"path position\">"
+          "<input id=\"scrubber\" type=\"range\" min=\"0\" max=\"1000\" step=\"1\" value=\"0\" aria-label=\"path "
+          "position\">"
           "<span id=\"timeinfo\"></span>"
           "<label>speed <select id=\"speed\"><option value=\"0.25\">0.25×</option><option value=\"0.5\">0.5×</option>"
           "<option value=\"1\" selected>1×</option><option value=\"2\">2×</option><option value=\"4\">4×</option>"
           "</select></label>"
           "<label>path <select id=\"pathselect\"></select></label>"
-          "<label>S opacity <input id=\"opacity\" type=\"range\" min=\"0\" max=\"1\" step=\"0.05\" value=\"0.35\"></label>"
+          "<label>S opacity <input id=\"opacity\" type=\"range\" min=\"0\" max=\"1\" step=\"0.05\" "
+          "value=\"0.35\"></label>"
           "<label><input id=\"showtrace\" type=\"checkbox\" checked> path line</label>"
           "<label><input id=\"showghosts\" type=\"checkbox\"> start/goal ghosts</label>"
           "</div>\n";
@@ -623,7 +634,8 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
     Table t;
     t.header = {"file", "status"};
     for (const auto& [name, status] : artifacts) t.rows.push_back({"<code>" + HtmlEscape(name) + "</code>", status});
-    html << "<h2>Run folder <code>" << HtmlEscape(options.run_dir.string()) << "</code></h2>" << TableHtml(t, "artifacts");
+    html << "<h2>Run folder <code>" << HtmlEscape(options.run_dir.string()) << "</code></h2>"
+         << TableHtml(t, "artifacts");
   }
   html << "</main>\n";
   html << "<script type=\"application/json\" id=\"ausbau-data\">" << data << "</script>\n";
@@ -757,13 +769,15 @@ std::string MarkdownToHtml(const std::string& markdown) {
         return "";
       };
       out += "<table><thead><tr>";
-      for (std::size_t c = 0; c < header.size(); ++c) out += "<th" + style(c) + ">" + InlineMarkdown(header[c]) + "</th>";
+      for (std::size_t c = 0; c < header.size(); ++c)
+        out += "<th" + style(c) + ">" + InlineMarkdown(header[c]) + "</th>";
       out += "</tr></thead><tbody>\n";
       i += 2;
       while (i < lines.size() && !Trim(lines[i]).empty() && Trim(lines[i])[0] == '|') {
         const std::vector<std::string> cells = TableCells(lines[i]);
         out += "<tr>";
-        for (std::size_t c = 0; c < cells.size(); ++c) out += "<td" + style(c) + ">" + InlineMarkdown(cells[c]) + "</td>";
+        for (std::size_t c = 0; c < cells.size(); ++c)
+          out += "<td" + style(c) + ">" + InlineMarkdown(cells[c]) + "</td>";
         out += "</tr>\n";
         ++i;
       }
@@ -907,19 +921,23 @@ std::string BarChartSvg(const std::string& scene, const std::vector<BenchRow>& r
   }
   const int label_w = 170, bar_w = 420, row_h = 24, width = label_w + bar_w + 190;
   const int height = 30 + row_h * static_cast<int>(bars.size()) + 10;
-  std::string svg = Fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"bars\" width=\"%d\" height=\"%d\" "
-                        "viewBox=\"0 0 %d %d\" font-family=\"sans-serif\" font-size=\"12\">",
-                        width, height, width, height);
+  std::string svg =
+      Fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"bars\" width=\"%d\" height=\"%d\" "
+          "viewBox=\"0 0 %d %d\" font-family=\"sans-serif\" font-size=\"12\">",
+          width, height, width, height);
   svg += Fmt("<text x=\"0\" y=\"16\" font-weight=\"bold\">%s: median time (s)</text>", HtmlEscape(scene).c_str());
   for (std::size_t k = 0; k < bars.size(); ++k) {
     const Bar& b = bars[k];
     const int y = 30 + static_cast<int>(k) * row_h;
     const double w = top > 0 ? bar_w * b.median / top : 0;
     const char* colour = b.successes == b.runs ? "#4c9a5b" : b.successes == 0 ? "#c8553d" : "#e0a030";
-    svg += Fmt("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s</text>", label_w - 8, y + 15, HtmlEscape(b.planner).c_str());
-    svg += Fmt("<rect x=\"%d\" y=\"%d\" width=\"%.1f\" height=\"%d\" fill=\"%s\"><title>%s: median %s s, %d/%d solved</title></rect>",
-               label_w, y + 3, std::max(w, 1.0), row_h - 6, colour, HtmlEscape(b.planner).c_str(), Num(b.median).c_str(),
-               b.successes, b.runs);
+    svg += Fmt("<text x=\"%d\" y=\"%d\" text-anchor=\"end\">%s</text>", label_w - 8, y + 15,
+               HtmlEscape(b.planner).c_str());
+    svg +=
+        Fmt("<rect x=\"%d\" y=\"%d\" width=\"%.1f\" height=\"%d\" fill=\"%s\"><title>%s: median %s s, %d/%d "
+            "solved</title></rect>",
+            label_w, y + 3, std::max(w, 1.0), row_h - 6, colour, HtmlEscape(b.planner).c_str(), Num(b.median).c_str(),
+            b.successes, b.runs);
     svg += Fmt("<text x=\"%.1f\" y=\"%d\">%s s (%d/%d solved)</text>", label_w + std::max(w, 1.0) + 6, y + 15,
                Num(b.median).c_str(), b.successes, b.runs);
   }
@@ -951,7 +969,8 @@ std::string BuildBenchPageHtml(const fs::path& bench_dir, ReportSummary* summary
        << "main h1 { font-size: 20px; } main h2 { font-size: 17px; border-bottom: 1px solid #d5dbe3; }"
           " svg { max-width: 100%; height: auto; display: block; margin: 6px 0 14px; }"
           "</style>\n</head>\n<body>\n<header><h1>Ausbau benchmarks</h1><p>from <code>"
-       << HtmlEscape(bench_dir.string()) << "</code>, written by ausbau-report " << AUSBAU_VERSION << "</p></header>\n<main>\n";
+       << HtmlEscape(bench_dir.string()) << "</code>, written by ausbau-report " << AUSBAU_VERSION
+       << "</p></header>\n<main>\n";
   if (IsRegularFile(results)) {
     std::string problem;
     const std::vector<BenchRow> rows = ReadResultsCsv(results, &problem);

@@ -8,9 +8,9 @@
 // to Y-up through the root node's transform) is kept, as in OMPL.app.
 #include "scene/mesh_io.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include <Eigen/Core>
 #include <cerrno>
@@ -51,8 +51,8 @@ struct BadVertex {
 };
 
 // Emits the triangles of every mesh of `node` and its descendants.
-void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent,
-                 TriangleMesh& out, BadVertex& bad) {
+void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent, TriangleMesh& out,
+                 BadVertex& bad) {
   const Eigen::Matrix4d transform = parent * ToEigen(node.mTransformation);
   for (unsigned k = 0; k < node.mNumMeshes; ++k) {
     const unsigned mesh_index = node.mMeshes[k];
@@ -73,8 +73,7 @@ void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines are dropped
-      out.triangles.push_back({offset + static_cast<int>(face.mIndices[0]),
-                               offset + static_cast<int>(face.mIndices[1]),
+      out.triangles.push_back({offset + static_cast<int>(face.mIndices[0]), offset + static_cast<int>(face.mIndices[1]),
                                offset + static_cast<int>(face.mIndices[2])});
     }
   }
@@ -108,13 +107,12 @@ TriangleMesh LoadMesh(const fs::path& path) {
         if (!v.allFinite()) {
           // 0-based, counting the vertices of all meshes of the file in order
           // as the importer produced them (before vertex joining).
-          throw InputErrorAt(name, "vertex " + std::to_string(index) + " is not finite (" +
-                                       FormatVertex(v) + ")");
+          throw InputErrorAt(name, "vertex " + std::to_string(index) + " is not finite (" + FormatVertex(v) + ")");
         }
       }
     }
-    scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                         aiProcess_SortByPType);
+    scene =
+        importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   }
   if (scene == nullptr) {
     std::string why = importer.GetErrorString();
@@ -134,8 +132,8 @@ TriangleMesh LoadMesh(const fs::path& path) {
   if (mesh.triangles.empty()) throw InputErrorAt(name, "mesh has no triangles");
   if (bad.index >= 0) {
     // The index is 0-based in the loaded mesh (after assimp's vertex joining).
-    throw InputErrorAt(name, "vertex " + std::to_string(bad.index) + " is not finite (" +
-                                 FormatVertex(bad.value) + ")");
+    throw InputErrorAt(name,
+                       "vertex " + std::to_string(bad.index) + " is not finite (" + FormatVertex(bad.value) + ")");
   }
   return mesh;
 }

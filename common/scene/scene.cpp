@@ -50,8 +50,7 @@ class Reader {
   }
 
   // Rejects keys of a mapping outside `allowed` and duplicate keys.
-  void CheckKeys(const YAML::Node& map, const std::set<std::string>& allowed,
-                 const std::string& prefix) const {
+  void CheckKeys(const YAML::Node& map, const std::set<std::string>& allowed, const std::string& prefix) const {
     std::set<std::string> seen;
     for (auto it = map.begin(); it != map.end(); ++it) {
       const YAML::Node key = it->first;  // a copy: the iterator yields temporaries
@@ -80,8 +79,8 @@ class Reader {
       out.push_back(v);
     }
     if (!ok) {
-      Fail(what + " must be a list of " + std::to_string(n) + " finite numbers (got " +
-           Show(node) + ", line " + std::to_string(Line(node)) + ")");
+      Fail(what + " must be a list of " + std::to_string(n) + " finite numbers (got " + Show(node) + ", line " +
+           std::to_string(Line(node)) + ")");
     }
     return out;
   }
@@ -98,8 +97,7 @@ class Reader {
     if (!(std::abs(norm - 1.0) <= kUnitTolerance)) {
       char buf[64];
       std::snprintf(buf, sizeof(buf), "%.6g", norm);
-      Fail(what + " is not a unit quaternion (norm " + buf + ", line " +
-           std::to_string(Line(node)) + ")");
+      Fail(what + " is not a unit quaternion (norm " + buf + ", line " + std::to_string(Line(node)) + ")");
     }
     q.normalize();
     return q;
@@ -107,16 +105,15 @@ class Reader {
 
   std::string String(const YAML::Node& node, const std::string& what) const {
     if (!node.IsScalar() || node.Scalar().empty()) {
-      Fail(what + " must be a non-empty string (got " + Show(node) + ", line " +
-           std::to_string(Line(node)) + ")");
+      Fail(what + " must be a non-empty string (got " + Show(node) + ", line " + std::to_string(Line(node)) + ")");
     }
     return node.Scalar();
   }
 
   Pose ReadPose(const YAML::Node& node, const std::string& what) const {
     if (!node.IsMap()) {
-      Fail(what + " must be a mapping {t: [x, y, z], q: [qw, qx, qy, qz]} (got " + Show(node) +
-           ", line " + std::to_string(Line(node)) + ")");
+      Fail(what + " must be a mapping {t: [x, y, z], q: [qw, qx, qy, qz]} (got " + Show(node) + ", line " +
+           std::to_string(Line(node)) + ")");
     }
     CheckKeys(node, {"t", "q"}, what + ".");
     Pose pose;
@@ -127,8 +124,8 @@ class Reader {
 
   Aabb ReadBounds(const YAML::Node& node) const {
     if (!node.IsMap()) {
-      Fail("bounds must be a mapping {min: [x, y, z], max: [x, y, z]} (got " + Show(node) +
-           ", line " + std::to_string(Line(node)) + ")");
+      Fail("bounds must be a mapping {min: [x, y, z], max: [x, y, z]} (got " + Show(node) + ", line " +
+           std::to_string(Line(node)) + ")");
     }
     CheckKeys(node, {"min", "max"}, "bounds.");
     if (!node["min"]) Fail("missing required key 'bounds.min'");
@@ -140,8 +137,8 @@ class Reader {
     for (int a = 0; a < 3; ++a) {
       if (box.min[a] > box.max[a]) {
         char buf[160];
-        std::snprintf(buf, sizeof(buf), "bounds.min > bounds.max on axis %c (%.17g > %.17g)",
-                      kAxis[a], box.min[a], box.max[a]);
+        std::snprintf(buf, sizeof(buf), "bounds.min > bounds.max on axis %c (%.17g > %.17g)", kAxis[a], box.min[a],
+                      box.max[a]);
         Fail(buf);
       }
     }
@@ -237,15 +234,13 @@ Scene LoadScene(const fs::path& path) {
 
   Scene scene;
   try {
-    r.CheckKeys(root,
-                {"format", "name", "units", "static", "dynamic", "dynamic_origin", "start", "goal",
-                 "bounds"},
+    r.CheckKeys(root, {"format", "name", "units", "static", "dynamic", "dynamic_origin", "start", "goal", "bounds"},
                 "");
     if (!root["format"]) r.Fail(std::string("missing required key 'format' (expected ") + kFormat + ")");
     const YAML::Node format = root["format"];
     if (!format.IsScalar() || format.Scalar() != kFormat) {
-      r.Fail("unsupported format '" + (format.IsScalar() ? format.Scalar() : Reader::Show(format)) +
-             "' (expected " + kFormat + ")");
+      r.Fail("unsupported format '" + (format.IsScalar() ? format.Scalar() : Reader::Show(format)) + "' (expected " +
+             kFormat + ")");
     }
 
     scene.file = path;
@@ -261,8 +256,7 @@ Scene LoadScene(const fs::path& path) {
                std::to_string(Reader::Line(stat)) + ")");
       }
       for (size_t i = 0; i < stat.size(); ++i) {
-        scene.static_files.push_back(
-            Resolve(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
+        scene.static_files.push_back(Resolve(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
       }
     } else {
       scene.static_files.push_back(Resolve(dir, r.String(stat, "static")));

@@ -25,7 +25,7 @@
 namespace ausbau {
 
 struct Scene {
-  std::filesystem::path file;                       // the scene.yaml itself
+  std::filesystem::path file;  // the scene.yaml itself
   std::string name;
   std::string units;                                // informative only
   std::vector<std::filesystem::path> static_files;  // resolved paths
@@ -34,9 +34,9 @@ struct Scene {
   TriangleMesh dynamic_mesh;                        // D in its mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   bool dynamic_origin_given = false;
-  Pose start;                                       // scene convention
-  std::optional<Pose> goal;                         // scene convention; none = disassembly
-  std::optional<Aabb> bounds;                       // bounds on t as given (scene convention)
+  Pose start;                  // scene convention
+  std::optional<Pose> goal;    // scene convention; none = disassembly
+  std::optional<Aabb> bounds;  // bounds on t as given (scene convention)
 };
 
 // Reads and validates scene.yaml and loads its meshes. Throws InputError with

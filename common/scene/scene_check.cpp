@@ -138,8 +138,7 @@ void CheckUnits(const Scene& scene, SceneSummary* summary) {
           Fmt("units '%s': D's size is not checked against a unit; tolerances given in mm are applied as scene units",
               scene.units.c_str()));
       return;
-    case UnitsKind::kKnown:
-      break;
+    case UnitsKind::kKnown: break;
   }
   const double diagonal_mm = summary->dynamic_mesh_box.diagonal * units.millimetres_per_unit;
   // "17.3 cm = 173 mm"; just "17.3 mm" for a scene in mm.
@@ -170,8 +169,8 @@ void CheckUnits(const Scene& scene, SceneSummary* summary) {
 void CheckMeshes(const Scene& scene, SceneSummary* summary) {
   const struct {
     const MeshCounts* counts;
-    const char* part;   // "D" or "S"
-    const char* code;   // prefix of the codes
+    const char* part;  // "D" or "S"
+    const char* code;  // prefix of the codes
   } parts[] = {{&summary->dynamic, "D", "dynamic"}, {&summary->static_total, "S", "static"}};
   for (const auto& part : parts) {
     const MeshCounts& counts = *part.counts;
@@ -213,8 +212,9 @@ void CheckStart(const Scene& scene, const Aabb& installed_box, const Aabb& stati
     return;
   }
   Add(summary, kWarning, "start-far-from-s",
-      where + ": the pipeline plans out of the installed pose, so D should start in or at S; usually a wrong start "
-              "pose or a missing dynamic_origin (start.t places dynamic_origin, or D's mesh origin without it)");
+      where +
+          ": the pipeline plans out of the installed pose, so D should start in or at S; usually a wrong start "
+          "pose or a missing dynamic_origin (start.t places dynamic_origin, or D's mesh origin without it)");
 }
 
 void CheckOrigin(const Scene& scene, const Aabb& mesh_box, SceneSummary* summary) {
@@ -366,8 +366,8 @@ std::string SceneSummaryText(const SceneSummary& s) {
   row("bounds", s.bounds ? "min " + Vec(s.bounds->min) + " max " + Vec(s.bounds->max) : "none");
   row("gap", Length(s, s.installed_box_gap) + " between D at start and S (boxes)");
   const int warnings = s.WarningCount();
-  row("findings", Fmt("%d warning%s, %d info", warnings, warnings == 1 ? "" : "s",
-                      static_cast<int>(s.findings.size()) - warnings));
+  row("findings",
+      Fmt("%d warning%s, %d info", warnings, warnings == 1 ? "" : "s", static_cast<int>(s.findings.size()) - warnings));
   for (const auto& finding : s.findings) {
     out += Fmt("%s %s: %s\n", SeverityName(finding.severity), finding.code.c_str(), finding.message.c_str());
   }
@@ -406,11 +406,9 @@ std::string SceneSummaryJson(const SceneSummary& s) {
                          .Text());
   json.Add("start", JsonPose(s.start));
   json.Add("goal", s.goal ? JsonPose(*s.goal) : "null");
-  json.Add("bounds", s.bounds ? JsonWriter()
-                                    .Add("min", JsonVector(s.bounds->min))
-                                    .Add("max", JsonVector(s.bounds->max))
-                                    .Text()
-                              : "null");
+  json.Add("bounds",
+           s.bounds ? JsonWriter().Add("min", JsonVector(s.bounds->min)).Add("max", JsonVector(s.bounds->max)).Text()
+                    : "null");
   json.Add("installed_box_gap", JsonNumber(s.installed_box_gap));
   json.Add("warnings", std::to_string(s.WarningCount()));
   json.Add("findings", findings.Text());

@@ -30,7 +30,8 @@ void WritePathProfile(const std::filesystem::path& file, const PlanningProblem& 
   const FclCollisionChecker fcl(problem.robot, problem.environment);
   // At most ~2000 rows: the step is 1% of D's diagonal or longer.
   double total = 0;
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) total += MaxDisplacement(path[i], path[i + 1], problem.robot_radius);
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    total += MaxDisplacement(path[i], path[i + 1], problem.robot_radius);
   const double step = std::max(0.01 * problem.robot_diagonal, total / 2000.0);
   std::string text = "segment,fraction,s,volume,part,deformability,clearance\n";
   double s = 0;

@@ -35,10 +35,12 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const
     static_field = ReadDistanceField(paths[0]);
     dynamic_field = ReadDistanceField(paths[1]);
     if (static_field->mesh_hash() != MeshContentHash(problem.environment)) {
-      throw InputErrorAt(paths[0], "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
+      throw InputErrorAt(paths[0],
+                         "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
     }
     if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot)) {
-      throw InputErrorAt(paths[1], "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
+      throw InputErrorAt(paths[1],
+                         "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
     }
   } else {
     DistanceFieldOptions field_options;
@@ -101,8 +103,8 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   if (!options.tau_file.empty()) {
     const TauArtifact stored = ReadTauArtifact(options.tau_file);
     if (stored.validity != options.validity) {
-      throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + stored.validity + ", not " +
-                                               options.validity);
+      throw InputErrorAt(options.tau_file,
+                         "tau was estimated for --validity " + stored.validity + ", not " + options.validity);
     }
     estimate = stored.estimate;
     if (tau < 0) tau = stored.estimate.tau;
@@ -177,9 +179,9 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
-  LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s",
-          scene.name.c_str(), parts->robot_shells.size(), parts->FastenerCount(),
-          parts->Describe(parts->anchor, true).c_str(), parts->static_shells.size(), tolerance, scene.units.c_str());
+  LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s", scene.name.c_str(),
+          parts->robot_shells.size(), parts->FastenerCount(), parts->Describe(parts->anchor, true).c_str(),
+          parts->static_shells.size(), tolerance, scene.units.c_str());
   PlannedPath planned;
   PathArtifact& artifact = planned.artifact;
   artifact.validity = kRigidExact;
@@ -189,10 +191,11 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   if (!parts->rigid_interference.empty()) {
     const int shell = parts->rigid_interference.front();
     if (std::isinf(parts->installed_depth[shell])) {
-      LogError("not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
-               "non-convex pair whose depth is not measured (docs/rigid-exact.md; the volume modes, "
-               "VALIDITY=labeled-mliv, bound such fits by tau)",
-               parts->Describe(shell, true).c_str());
+      LogError(
+          "not removable as far as the exact check can tell: %s of D intersects S at the installed pose, in a "
+          "non-convex pair whose depth is not measured (docs/rigid-exact.md; the volume modes, "
+          "VALIDITY=labeled-mliv, bound such fits by tau)",
+          parts->Describe(shell, true).c_str());
     } else {
       LogError("not removable without cutting: rigid %s of D penetrates S %.4g %s deep at the installed pose",
                parts->Describe(shell, true).c_str(), parts->installed_depth[shell], scene.units.c_str());
@@ -205,8 +208,7 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   CheckEndpoints(problem, checker, scene.file.string());
   const PlannerOptions planner = ResolvedPlanner(options, false);
   LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
-          planner.planner.c_str(),
-          static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
+          planner.planner.c_str(), static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
           parts->FastenerCount() > 0 ? "fastened" : "collision-free");
   const PlanResult result = PlanWithRestarts(problem, checker, planner);
   artifact.planner = planner.planner;
@@ -227,7 +229,8 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   planned.status = result.status;
   if (!result.solved()) {
-    LogError("no path within the budget (%s)", result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+    LogError("no path within the budget (%s)",
+             result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
   }
   return planned;
 }
@@ -263,8 +266,9 @@ void PlanSceneOptions::Check() const {
   }
   const bool volume_mode = ParseValidityMode(validity) != ValidityMode::kCollision;
   if (!volume_mode && (tau >= 0 || !tau_file.empty() || psi > 0)) {
-    throw InputError("--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
-                     "labeled-mliv-unguarded)");
+    throw InputError(
+        "--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
+        "labeled-mliv-unguarded)");
   }
   if (!(tau < 0 || std::isfinite(tau))) throw InputError("--tau: must be a finite number");
   if (!(psi >= 0) || !std::isfinite(psi)) throw InputError("--psi: must be >= 0");
@@ -306,11 +310,12 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   planned.status = status;
   if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
     const FarrStats farr_stats = farr->stats();
-    LogInfo("FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
-            "%d rays per query at the end",
-            static_cast<long long>(farr_stats.queries), static_cast<long long>(farr_stats.witnesses),
-            static_cast<long long>(farr_stats.fcl_calls), static_cast<long long>(farr_stats.fcl_collisions),
-            farr_stats.rays_now);
+    LogInfo(
+        "FARR: %lld queries, %lld collisions proven by rays, %lld answered by FCL (%lld of them collisions), "
+        "%d rays per query at the end",
+        static_cast<long long>(farr_stats.queries), static_cast<long long>(farr_stats.witnesses),
+        static_cast<long long>(farr_stats.fcl_calls), static_cast<long long>(farr_stats.fcl_collisions),
+        farr_stats.rays_now);
   }
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
@@ -320,13 +325,12 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
   if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
   if (!solved) {
-    LogError("no path within the budget%s", volume_mode ? ""
-                                             : status == PlanStatus::kTimeLimit ? " (time limit)"
-                                                                                  : " (iteration limit)");
+    LogError("no path within the budget%s", volume_mode                        ? ""
+                                            : status == PlanStatus::kTimeLimit ? " (time limit)"
+                                                                               : " (iteration limit)");
   }
   return planned;
 }
-
 
 std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);

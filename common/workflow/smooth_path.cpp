@@ -57,11 +57,12 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   }
   SetLengths(out.result, &out.artifact);
   const SmoothResult& r = out.result;
-  LogInfo("length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
-          "attempts; deepest rigid penetration %.4g %s",
-          r.before.normalized, r.after.normalized, r.before.translation, r.after.translation, r.before.rotation,
-          r.after.rotation, r.shortcuts, r.attempts, check.valid ? check.max_rigid_depth : input_check.max_rigid_depth,
-          scene.units.c_str());
+  LogInfo(
+      "length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
+      "attempts; deepest rigid penetration %.4g %s",
+      r.before.normalized, r.after.normalized, r.before.translation, r.after.translation, r.before.rotation,
+      r.after.rotation, r.shortcuts, r.attempts, check.valid ? check.max_rigid_depth : input_check.max_rigid_depth,
+      scene.units.c_str());
   return out;
 }
 
@@ -161,11 +162,12 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     }
   }
   SetLengths(result, &out.artifact);
-  LogInfo("length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; "
-          "%zu -> %zu waypoints, %d shortcuts in %d attempts",
-          result.before.normalized, result.after.normalized, result.before.translation, result.after.translation,
-          result.before.rotation, result.after.rotation, input.waypoints.size(), out.artifact.waypoints.size(),
-          result.shortcuts, result.attempts);
+  LogInfo(
+      "length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; "
+      "%zu -> %zu waypoints, %d shortcuts in %d attempts",
+      result.before.normalized, result.after.normalized, result.before.translation, result.after.translation,
+      result.before.rotation, result.after.rotation, input.waypoints.size(), out.artifact.waypoints.size(),
+      result.shortcuts, result.attempts);
   return out;
 }
 

@@ -34,8 +34,8 @@ std::vector<std::pair<std::string, double>> ReadStageSeconds(const fs::path& dir
     }
     found[entry.path().stem().string()] = seconds;
   }
-  static const char* const kOrder[] = {"scene-gen",     "voxelize", "medial-spheres", "pbd-label", "distfield-build",
-                                       "tau-estimate",  "plan",     "smooth",         "verdict",   "report"};
+  static const char* const kOrder[] = {"scene-gen",    "voxelize", "medial-spheres", "pbd-label", "distfield-build",
+                                       "tau-estimate", "plan",     "smooth",         "verdict",   "report"};
   std::vector<std::pair<std::string, double>> ordered;
   for (const char* stage : kOrder) {
     const auto it = found.find(stage);
@@ -118,7 +118,6 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   for (const auto& [stage, seconds] : v.stage_seconds) v.total_seconds += seconds;
   if (options.times.empty()) v.total_seconds = path.stats.time_s;
   return v;
-
 }
 
 std::string VerdictJson(const Verdict& v) {
@@ -132,11 +131,8 @@ std::string VerdictJson(const Verdict& v) {
   JsonWriter json;
   json.String("schema", kVerdictSchema).Int("version", kVerdictSchemaVersion);
   json.String("producer", "ausbau-verdict").String("producer_version", AUSBAU_VERSION);
-  json.Add("scene", JsonWriter()
-                        .String("name", v.scene_name)
-                        .String("file", v.scene_file)
-                        .String("units", v.units)
-                        .Text());
+  json.Add("scene",
+           JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
   json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
   json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
   if (tau) {
@@ -177,21 +173,20 @@ std::string VerdictJson(const Verdict& v) {
   }
   if (exact) {
     const PartModel& parts = *exact->parts;
-    json.Add("exact_check",
-             JsonWriter()
-                 .Bool("valid", exact->valid)
-                 .String("reason", exact->reason)
-                 .String("file", options.csv.empty() ? options.path : options.csv)
-                 .Number("rigid_tolerance", v.tolerance)
-                 .Int("poses_checked", exact->poses_checked)
-                 .Number("max_rigid_penetration", exact->max_rigid_depth)
-                 .String("rigid_part", parts.Describe(exact->rigid_shell, true))
-                 .String("static_part", parts.Describe(exact->static_shell, false))
-                 .Int("at_segment", exact->worst_segment)
-                 .Number("max_fastener_penetration", exact->max_fastener_depth)
-                 .Int("fastener_shells", parts.FastenerCount())
-                 .Int("shells", static_cast<long long>(parts.robot_shells.size()))
-                 .Text());
+    json.Add("exact_check", JsonWriter()
+                                .Bool("valid", exact->valid)
+                                .String("reason", exact->reason)
+                                .String("file", options.csv.empty() ? options.path : options.csv)
+                                .Number("rigid_tolerance", v.tolerance)
+                                .Int("poses_checked", exact->poses_checked)
+                                .Number("max_rigid_penetration", exact->max_rigid_depth)
+                                .String("rigid_part", parts.Describe(exact->rigid_shell, true))
+                                .String("static_part", parts.Describe(exact->static_shell, false))
+                                .Int("at_segment", exact->worst_segment)
+                                .Number("max_fastener_penetration", exact->max_fastener_depth)
+                                .Int("fastener_shells", parts.FastenerCount())
+                                .Int("shells", static_cast<long long>(parts.robot_shells.size()))
+                                .Text());
   } else {
     json.Null("exact_check");
   }
@@ -232,7 +227,8 @@ std::string VerdictJson(const Verdict& v) {
   for (const auto& [stage, seconds] : v.stage_seconds) seconds_json.Number(stage, seconds);
   json.Add("stage_seconds", seconds_json.Text());
   json.Number("total_seconds", v.total_seconds);
-  if (options.budget >= 0) json.Number("budget_seconds", options.budget).Bool("within_budget", v.total_seconds <= options.budget);
+  if (options.budget >= 0)
+    json.Number("budget_seconds", options.budget).Bool("within_budget", v.total_seconds <= options.budget);
   return json.Text() + "\n";
 }
 
@@ -244,25 +240,28 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
   const char* units = v.units.c_str();
   std::fprintf(out, "%s: %s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE");
   if (max) {
-    std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", path.validity.c_str(), max->value, units,
-                max->index, path.waypoints.size());
+    std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", path.validity.c_str(), max->value, units, max->index,
+                 path.waypoints.size());
     if (max->part >= 0) std::fprintf(out, " (part %d, deformability %.2f)", max->part, max->deformability);
     std::fprintf(out, ", %s sigma_1 (tau %.6g)\n", max->in_sigma_1 ? "in" : "outside", v.tau_value);
   }
   if (v.removable) {
     std::fprintf(out, "  path: %s (%zu waypoints, length %.4f normalized)\n",
-                options.csv.empty() ? options.path.c_str() : options.csv.c_str(), path.waypoints.size(),
-                path.length_normalized);
+                 options.csv.empty() ? options.path.c_str() : options.csv.c_str(), path.waypoints.size(),
+                 path.length_normalized);
   }
   if (exact) {
-    std::fprintf(out, "  exact check of %s: %s; deepest rigid penetration %.4g %s (tolerance %.4g), fasteners %.4g %s\n",
-                options.csv.empty() ? options.path.c_str() : options.csv.c_str(),
-                exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth,
-                units, v.tolerance, exact->max_fastener_depth, units);
+    std::fprintf(out,
+                 "  exact check of %s: %s; deepest rigid penetration %.4g %s (tolerance %.4g), fasteners %.4g %s\n",
+                 options.csv.empty() ? options.path.c_str() : options.csv.c_str(),
+                 exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth, units,
+                 v.tolerance, exact->max_fastener_depth, units);
   }
   if (v.blocking) std::fprintf(out, "  what blocks: %s\n", v.blocking->summary.c_str());
   std::fprintf(out, "  time: %.2f s%s", v.total_seconds, options.times.empty() ? " (planner only)" : "");
-  if (options.budget >= 0) std::fprintf(out, " (budget %.6g s: %s)", options.budget, v.total_seconds <= options.budget ? "within" : "exceeded");
+  if (options.budget >= 0)
+    std::fprintf(out, " (budget %.6g s: %s)", options.budget,
+                 v.total_seconds <= options.budget ? "within" : "exceeded");
   std::fprintf(out, "\n  verdict: %s\n", verdict_file.c_str());
   std::fflush(out);
 }

@@ -22,11 +22,11 @@ inline constexpr char kVerdictSchema[] = "ausbau-verdict";
 inline constexpr int kVerdictSchemaVersion = 1;
 
 struct VerdictInputs {
-  std::string path;      // the final path artifact (ausbau-path)
-  std::string csv;       // the path's CSV as written; empty: the artifact's waypoints are checked
-  std::string tau;       // tau artifact (ausbau-tau-estimate); optional
-  std::string times;     // folder of <stage>.seconds files (scripts/timed.sh); optional
-  double budget = -1;    // seconds; < 0: none
+  std::string path;    // the final path artifact (ausbau-path)
+  std::string csv;     // the path's CSV as written; empty: the artifact's waypoints are checked
+  std::string tau;     // tau artifact (ausbau-tau-estimate); optional
+  std::string times;   // folder of <stage>.seconds files (scripts/timed.sh); optional
+  double budget = -1;  // seconds; < 0: none
   double rigid_tolerance_mm = 0.05;
 };
 

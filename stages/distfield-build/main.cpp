@@ -21,8 +21,8 @@ namespace fs = std::filesystem;
 
 struct DistfieldBuildOptions {
   std::string scene;
-  std::string output_dir;   // -o DIR: DIR/distfield-static.h5, DIR/distfield-dynamic.h5
-  std::string static_out;   // or both files explicitly
+  std::string output_dir;  // -o DIR: DIR/distfield-static.h5, DIR/distfield-dynamic.h5
+  std::string static_out;  // or both files explicitly
   std::string dynamic_out;
   double memory_budget_gib = 4.0;
   bool force = false;
@@ -36,7 +36,8 @@ fs::path MakeField(const TriangleMesh& mesh, const DistfieldBuildOptions& option
                    const fs::path& explicit_target, const std::string& name, const std::string& units,
                    const std::string& frame) {
   const std::string mesh_hash = MeshContentHash(mesh);
-  const std::string expected = DistanceFieldProvenanceHash({mesh_hash, options.field.resolution, options.field.padding});
+  const std::string expected =
+      DistanceFieldProvenanceHash({mesh_hash, options.field.resolution, options.field.padding});
   const fs::path cached = DistanceFieldCachePath(cache_dir, mesh_hash, options.field.resolution);
   const fs::path target = explicit_target.empty() ? cached : explicit_target;
   PlanDistanceField(mesh, options.field);  // the memory guard, before any work
@@ -91,8 +92,8 @@ int Run(DistfieldBuildOptions options) {
   LogInfo("scene %s: S %zu triangles, D %zu triangles, resolution %d, cache %s", scene.name.c_str(),
           problem.environment.triangles.size(), problem.robot.triangles.size(), options.field.resolution,
           cache_dir.string().c_str());
-  const fs::path s = MakeField(problem.environment, options, cache_dir, static_target, "distance field of S",
-                               scene.units, "world");
+  const fs::path s =
+      MakeField(problem.environment, options, cache_dir, static_target, "distance field of S", scene.units, "world");
   const fs::path d = MakeField(problem.robot, options, cache_dir, dynamic_target, "distance field of D", scene.units,
                                "D relative to its reference point");
   // Machine-readable: the two files, as --distfield of ausbau-plan takes them.
@@ -107,13 +108,16 @@ int main(int argc, char** argv) {
   using namespace ausbau;
   DistfieldBuildOptions options;
   return RunStage(
-      {"ausbau-distfield-build", "Builds the FARR distance fields of S and D (thesis 4.2.2) for ausbau-plan --collision farr."},
+      {"ausbau-distfield-build",
+       "Builds the FARR distance fields of S and D (thesis 4.2.2) for ausbau-plan --collision farr."},
       argc, argv,
       [&](CLI::App& app) {
         app.add_option("--scene", options.scene, "scene.yaml")->required();
         app.add_option("--field-cells", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
             ->capture_default_str();
-        app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
+        app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")
+            ->capture_default_str()
+            ->check(ThreadCount());
         app.add_option("--memory-limit", options.memory_budget_gib, "GiB; larger fields are refused")
             ->capture_default_str();
         app.add_option("--output-dir", options.output_dir,

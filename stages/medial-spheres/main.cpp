@@ -53,11 +53,12 @@ int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
   topology_options.weld_tolerance = options.weld_tolerance;
   const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
   const MeshTopologyStats& stats = topology.stats;
-  LogInfo("D: %d triangles, %d vertices -> %d welded; %d patches (%d closed, %d cavities), %d triangles flipped, "
-          "%d components; dropped %d degenerate and %d repeated triangles",
-          stats.input_triangles, stats.input_vertices, stats.welded_vertices, stats.patches, stats.closed_patches,
-          stats.cavity_patches, stats.flipped_triangles, stats.components, stats.degenerate_triangles,
-          stats.duplicate_triangles);
+  LogInfo(
+      "D: %d triangles, %d vertices -> %d welded; %d patches (%d closed, %d cavities), %d triangles flipped, "
+      "%d components; dropped %d degenerate and %d repeated triangles",
+      stats.input_triangles, stats.input_vertices, stats.welded_vertices, stats.patches, stats.closed_patches,
+      stats.cavity_patches, stats.flipped_triangles, stats.components, stats.degenerate_triangles,
+      stats.duplicate_triangles);
   if (stats.boundary_edges > 0 || stats.non_manifold_edges > 0) {
     LogInfo("D is not closed: %d boundary and %d non-manifold edges (accepted)", stats.boundary_edges,
             stats.non_manifold_edges);
@@ -70,17 +71,19 @@ int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
   progress.Finish();
   int contacts = 0;
   for (std::uint8_t c : spheres.contact) contacts += c;
-  LogInfo("%d spheres in %.3f s (%d threads, %lld nearest-point queries): radius %.6g .. %.6g%s; %d contact "
-          "vertices",
-          topology.VertexCount(), spheres.seconds,
-          options.spheres.threads > 0 ? options.spheres.threads : omp_get_max_threads(),
-          static_cast<long long>(spheres.nearest_queries), spheres.MinRadius(), spheres.MaxRadius(),
-          scene.units.empty() ? "" : (" " + scene.units).c_str(), contacts);
+  LogInfo(
+      "%d spheres in %.3f s (%d threads, %lld nearest-point queries): radius %.6g .. %.6g%s; %d contact "
+      "vertices",
+      topology.VertexCount(), spheres.seconds,
+      options.spheres.threads > 0 ? options.spheres.threads : omp_get_max_threads(),
+      static_cast<long long>(spheres.nearest_queries), spheres.MinRadius(), spheres.MaxRadius(),
+      scene.units.empty() ? "" : (" " + scene.units).c_str(), contacts);
   if (spheres.escaped > 0) {
-    LogWarn("%lld of %d vertices have no sphere: the walk inward left D's bounding box (the vertex's normal points "
-            "out of its solid: a vertex shared by overlapping solids, an open or inverted surface); they are "
-            "stored with radius 0 and valid 0",
-            static_cast<long long>(spheres.escaped), topology.VertexCount());
+    LogWarn(
+        "%lld of %d vertices have no sphere: the walk inward left D's bounding box (the vertex's normal points "
+        "out of its solid: a vertex shared by overlapping solids, an open or inverted surface); they are "
+        "stored with radius 0 and valid 0",
+        static_cast<long long>(spheres.escaped), topology.VertexCount());
   }
 
   SpheresArtifact artifact = ToSpheresArtifact(topology, spheres);

@@ -105,13 +105,14 @@ int Label(const StageRun& run, const LabelStageOptions& options) {
   const PbdLabels labels = ComputePbdLabels(topology, radii, contact, label_options);
   if (progress) progress->Finish();
   const int threads = options.labels.threads > 0 ? options.labels.threads : omp_get_max_threads();
-  LogInfo("%lld load cases on %lld vertices (%d simulated components, %lld constraints, %lld glue pairs) in %.2f s "
-          "with %d threads: %.3f ms per load case; %d steps, k' = %.7g, r_min %.6g and sigma %.6g (scaled mesh), "
-          "rho %.6g",
-          static_cast<long long>(labels.load_cases), static_cast<long long>(labels.simulated_vertices),
-          labels.components, static_cast<long long>(labels.constraints),
-          static_cast<long long>(labels.glue_constraints), labels.seconds, threads, 1e3 * labels.SecondsPerLoadCase(),
-          labels.steps, labels.solver_stiffness, labels.r_min, labels.sigma, labels.density);
+  LogInfo(
+      "%lld load cases on %lld vertices (%d simulated components, %lld constraints, %lld glue pairs) in %.2f s "
+      "with %d threads: %.3f ms per load case; %d steps, k' = %.7g, r_min %.6g and sigma %.6g (scaled mesh), "
+      "rho %.6g",
+      static_cast<long long>(labels.load_cases), static_cast<long long>(labels.simulated_vertices), labels.components,
+      static_cast<long long>(labels.constraints), static_cast<long long>(labels.glue_constraints), labels.seconds,
+      threads, 1e3 * labels.SecondsPerLoadCase(), labels.steps, labels.solver_stiffness, labels.r_min, labels.sigma,
+      labels.density);
 
   const LabelsArtifact artifact = ToLabelsArtifact(topology, labels, options.labels.measure);
   WriteLabelsArtifact(run.output, artifact, run.provenance);
@@ -139,8 +140,9 @@ int main(int argc, char** argv) {
   stage.Option("--rigid-tolerance", &options.rigid_tolerance_mm,
                "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener",
                CacheKey::kYes);
-  stage.InputArtifact("--spheres", &options.spheres, "spheres", kSpheresSchema, kSpheresSchemaVersion,
-                      "spheres artifact of D (ausbau-medial-spheres)")
+  stage
+      .InputArtifact("--spheres", &options.spheres, "spheres", kSpheresSchema, kSpheresSchemaVersion,
+                     "spheres artifact of D (ausbau-medial-spheres)")
       ->required();
   stage.Output(&options.output, "labels.h5", kLabelsSchema, kLabelsSchemaVersion);
   stage.Option("--csv", &options.csv, "also write x,y,z,deformability per vertex of D", CacheKey::kNo);
@@ -161,8 +163,8 @@ int main(int argc, char** argv) {
   stage.Option("--solver-iterations", &l.solver_iterations, "solver iterations N per step", CacheKey::kYes);
   AddRenamedFlag(stage.app(), "--iterations", "--solver-iterations");
   stage.Option("--stiffness", &l.stiffness, "k", CacheKey::kYes);
-  stage.Option("--stiffness-formula", &l.stiffness_formula,
-               "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)", CacheKey::kYes);
+  stage.Option("--stiffness-formula", &l.stiffness_formula, "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)",
+               CacheKey::kYes);
   stage.Option("--damping", &l.damping, "velocity factor per step", CacheKey::kYes);
   stage.Flag("!--no-bending", &l.bending, "no bending constraints", CacheKey::kYes);
   stage.Flag("!--no-thickness", &l.thickness, "masses without the sphere diameters (mean diameter)", CacheKey::kYes);

@@ -88,14 +88,15 @@ int main(int argc, char** argv) {
              "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed interference is "
              "not measured) and exit; the pipeline's VALIDITY=auto",
              CacheKey::kNo);
-  stage.Option("--collision", &plan.collision,
-               "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)",
-               CacheKey::kYes)
+  stage
+      .Option("--collision", &plan.collision, "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)",
+              CacheKey::kYes)
       ->check(CLI::IsMember({"fcl", "farr"}));
-  stage.Option("--validity", &plan.validity,
-               "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
-               "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
-               CacheKey::kYes)
+  stage
+      .Option("--validity", &plan.validity,
+              "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
+              "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
+              CacheKey::kYes)
       ->check(CLI::IsMember(PlanValidityNames()));
   stage.Option("--rigid-tolerance", &plan.volume.rigid_tolerance_mm,
                "rigid-exact, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in mm "
@@ -106,11 +107,12 @@ int main(int argc, char** argv) {
                   "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")
       ->check(NonNegative());
   stage.InputFile("--tau-file", &plan.tau_file, "tau", "tau and psi from ausbau-tau-estimate (HDF5)");
-  stage.app().add_option(
-      "--psi", plan.psi, "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+  stage.app().add_option("--psi", plan.psi,
+                         "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
   stage.InputFile("--voxels", &plan.volume.voxels, "voxels",
                   "voxels of S and D (ausbau-voxelize); default: voxelized here");
-  stage.InputFile("--labels", &plan.volume.labels, "labels", "labels of D (ausbau-pbd-label); needed by the labeled modes");
+  stage.InputFile("--labels", &plan.volume.labels, "labels",
+                  "labels of D (ausbau-pbd-label); needed by the labeled modes");
   stage.Option("--rigid-planner", &plan.rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
                CacheKey::kYes);
   stage.Option("--distfield", &plan.distfield,

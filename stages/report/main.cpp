@@ -61,8 +61,9 @@ int main(int argc, char** argv) {
   ReportStageOptions options;
   std::string scene, path, smoothed, run_dir;
   return RunStage(
-      {"ausbau-report", "Writes a self-contained HTML report: S and D in 3D, D animated along the path, "
-                        "clearance along it, stats and verdict (or a benchmark page with --bench-dir)."},
+      {"ausbau-report",
+       "Writes a self-contained HTML report: S and D in 3D, D animated along the path, "
+       "clearance along it, stats and verdict (or a benchmark page with --bench-dir)."},
       argc, argv,
       [&](CLI::App& app) {
         app.add_option("--scene", scene, "scene.yaml");

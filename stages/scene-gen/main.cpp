@@ -22,8 +22,7 @@ int main(int argc, char** argv) {
                        "panel-tilt-slide | panel-straight-pull | panel-channel (box scenes with an exact checker)")
             ->capture_default_str();
         app.add_option("--seed", seed, "random seed (varies dimensions)")->capture_default_str()->check(NonNegative());
-        app.add_option("--triangles", triangles,
-                       "clips-ds*: target triangle count of D; 0 = the thesis's (table 14)")
+        app.add_option("--triangles", triangles, "clips-ds*: target triangle count of D; 0 = the thesis's (table 14)")
             ->capture_default_str();
         app.add_option("--tessellation", tessellation,
                        "panel-*: coarse (12 triangles per box) | fine (faces gridded, <= 2 mm edges)")

@@ -3,12 +3,12 @@
 // README.md beside this file.
 
 #include "cli/stage.h"
-#include "workflow/volume_inputs.h"
 #include "collision/fcl_checker.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
 #include "scene/scene.h"
+#include "workflow/volume_inputs.h"
 
 namespace ausbau {
 namespace {
@@ -68,8 +68,9 @@ int main(int argc, char** argv) {
       "ausbau-tau-estimate",
       "Estimates the intersection-volume threshold tau (and psi) for planning out of an invalid initial state.");
   stage.SceneInput(SceneHash::kWholeScene, &options.scene);
-  stage.Option("--validity", &options.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded",
-               CacheKey::kYes)
+  stage
+      .Option("--validity", &options.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded",
+              CacheKey::kYes)
       ->check(CLI::IsMember(ValidityModeNames()));
   stage.InputFile("--voxels", &options.volume.voxels, "voxels",
                   "voxels of S and D (ausbau-voxelize); default: voxelized here");

@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   std::string scene;
   std::string output = "verdict.json";
   VerdictInputs inputs;
-  StageDefinition stage("ausbau-verdict", "Says whether D is removable and summarizes an InIState run as verdict.json.");
+  StageDefinition stage("ausbau-verdict",
+                        "Says whether D is removable and summarizes an InIState run as verdict.json.");
   stage.SceneInput(SceneHash::kWholeScene, &scene);
   stage.InputFile("--path", &inputs.path, "path", "the final path artifact (ausbau-path), e.g. path-smooth.h5")
       ->required();
@@ -26,8 +27,7 @@ int main(int argc, char** argv) {
   stage.Option("--csv-name", &inputs.csv,
                "the path's CSV file: checked exactly as written (plain interpolation) and recorded", CacheKey::kNo);
   stage.Option("--rigid-tolerance", &inputs.rigid_tolerance_mm,
-               "how deep D's rigid part may touch into S along the path, in mm (scene units converted)",
-               CacheKey::kNo);
+               "how deep D's rigid part may touch into S along the path, in mm (scene units converted)", CacheKey::kNo);
   stage.Option("-o,--output", &output, "verdict (JSON, schemas/verdict.md)", CacheKey::kNo);
   return stage.Run(argc, argv, [&](const StageRun& run) {
     if (!std::isfinite(inputs.budget)) throw InputError("--budget: must be a finite number");
