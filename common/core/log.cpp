@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/error.h"
@@ -53,19 +54,26 @@ Progress::~Progress() { Finish(); }
 
 void Progress::Update(std::int64_t done) {
   if (g_level < LogLevel::kInfo || finished_) return;
-  const int percent = static_cast<int>(100 * done / total_);
+  const int percent = static_cast<int>(100 * std::clamp<std::int64_t>(done, 0, total_) / total_);
+  if (tty_ ? percent == last_percent_ : percent / 10 == last_decile_) return;
+  // Elapsed seconds, and the time left at the rate so far (once there is one).
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  char timing[64];
+  if (done > 0 && done < total_) {
+    std::snprintf(timing, sizeof timing, "%.1f s, about %.0f s left", elapsed,
+                  elapsed * static_cast<double>(total_ - done) / static_cast<double>(done));
+  } else {
+    std::snprintf(timing, sizeof timing, "%.1f s", elapsed);
+  }
   if (tty_) {
-    if (percent == last_percent_) return;
     last_percent_ = percent;
     const int width = 30, filled = width * percent / 100;
-    std::fprintf(stderr, "\r%s: %s [%.*s%*s] %3d%%", g_program.c_str(), phase_.c_str(), filled,
-                 "##############################", width - filled, "", percent);
+    std::fprintf(stderr, "\r%s: %s [%.*s%*s] %3d%% %s   ", g_program.c_str(), phase_.c_str(), filled,
+                 "##############################", width - filled, "", percent, timing);
     std::fflush(stderr);
   } else {
-    const int decile = percent / 10;
-    if (decile == last_decile_) return;
-    last_decile_ = decile;
-    std::fprintf(stderr, "%s: %s %d%%\n", g_program.c_str(), phase_.c_str(), decile * 10);
+    last_decile_ = percent / 10;
+    std::fprintf(stderr, "%s: %s %d%% (%s)\n", g_program.c_str(), phase_.c_str(), last_decile_ * 10, timing);
   }
 }
 

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstdarg>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace ausbau {
@@ -23,8 +25,14 @@ void LogWarn(const char* format, ...) __attribute__((format(printf, 1, 2)));
 void LogInfo(const char* format, ...) __attribute__((format(printf, 1, 2)));
 void LogDebug(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
-// Reports progress of one phase of known size. Thread-compatible: call
-// Update from one thread.
+// How long work reports progress, in every layer: a callback with the work
+// done and the total (any unit); empty = silent (the tests). A stage turns
+// it into a Progress below.
+using ProgressCallback = std::function<void(std::int64_t done, std::int64_t total)>;
+
+// Reports progress of one phase of known size: on a terminal a bar with the
+// elapsed time and an estimate of the time left, in a log a line every 10%
+// with the same figures. Thread-compatible: call Update from one thread.
 class Progress {
  public:
   Progress(std::string phase, std::int64_t total);
@@ -39,6 +47,7 @@ class Progress {
   int last_percent_ = -1;
   bool tty_;
   bool finished_ = false;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace ausbau

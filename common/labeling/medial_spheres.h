@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "artifact/artifact.h"
+#include "core/log.h"
 #include "labeling/mesh_topology.h"
 
 namespace ausbau {
@@ -51,7 +52,7 @@ struct MedialSphereOptions {
   int growth_iterations = 200;  // cap on the growth phase; 0 = cool from the start (thesis)
   int threads = 0;              // 0 = all (OpenMP)
   // Called from one thread with the number of vertices done so far.
-  std::function<void(std::int64_t done, std::int64_t total)> progress;
+  ProgressCallback progress;  // core/log.h; empty = silent
 
   // Throws InputError on values out of range.
   void Check() const;

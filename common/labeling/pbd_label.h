@@ -109,6 +109,7 @@
 #include <vector>
 
 #include "artifact/artifact.h"
+#include "core/log.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 
@@ -136,7 +137,7 @@ struct PbdLabelOptions {
   double glue_tolerance = 1e-4;     // "touch": closer than this fraction of D's AABB diagonal
   int threads = 0;                  // 0 = all (OpenMP)
   // Called from one thread with the number of load cases done so far.
-  std::function<void(std::int64_t done, std::int64_t total)> progress;
+  ProgressCallback progress;  // core/log.h; empty = silent
 
   void Check() const;  // throws InputError on values out of range
   int Steps() const;
