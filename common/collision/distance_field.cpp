@@ -1,5 +1,7 @@
 #include "collision/distance_field.h"
 
+#include <unistd.h>
+
 #include <omp.h>
 #include <Eigen/Geometry>
 
@@ -990,6 +992,47 @@ std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh
   auto field = BuildDistanceField(mesh, options, name);
   out.seconds = seconds();
   return field;
+}
+
+std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const DistanceFieldOptions& options,
+                                            const std::filesystem::path& cache_dir,
+                                            const std::filesystem::path& explicit_target, bool force,
+                                            const std::string& name, const std::string& units,
+                                            const std::string& frame) {
+  namespace fs = std::filesystem;
+  const std::string mesh_hash = MeshContentHash(mesh);
+  const std::string expected = DistanceFieldProvenanceHash({mesh_hash, options.resolution, options.padding});
+  const fs::path cached = DistanceFieldCachePath(cache_dir, mesh_hash, options.resolution);
+  const fs::path target = explicit_target.empty() ? cached : explicit_target;
+  PlanDistanceField(mesh, options);  // the memory guard, before any work
+  if (!force && ExistingProvenanceHash(target, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
+    LogInfo("%s: %s is up to date (same mesh and resolution); use --force to build again", name.c_str(),
+            target.string().c_str());
+    return target;
+  }
+  if (!force && target != cached &&
+      ExistingProvenanceHash(cached, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
+    // Copy the cached file (atomically: a temporary beside the target, then rename).
+    if (!target.parent_path().empty()) fs::create_directories(target.parent_path());
+    const fs::path temporary = target.string() + ".tmp-" + std::to_string(::getpid());
+    fs::copy_file(cached, temporary, fs::copy_options::overwrite_existing);
+    fs::rename(temporary, target);
+    LogInfo("%s: copied from the cache %s", name.c_str(), cached.string().c_str());
+    return target;
+  }
+  const auto field = BuildDistanceField(mesh, options, name);
+  WriteDistanceField(target, *field, units, frame);
+  LogInfo("%s: %d x %d x %d cells (cell %g %s), written to %s", name.c_str(), field->dims()[0], field->dims()[1],
+          field->dims()[2], field->spacing(), units.empty() ? "units" : units.c_str(), target.string().c_str());
+  if (target != cached) {
+    try {
+      fs::create_directories(cache_dir);
+      WriteDistanceField(cached, *field, units, frame);
+    } catch (const std::exception& e) {
+      LogWarn("%s: cannot write the cache file %s (%s)", name.c_str(), cached.string().c_str(), e.what());
+    }
+  }
+  return target;
 }
 
 }  // namespace ausbau

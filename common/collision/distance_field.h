@@ -195,6 +195,17 @@ std::filesystem::path DistanceFieldCachePath(const std::filesystem::path& cache_
 // shared benchmark data): then $XDG_CACHE_HOME/ausbau or ~/.cache/ausbau.
 std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& scene_file);
 
+// ausbau-distfield-build's step for one mesh: the field at
+// `explicit_target` (empty: in the cache) when up to date (same mesh and
+// resolution) and not `force`; else copied from the cache; else built and
+// written to the target and, when that is another file, to the cache.
+// Returns the file.
+std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const DistanceFieldOptions& options,
+                                            const std::filesystem::path& cache_dir,
+                                            const std::filesystem::path& explicit_target, bool force,
+                                            const std::string& name, const std::string& units,
+                                            const std::string& frame);
+
 struct CachedFieldInfo {
   std::filesystem::path path;  // the cache file (empty when nothing could be written)
   bool reused = false;         // read from the cache instead of built

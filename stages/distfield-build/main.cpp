@@ -2,8 +2,6 @@
 // one for S (all static meshes merged, world coordinates) and one for D (in
 // the planning convention: D's mesh relative to its reference point), as
 // ausbau-distfield artifacts. See README.md beside this file.
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 
@@ -29,48 +27,6 @@ struct DistfieldBuildOptions {
   DistanceFieldOptions field;
 };
 
-// One field: up to date at `target` (same provenance), copied from the cache,
-// or built (and then written to `target` and, when it is another file, the
-// cache). Returns the target.
-fs::path MakeField(const TriangleMesh& mesh, const DistfieldBuildOptions& options, const fs::path& cache_dir,
-                   const fs::path& explicit_target, const std::string& name, const std::string& units,
-                   const std::string& frame) {
-  const std::string mesh_hash = MeshContentHash(mesh);
-  const std::string expected =
-      DistanceFieldProvenanceHash({mesh_hash, options.field.resolution, options.field.padding});
-  const fs::path cached = DistanceFieldCachePath(cache_dir, mesh_hash, options.field.resolution);
-  const fs::path target = explicit_target.empty() ? cached : explicit_target;
-  PlanDistanceField(mesh, options.field);  // the memory guard, before any work
-  if (!options.force && ExistingProvenanceHash(target, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
-    LogInfo("%s: %s is up to date (same mesh and resolution); use --force to build again", name.c_str(),
-            target.string().c_str());
-    return target;
-  }
-  if (!options.force && target != cached &&
-      ExistingProvenanceHash(cached, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
-    // Copy the cached file (atomically: a temporary beside the target, then rename).
-    if (!target.parent_path().empty()) fs::create_directories(target.parent_path());
-    const fs::path temporary = target.string() + ".tmp-" + std::to_string(::getpid());
-    fs::copy_file(cached, temporary, fs::copy_options::overwrite_existing);
-    fs::rename(temporary, target);
-    LogInfo("%s: copied from the cache %s", name.c_str(), cached.string().c_str());
-    return target;
-  }
-  const auto field = BuildDistanceField(mesh, options.field, name);
-  WriteDistanceField(target, *field, units, frame);
-  LogInfo("%s: %d x %d x %d cells (cell %g %s), written to %s", name.c_str(), field->dims()[0], field->dims()[1],
-          field->dims()[2], field->spacing(), units.empty() ? "units" : units.c_str(), target.string().c_str());
-  if (target != cached) {
-    try {
-      fs::create_directories(cache_dir);
-      WriteDistanceField(cached, *field, units, frame);
-    } catch (const std::exception& e) {
-      LogWarn("%s: cannot write the cache file %s (%s)", name.c_str(), cached.string().c_str(), e.what());
-    }
-  }
-  return target;
-}
-
 int Run(DistfieldBuildOptions options) {
   if (!(options.memory_budget_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.field.memory_budget_bytes = static_cast<std::uint64_t>(options.memory_budget_gib * double(1 << 30));
@@ -92,10 +48,10 @@ int Run(DistfieldBuildOptions options) {
   LogInfo("scene %s: S %zu triangles, D %zu triangles, resolution %d, cache %s", scene.name.c_str(),
           problem.environment.triangles.size(), problem.robot.triangles.size(), options.field.resolution,
           cache_dir.string().c_str());
-  const fs::path s =
-      MakeField(problem.environment, options, cache_dir, static_target, "distance field of S", scene.units, "world");
-  const fs::path d = MakeField(problem.robot, options, cache_dir, dynamic_target, "distance field of D", scene.units,
-                               "D relative to its reference point");
+  const fs::path s = MakeDistanceFieldFile(problem.environment, options.field, cache_dir, static_target, options.force,
+                                           "distance field of S", scene.units, "world");
+  const fs::path d = MakeDistanceFieldFile(problem.robot, options.field, cache_dir, dynamic_target, options.force,
+                                           "distance field of D", scene.units, "D relative to its reference point");
   // Machine-readable: the two files, as --distfield of ausbau-plan takes them.
   std::printf("%s,%s\n", s.string().c_str(), d.string().c_str());
   return kExitOk;

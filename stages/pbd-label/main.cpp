@@ -1,23 +1,14 @@
 // ausbau-pbd-label: phase II of the deformability labeling (thesis 5.4.1,
 // algorithm 10): a position based dynamics simulation of D per load case
 // (one per vertex, or a budget of them) gives each vertex of D a
-// deformability in [0, 1]. See README.md.
-#include <omp.h>
-
-#include <cmath>
-#include <filesystem>
-#include <optional>
+// deformability in [0, 1]; or, where D is made of measured solids, the exact
+// check's rule. The work is workflow/label_part.h; see README.md.
 #include <string>
 
 #include "cli/stage.h"
-#include "core/hash.h"
 #include "core/log.h"
-#include "labeling/medial_spheres.h"
-#include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
-#include "labeling/solid_labels.h"
-#include "planning/exact_check.h"
-#include "scene/scene.h"
+#include "workflow/label_part.h"
 
 namespace ausbau {
 namespace {
@@ -28,10 +19,7 @@ struct LabelStageOptions {
   std::string output;
   std::string csv;
   std::string ply;
-  std::string rule = "auto";
-  double rigid_tolerance_mm = 0.05;
-  double weld_tolerance = MeshTopologyOptions{}.weld_tolerance;
-  PbdLabelOptions labels;
+  LabelPartOptions label;
 };
 
 void WriteExtras(const LabelStageOptions& options, const Scene& scene, const LabelsArtifact& labels) {
@@ -48,76 +36,10 @@ void WriteExtras(const LabelStageOptions& options, const Scene& scene, const Lab
 }
 
 int Label(const StageRun& run, const LabelStageOptions& options) {
-  options.labels.Check();
-  if (options.rule != "auto" && options.rule != "solids" && options.rule != "pbd") {
-    throw InputError("--rule: expected auto, solids or pbd, got '" + options.rule + "'");
-  }
-  if (!(options.rigid_tolerance_mm > 0 && std::isfinite(options.rigid_tolerance_mm))) {
-    throw InputError("--rigid-tolerance: must be a positive number of millimetres");
-  }
-  if (!(options.weld_tolerance >= 0 && options.weld_tolerance < 1)) {
-    throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
-  }
-  const Scene& scene = run.scene;
-  // The spheres must belong to this D: their inputs hold D's content hash.
-  SpheresArtifact spheres = ReadSpheresArtifact(options.spheres);
-  if (ArtifactReader(options.spheres, kSpheresSchema, kSpheresSchemaVersion)
-          .ReadStringAttribute("", "inputs")
-          .find(HashFile(scene.dynamic_file)) == std::string::npos) {
-    throw InputErrorAt(options.spheres, "computed for another part D (" + scene.dynamic_file.string() +
-                                            " has different content); run ausbau-medial-spheres on this scene");
-  }
-
-  if (options.rule != "pbd") {
-    bool assumed = false;
-    const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &assumed);
-    const SolidLabels solids = LabelBySolids(scene, tolerance);
-    if (solids.applies) {
-      LogInfo("labels by solids: %s", solids.reason.c_str());
-      LabelsArtifact artifact;
-      artifact.deformability = solids.deformability;
-      artifact.displacement = solids.deformability;
-      artifact.measure = "solids";
-      WriteLabelsArtifact(run.output, artifact, run.provenance);
-      LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
-      WriteExtras(options, scene, artifact);
-      return kExitOk;
-    }
-    if (options.rule == "solids") throw InputError("--rule solids: does not apply: " + solids.reason);
-    LogInfo("labels by PBD: %s", solids.reason.c_str());
-  }
-
-  MeshTopologyOptions topology_options;
-  topology_options.weld_tolerance = options.weld_tolerance;
-  const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
-  std::vector<double> radii;
-  std::vector<std::uint8_t> contact;
-  SpheresPerWeldedVertex(topology, spheres, options.spheres, &radii, &contact);
-
-  PbdLabelOptions label_options = options.labels;
-  // Made at the first report: only the labeling knows how many load cases
-  // the budget leaves.
-  std::optional<Progress> progress;
-  label_options.progress = [&progress](std::int64_t done, std::int64_t total) {
-    if (!progress) progress.emplace("load cases", total);
-    progress->Update(done);
-  };
-  const PbdLabels labels = ComputePbdLabels(topology, radii, contact, label_options);
-  if (progress) progress->Finish();
-  const int threads = options.labels.threads > 0 ? options.labels.threads : omp_get_max_threads();
-  LogInfo(
-      "%lld load cases on %lld vertices (%d simulated components, %lld constraints, %lld glue pairs) in %.2f s "
-      "with %d threads: %.3f ms per load case; %d steps, k' = %.7g, r_min %.6g and sigma %.6g (scaled mesh), "
-      "rho %.6g",
-      static_cast<long long>(labels.load_cases), static_cast<long long>(labels.simulated_vertices), labels.components,
-      static_cast<long long>(labels.constraints), static_cast<long long>(labels.glue_constraints), labels.seconds,
-      threads, 1e3 * labels.SecondsPerLoadCase(), labels.steps, labels.solver_stiffness, labels.r_min, labels.sigma,
-      labels.density);
-
-  const LabelsArtifact artifact = ToLabelsArtifact(topology, labels, options.labels.measure);
+  const LabelsArtifact artifact = LabelPart(run.scene, options.spheres, options.label);
   WriteLabelsArtifact(run.output, artifact, run.provenance);
   LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
-  WriteExtras(options, scene, artifact);
+  WriteExtras(options, run.scene, artifact);
   return kExitOk;
 }
 
@@ -127,17 +49,17 @@ int Label(const StageRun& run, const LabelStageOptions& options) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   LabelStageOptions options;
-  PbdLabelOptions& l = options.labels;
+  PbdLabelOptions& l = options.label.pbd;
   StageDefinition stage(
       "ausbau-pbd-label",
       "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II).");
   // S is an input too: the solid rule reads the installed intersections.
   stage.SceneInput(SceneHash::kWholeScene, &options.scene);
-  stage.Option("--rule", &options.rule,
+  stage.Option("--rule", &options.label.rule,
                "auto: by solids where D is made of closed solids whose installed intersections with S are measured, "
                "else PBD | solids | pbd (the thesis's simulation)",
                CacheKey::kYes);
-  stage.Option("--rigid-tolerance", &options.rigid_tolerance_mm,
+  stage.Option("--rigid-tolerance", &options.label.rigid_tolerance_mm,
                "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener",
                CacheKey::kYes);
   stage
@@ -172,7 +94,7 @@ int main(int argc, char** argv) {
   stage.Option("--glue-tolerance", &l.glue_tolerance, "touching: closer than this fraction of D's diagonal",
                CacheKey::kYes);
   stage.Option("--refine", &l.refine, "split edges longer than this many local diameters; 0 = off", CacheKey::kYes);
-  stage.Option("--weld-tolerance", &options.weld_tolerance,
+  stage.Option("--weld-tolerance", &options.label.weld_tolerance,
                "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
   return stage.Run(
       argc, argv, [&](const StageRun& run) { return Label(run, options); },
