@@ -30,19 +30,13 @@ int Find(std::vector<int>& parent, int x) {
   return x;
 }
 
-}  // namespace
+// The phases of BuildMeshTopology, in order; each fills its part of `topo`.
 
-// ---------------------------------------------------------------- topology
-
-MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptions& options) {
-  MeshTopology topo;
+// 1-2. Weld, then drop collapsed, zero-area and repeated triangles.
+void WeldAndClean(const TriangleMesh& mesh, const MeshTopologyOptions& options, double input_diagonal,
+                  const Aabb& input_box, MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
   MeshTopologyStats& stats = topo.stats;
-  stats.input_vertices = static_cast<int>(mesh.vertices.size());
-  stats.input_triangles = static_cast<int>(mesh.triangles.size());
-  const Aabb input_box = mesh.Bounds();
-  const double input_diagonal = input_box.Diagonal();
-
-  // 1. Weld.
   // Cells of the weld's grid are counted from the input's box; with no
   // tolerance they are still small, so that few vertices share one.
   const double weld_tolerance = std::max(0.0, options.weld_tolerance) * input_diagonal;
@@ -52,7 +46,7 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   const int n = topo.VertexCount();
   stats.welded_vertices = n;
 
-  // 2. Clean: drop collapsed, zero-area and repeated triangles.
+  // Clean: drop collapsed, zero-area and repeated triangles.
   const double min_cross = 1e-13 * input_diagonal * input_diagonal;
   struct Candidate {
     std::array<int, 3> sorted;
@@ -95,8 +89,15 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
   topo.source_triangle = kept;
   topo.triangles.resize(m);
   for (int t = 0; t < m; ++t) topo.triangles[t] = remapped[kept[t]];
+}
 
-  // Edges: (a, b, triangle, slot k of the directed edge tri[k] -> tri[k+1]).
+// The edges of the triangles (topo.edges, edge_triangles and their offsets)
+// and, per triangle, its three edges (slot k: tri[k] -> tri[k+1]).
+std::vector<std::array<int, 3>> BuildEdges(MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
+  MeshTopologyStats& stats = topo.stats;
+  const int m = static_cast<int>(topo.triangles.size());
+  // (a, b, triangle, slot k of the directed edge tri[k] -> tri[k+1]).
   struct HalfEdge {
     int a, b, triangle, slot;
   };
@@ -128,18 +129,33 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     topo.edge_triangle_offsets.push_back(static_cast<int>(topo.edge_triangles.size()));
     i = j;
   }
-  const auto edge_count = [&](int e) { return topo.edge_triangle_offsets[e + 1] - topo.edge_triangle_offsets[e]; };
-  // Whether triangle tri (as given) runs along edge e from its lower to its higher vertex.
-  const auto forward = [&](const std::array<int, 3>& tri, int e) {
-    const int a = topo.edges[e][0], b = topo.edges[e][1];
-    for (int k = 0; k < 3; ++k) {
-      if (tri[k] == a && tri[(k + 1) % 3] == b) return true;
-    }
-    return false;
-  };
+  return triangle_edges;
+}
 
-  // 3. Orient patches by breadth-first search over manifold edges.
-  std::vector<std::uint8_t> flip(m, 0);
+int EdgeTriangleCount(const MeshTopology& topo, int e) {
+  return topo.edge_triangle_offsets[e + 1] - topo.edge_triangle_offsets[e];
+}
+
+// Whether triangle tri (as given) runs along edge e from its lower to its higher vertex.
+bool RunsForward(const MeshTopology& topo, const std::array<int, 3>& tri, int e) {
+  const int a = topo.edges[e][0], b = topo.edges[e][1];
+  for (int k = 0; k < 3; ++k) {
+    if (tri[k] == a && tri[(k + 1) % 3] == b) return true;
+  }
+  return false;
+}
+
+void FlipTriangle(MeshTopology* topo, int t) { std::swap(topo->triangles[t][1], topo->triangles[t][2]); }
+
+// 3. Patches oriented consistently by breadth-first search over manifold
+// edges (flipped triangles marked in *flip and flipped in topo).
+std::vector<std::vector<int>> OrientPatches(const std::vector<std::array<int, 3>>& triangle_edges,
+                                            const MeshTopologyOptions& options, std::vector<std::uint8_t>* flip_out,
+                                            MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
+  const int m = static_cast<int>(topo.triangles.size());
+  std::vector<std::uint8_t>& flip = *flip_out;
+  flip.assign(m, 0);
   topo.triangle_patch.assign(m, -1);
   std::vector<std::vector<int>> patches;
   std::vector<int> queue;
@@ -159,25 +175,30 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
       patches[patch].push_back(t);
       for (int k = 0; k < 3; ++k) {
         const int e = triangle_edges[t][k];
-        if (edge_count(e) != 2) continue;
+        if (EdgeTriangleCount(topo, e) != 2) continue;
         const int* pair = &topo.edge_triangles[topo.edge_triangle_offsets[e]];
         const int u = pair[0] == t ? pair[1] : pair[0];
         if (topo.triangle_patch[u] >= 0) continue;
-        const bool t_forward = forward(topo.triangles[t], e) != (flip[t] != 0);
-        const bool u_forward = forward(topo.triangles[u], e);
+        const bool t_forward = RunsForward(topo, topo.triangles[t], e) != (flip[t] != 0);
+        const bool u_forward = RunsForward(topo, topo.triangles[u], e);
         flip[u] = (u_forward == t_forward) ? 1 : 0;  // consistent neighbours run the edge in opposite directions
         topo.triangle_patch[u] = patch;
         queue.push_back(u);
       }
     }
   }
-  const auto apply_flip = [&](int t) { std::swap(topo.triangles[t][1], topo.triangles[t][2]); };
   for (int t = 0; t < m; ++t) {
-    if (flip[t]) apply_flip(t);
+    if (flip[t]) FlipTriangle(&topo, t);
   }
-  stats.patches = static_cast<int>(patches.size());
+  topo.stats.patches = static_cast<int>(patches.size());
 
-  // Geometry of the (patch-consistent) triangles.
+  return patches;
+}
+
+// Normals and areas of the (patch-consistent) triangles.
+void ComputeTriangleGeometry(MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
+  const int m = static_cast<int>(topo.triangles.size());
   topo.triangle_normals.resize(m);
   topo.triangle_areas.resize(m);
   const auto update_geometry = [&](int t) {
@@ -189,8 +210,18 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     topo.triangle_normals[t] = cross / norm;
   };
   for (int t = 0; t < m; ++t) update_geometry(t);
+}
 
-  // 4. Global orientation of each patch.
+// 4. Each patch turned outward as a whole: a closed patch by its signed
+// volume (and inward where it is a cavity inside the others), an open one
+// by rays from sample triangles.
+void OrientPatchesGlobally(const std::vector<std::vector<int>>& patches,
+                           const std::vector<std::array<int, 3>>& triangle_edges, const MeshTopologyOptions& options,
+                           double input_diagonal, std::vector<std::uint8_t>* flip_out, MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
+  MeshTopologyStats& stats = topo.stats;
+  const int m = static_cast<int>(topo.triangles.size());
+  std::vector<std::uint8_t>& flip = *flip_out;
   const TriangleBvh bvh = options.orient ? TriangleBvh(topo.vertices, topo.triangles) : TriangleBvh();
   const double t_min = 1e-9 * input_diagonal;
   const auto centroid = [&](int t) {
@@ -208,7 +239,7 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     const std::vector<int>& list = patches[p];
     bool closed = true;
     for (int t : list) {
-      for (int k = 0; k < 3; ++k) closed = closed && edge_count(triangle_edges[t][k]) == 2;
+      for (int k = 0; k < 3; ++k) closed = closed && EdgeTriangleCount(topo, triangle_edges[t][k]) == 2;
     }
     bool flip_patch = false;
     if (closed) {
@@ -256,15 +287,21 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     }
     if (flip_patch) {
       for (int t : list) {
-        apply_flip(t);
+        FlipTriangle(&topo, t);
         flip[t] ^= 1;
         topo.triangle_normals[t] = -topo.triangle_normals[t];
       }
     }
   }
   for (int t = 0; t < m; ++t) stats.flipped_triangles += flip[t];
+}
 
-  // 5. Vertex normals, areas, components.
+// 5. Vertex normals and areas, bounds, connected components.
+void ComputeVertexData(MeshTopology* topo_out) {
+  MeshTopology& topo = *topo_out;
+  MeshTopologyStats& stats = topo.stats;
+  const int n = topo.VertexCount();
+  const int m = static_cast<int>(topo.triangles.size());
   topo.vertex_normals.assign(n, Eigen::Vector3d::Zero());
   topo.vertex_areas.assign(n, 0.0);
   topo.referenced.assign(n, 0);
@@ -309,6 +346,25 @@ MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptio
     if (component_of_root[root] < 0) component_of_root[root] = stats.components++;
     topo.component[v] = component_of_root[root];
   }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- topology
+
+MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptions& options) {
+  MeshTopology topo;
+  topo.stats.input_vertices = static_cast<int>(mesh.vertices.size());
+  topo.stats.input_triangles = static_cast<int>(mesh.triangles.size());
+  const Aabb input_box = mesh.Bounds();
+  const double input_diagonal = input_box.Diagonal();
+  WeldAndClean(mesh, options, input_diagonal, input_box, &topo);
+  const std::vector<std::array<int, 3>> triangle_edges = BuildEdges(&topo);
+  std::vector<std::uint8_t> flip;
+  const std::vector<std::vector<int>> patches = OrientPatches(triangle_edges, options, &flip, &topo);
+  ComputeTriangleGeometry(&topo);
+  OrientPatchesGlobally(patches, triangle_edges, options, input_diagonal, &flip, &topo);
+  ComputeVertexData(&topo);
   topo.diagonal = topo.bounds.Diagonal();
   return topo;
 }
