@@ -67,117 +67,33 @@ std::string Describe(const TauProbe& p) {
   return line;
 }
 
-}  // namespace
+// The search of EstimateTau: rounds of (a tau search by speed probes, then a
+// planning round at that tau), with raised speed targets after each failed
+// round. The lambdas of one 220-line function became these methods; the
+// state they share is the members.
+class TauSearch {
+ public:
+  TauSearch(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure, double psi,
+            const TauEstimateOptions& options)
+      : problem_(problem), volume_(volume), measure_(measure), psi_(psi), options_(options) {}
 
-TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
-                        double psi, const TauEstimateOptions& options) {
-  options.Check();
-  const auto begin = Clock::now();
-  auto say = [&](const std::string& line) {
-    LogInfo("%s", line.c_str());
-    if (options.progress) options.progress(line);
-  };
-  TauEstimate estimate;
-  estimate.psi = psi;
-  {
-    IntersectionVolume start_volume = volume.Clone();
-    estimate.tau_lowest = start_volume.Measure(measure, problem.start);
-  }
-  const double delta = volume.voxel_volume();
-  const double max_tau = options.max_tau > 0 ? options.max_tau : volume.voxel_count() * volume.voxel_volume();
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  auto candidate = [&](int k) { return estimate.tau_lowest + delta * (std::ldexp(1.0, k) - 1.0); };
-  say("tau search: start volume " + std::to_string(estimate.tau_lowest) + ", step " + std::to_string(delta) +
-      ", at most " + std::to_string(max_tau));
+  TauEstimate Run();
+
+ private:
+  // One round's tau search ends with a tau, with none reaching the target,
+  // or cancelled (the second lane, when the first round succeeded).
+  enum class Search { kFound, kExhausted, kCancelled };
 
   // The search state that carries from one round to the next. A round's tau
   // depends only on the probes and on the rounds before it having failed, so
   // the taus of later rounds can be found before the earlier rounds are
-  // planned (below: the two lanes).
+  // planned (Run: the two lanes).
   struct SearchState {
     int k_pass = 0;     // candidates below this index are known to be too slow for the previous target
     double lower = -1;  // largest tau known too slow for the current target
     double floor = -1;  // after a failed round: the next tau is at least this
-  } state;
-  // One round's tau search; its probes (and log lines) go to `round_trace`
-  // and `lines`. A raised `cancel` ends it early (kCancelled).
-  enum class Search { kFound, kExhausted, kCancelled };
-  auto find_round_tau = [&](int round, double target, std::vector<TauProbe>* round_trace,
-                            std::vector<std::string>* lines, double* tau_out,
-                            const std::atomic<bool>* cancel) -> Search {
-    auto cancelled = [&] { return cancel != nullptr && cancel->load(); };
-    auto record = [&](TauProbe probe) {
-      probe.round = round;
-      probe.target_speed = target;
-      lines->push_back(Describe(probe));
-      round_trace->push_back(probe);
-    };
-    // Doubling: probe candidates k_pass, k_pass + 1, ... in parallel batches.
-    int found = -1;
-    for (int k0 = state.k_pass; found < 0; k0 += threads) {
-      if (candidate(k0) > max_tau) break;
-      if (cancelled()) return Search::kCancelled;
-      std::vector<TauProbe> batch(threads);
-      std::vector<std::uint8_t> valid(threads, 0);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-      for (int i = 0; i < threads; ++i) {
-        const double t = candidate(k0 + i);
-        if (t > max_tau) continue;
-        batch[i] = RunProbe(problem, volume, measure, t, psi, options, cancel);
-        valid[i] = 1;
-      }
-      for (int i = 0; i < threads && found < 0; ++i) {
-        if (!valid[i]) continue;
-        record(batch[i]);
-        if (batch[i].speed >= target) {
-          found = k0 + i;
-        } else {
-          state.lower = batch[i].tau;
-        }
-      }
-    }
-    if (found < 0) {
-      lines->push_back("no tau up to " + std::to_string(max_tau) + " reaches " + std::to_string(target) + " nodes/s");
-      return Search::kExhausted;
-    }
-    state.k_pass = found;
-    double upper = candidate(found);
-    double lower = state.lower;
-    if (lower < estimate.tau_lowest || lower >= upper) lower = found > 0 ? candidate(found - 1) : -1;
-    // Bisection never goes below the floor a failed round set.
-    if (state.floor >= 0) lower = std::max(lower, std::min(state.floor, upper));
-    // Bisection between the last too-slow and the first fast-enough candidate.
-    for (int step = 0; step < options.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta; ++step) {
-      if (cancelled()) return Search::kCancelled;
-      const double middle = 0.5 * (lower + upper);
-      TauProbe probe = RunProbe(problem, volume, measure, middle, psi, options, cancel);
-      (probe.speed >= target ? upper : lower) = middle;
-      record(probe);
-    }
-    if (cancelled()) return Search::kCancelled;
-    *tau_out = upper;
-    return Search::kFound;
-  };
-  // What a failed round at `failed_tau` leaves for the next: the next round
-  // searches above it, since its speed may already exceed the raised target
-  // (on clips-ds5 the tree reaches any speed by turning in place near the
-  // start) and the same tau would fail again; at least twice the failed
-  // tau's distance from the start's volume (plus two voxels), so that a few
-  // rounds span the range geometrically.
-  auto assume_failed = [&](double failed_tau) {
-    state.floor = estimate.tau_lowest + 2.0 * (failed_tau - estimate.tau_lowest) + 2.0 * delta;
-    state.lower = failed_tau;
-    while (candidate(state.k_pass) < state.floor) ++state.k_pass;
   };
 
-  // Planning rounds in two lanes. A planning round runs on one core (the
-  // local planner is sequential) and a failed one costs its whole time
-  // limit, while the next round's tau depends only on the probes and on this
-  // round having failed. So while lane 1 plans round r, lane 2 searches the
-  // tau of round r + 1 as if r had failed and plans it. The first round in
-  // order that finds sigma_1 is the answer, exactly as if the rounds ran one
-  // after the other; when round r succeeds, lane 2 is cancelled and its
-  // probes and round are left out of the trace. One thread: one lane.
   struct Round {
     int index = 0;
     double target = 0, tau = 0;
@@ -188,79 +104,195 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     PlanResult result;
     double seconds = 0;
   };
-  auto plan_round = [&](Round* round, const std::atomic<bool>* cancel) {
-    const auto round_begin = Clock::now();
-    const VolumeValidity validity(volume, measure, round->tau);
-    PlannerOptions planner = LocalPlannerOptions(problem, psi, options.planner);
-    planner.cancel = cancel;
-    round->result = Plan(problem, validity, planner);
-    round->seconds = Seconds(round_begin);
-    round->planned = true;
-  };
-  // Adds a searched (and maybe planned) round to the estimate; true when it
-  // ends the search (sigma_1 found, or no tau reaches its target).
-  auto accept = [&](Round& round) {
-    for (const std::string& line : round.lines) say(line);
-    estimate.trace.insert(estimate.trace.end(), round.probes.begin(), round.probes.end());
-    estimate.speed_target = round.target;
-    if (round.search == Search::kExhausted) return true;
-    TauProbe planning;
-    planning.round = round.index;
-    planning.target_speed = round.target;
-    planning.tau = round.tau;
-    planning.nodes = round.result.stats.nodes;
-    planning.attempts = round.result.stats.iterations;
-    planning.checks = round.result.stats.collision_checks;
-    planning.planning_round = true;
-    planning.solved = round.result.solved();
-    planning.seconds = round.seconds;
-    estimate.trace.push_back(planning);
-    estimate.rounds = round.index + 1;
-    estimate.tau = round.tau;
-    say("round " + std::to_string(round.index + 1) + ": tau " + std::to_string(round.tau) + " (target " +
-        std::to_string(round.target) + " nodes/s): " + (planning.solved ? "sigma_1 found" : "no path") + " in " +
-        std::to_string(round.seconds) + " s");
-    if (!planning.solved) return false;
-    estimate.solved = true;
-    estimate.local_path = round.result.path;
-    estimate.local_seed = options.planner.seed;
-    estimate.local_planner = options.planner.planner;
-    return true;
-  };
-  auto new_round = [&](int index) {
+
+  void Say(const std::string& line) const {
+    LogInfo("%s", line.c_str());
+    if (options_.progress) options_.progress(line);
+  }
+  double Candidate(int k) const { return estimate_.tau_lowest + delta_ * (std::ldexp(1.0, k) - 1.0); }
+  Search FindRoundTau(int round, double target, std::vector<TauProbe>* round_trace, std::vector<std::string>* lines,
+                      double* tau_out, const std::atomic<bool>* cancel);
+  void AssumeFailed(double failed_tau);
+  void PlanRound(Round* round, const std::atomic<bool>* cancel) const;
+  bool Accept(Round& round);
+  Round NewRound(int index) const {
     Round round;
     round.index = index;
-    round.target = options.initial_speed + index * options.speed_step;
+    round.target = options_.initial_speed + index * options_.speed_step;
     return round;
-  };
-  auto search = [&](Round* round, const std::atomic<bool>* cancel) {
-    round->search = find_round_tau(round->index, round->target, &round->probes, &round->lines, &round->tau, cancel);
-  };
+  }
+  void SearchRound(Round* round, const std::atomic<bool>* cancel) {
+    round->search = FindRoundTau(round->index, round->target, &round->probes, &round->lines, &round->tau, cancel);
+  }
 
-  Round current = new_round(0);
-  search(&current, nullptr);
+  const PlanningProblem& problem_;
+  const IntersectionVolume& volume_;
+  const VolumeMeasure measure_;
+  const double psi_;
+  const TauEstimateOptions& options_;
+  TauEstimate estimate_;
+  double delta_ = 0, max_tau_ = 0;
+  int threads_ = 1;
+  SearchState state_;
+};
+
+// One round's tau search; its probes (and log lines) go to `round_trace`
+// and `lines`. A raised `cancel` ends it early (kCancelled).
+TauSearch::Search TauSearch::FindRoundTau(int round, double target, std::vector<TauProbe>* round_trace,
+                                          std::vector<std::string>* lines, double* tau_out,
+                                          const std::atomic<bool>* cancel) {
+  auto cancelled = [&] { return cancel != nullptr && cancel->load(); };
+  auto record = [&](TauProbe probe) {
+    probe.round = round;
+    probe.target_speed = target;
+    lines->push_back(Describe(probe));
+    round_trace->push_back(probe);
+  };
+  // Doubling: probe candidates k_pass, k_pass + 1, ... in parallel batches.
+  int found = -1;
+  for (int k0 = state_.k_pass; found < 0; k0 += threads_) {
+    if (Candidate(k0) > max_tau_) break;
+    if (cancelled()) return Search::kCancelled;
+    std::vector<TauProbe> batch(threads_);
+    std::vector<std::uint8_t> valid(threads_, 0);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_)
+    for (int i = 0; i < threads_; ++i) {
+      const double t = Candidate(k0 + i);
+      if (t > max_tau_) continue;
+      batch[i] = RunProbe(problem_, volume_, measure_, t, psi_, options_, cancel);
+      valid[i] = 1;
+    }
+    for (int i = 0; i < threads_ && found < 0; ++i) {
+      if (!valid[i]) continue;
+      record(batch[i]);
+      if (batch[i].speed >= target) {
+        found = k0 + i;
+      } else {
+        state_.lower = batch[i].tau;
+      }
+    }
+  }
+  if (found < 0) {
+    lines->push_back("no tau up to " + std::to_string(max_tau_) + " reaches " + std::to_string(target) + " nodes/s");
+    return Search::kExhausted;
+  }
+  state_.k_pass = found;
+  double upper = Candidate(found);
+  double lower = state_.lower;
+  if (lower < estimate_.tau_lowest || lower >= upper) lower = found > 0 ? Candidate(found - 1) : -1;
+  // Bisection never goes below the floor a failed round set.
+  if (state_.floor >= 0) lower = std::max(lower, std::min(state_.floor, upper));
+  // Bisection between the last too-slow and the first fast-enough candidate.
+  for (int step = 0; step < options_.bisection_steps && lower >= 0 && upper - lower > 0.5 * delta_; ++step) {
+    if (cancelled()) return Search::kCancelled;
+    const double middle = 0.5 * (lower + upper);
+    TauProbe probe = RunProbe(problem_, volume_, measure_, middle, psi_, options_, cancel);
+    (probe.speed >= target ? upper : lower) = middle;
+    record(probe);
+  }
+  if (cancelled()) return Search::kCancelled;
+  *tau_out = upper;
+  return Search::kFound;
+}
+
+// What a failed round at `failed_tau` leaves for the next: the next round
+// searches above it, since its speed may already exceed the raised target
+// (on clips-ds5 the tree reaches any speed by turning in place near the
+// start) and the same tau would fail again; at least twice the failed
+// tau's distance from the start's volume (plus two voxels), so that a few
+// rounds span the range geometrically.
+void TauSearch::AssumeFailed(double failed_tau) {
+  state_.floor = estimate_.tau_lowest + 2.0 * (failed_tau - estimate_.tau_lowest) + 2.0 * delta_;
+  state_.lower = failed_tau;
+  while (Candidate(state_.k_pass) < state_.floor) ++state_.k_pass;
+}
+
+void TauSearch::PlanRound(Round* round, const std::atomic<bool>* cancel) const {
+  const auto round_begin = Clock::now();
+  const VolumeValidity validity(volume_, measure_, round->tau);
+  PlannerOptions planner = LocalPlannerOptions(problem_, psi_, options_.planner);
+  planner.cancel = cancel;
+  round->result = Plan(problem_, validity, planner);
+  round->seconds = Seconds(round_begin);
+  round->planned = true;
+}
+
+// Adds a searched (and maybe planned) round to the estimate; true when it
+// ends the search (sigma_1 found, or no tau reaches its target).
+bool TauSearch::Accept(Round& round) {
+  for (const std::string& line : round.lines) Say(line);
+  estimate_.trace.insert(estimate_.trace.end(), round.probes.begin(), round.probes.end());
+  estimate_.speed_target = round.target;
+  if (round.search == Search::kExhausted) return true;
+  TauProbe planning;
+  planning.round = round.index;
+  planning.target_speed = round.target;
+  planning.tau = round.tau;
+  planning.nodes = round.result.stats.nodes;
+  planning.attempts = round.result.stats.iterations;
+  planning.checks = round.result.stats.collision_checks;
+  planning.planning_round = true;
+  planning.solved = round.result.solved();
+  planning.seconds = round.seconds;
+  estimate_.trace.push_back(planning);
+  estimate_.rounds = round.index + 1;
+  estimate_.tau = round.tau;
+  Say("round " + std::to_string(round.index + 1) + ": tau " + std::to_string(round.tau) + " (target " +
+      std::to_string(round.target) + " nodes/s): " + (planning.solved ? "sigma_1 found" : "no path") + " in " +
+      std::to_string(round.seconds) + " s");
+  if (!planning.solved) return false;
+  estimate_.solved = true;
+  estimate_.local_path = round.result.path;
+  estimate_.local_seed = options_.planner.seed;
+  estimate_.local_planner = options_.planner.planner;
+  return true;
+}
+
+// Planning rounds in two lanes. A planning round runs on one core (the
+// local planner is sequential) and a failed one costs its whole time limit,
+// while the next round's tau depends only on the probes and on this round
+// having failed. So while lane 1 plans round r, lane 2 searches the tau of
+// round r + 1 as if r had failed and plans it. The first round in order
+// that finds sigma_1 is the answer, exactly as if the rounds ran one after
+// the other; when round r succeeds, lane 2 is cancelled and its probes and
+// round are left out of the trace. One thread: one lane.
+TauEstimate TauSearch::Run() {
+  const auto begin = Clock::now();
+  estimate_.psi = psi_;
+  {
+    IntersectionVolume start_volume = volume_.Clone();
+    estimate_.tau_lowest = start_volume.Measure(measure_, problem_.start);
+  }
+  delta_ = volume_.voxel_volume();
+  max_tau_ = options_.max_tau > 0 ? options_.max_tau : volume_.voxel_count() * volume_.voxel_volume();
+  threads_ = options_.threads > 0 ? options_.threads : omp_get_max_threads();
+  Say("tau search: start volume " + std::to_string(estimate_.tau_lowest) + ", step " + std::to_string(delta_) +
+      ", at most " + std::to_string(max_tau_));
+
+  Round current = NewRound(0);
+  SearchRound(&current, nullptr);
   while (true) {
     if (current.search != Search::kFound) {
-      accept(current);  // no tau reaches the target
+      Accept(current);  // no tau reaches the target
       break;
     }
-    for (const std::string& line : current.lines) say(line);
+    for (const std::string& line : current.lines) Say(line);
     current.lines.clear();
-    assume_failed(current.tau);  // for the next round's search
-    const bool last = current.index + 1 >= options.max_rounds;
-    Round next = new_round(current.index + 1);
+    AssumeFailed(current.tau);  // for the next round's search
+    const bool last = current.index + 1 >= options_.max_rounds;
+    Round next = NewRound(current.index + 1);
     std::atomic<bool> cancel_next{false};
     std::exception_ptr errors[2];
-    const int lanes = threads > 1 && !last ? 2 : 1;
+    const int lanes = threads_ > 1 && !last ? 2 : 1;
 #pragma omp parallel for schedule(static, 1) num_threads(lanes)
     for (int lane = 0; lane < lanes; ++lane) {
       try {
         if (lane == 0) {
-          plan_round(&current, nullptr);
+          PlanRound(&current, nullptr);
           if (current.result.solved()) cancel_next = true;
         } else {
-          search(&next, &cancel_next);
-          if (next.search == Search::kFound && !cancel_next) plan_round(&next, &cancel_next);
+          SearchRound(&next, &cancel_next);
+          if (next.search == Search::kFound && !cancel_next) PlanRound(&next, &cancel_next);
         }
       } catch (...) {
         errors[lane] = std::current_exception();
@@ -270,22 +302,30 @@ TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume
     for (const std::exception_ptr& error : errors) {
       if (error) std::rethrow_exception(error);
     }
-    if (accept(current) || last) break;
+    if (Accept(current) || last) break;
     if (lanes == 1) {  // search the next round now
-      search(&next, nullptr);
+      SearchRound(&next, nullptr);
     } else if (next.planned && next.result.status != PlanStatus::kCancelled) {
       // Planned alongside: accept it as it is; the round after it is next.
-      if (accept(next) || next.index + 1 >= options.max_rounds) break;
-      assume_failed(next.tau);
-      current = new_round(next.index + 1);
-      search(&current, nullptr);
+      if (Accept(next) || next.index + 1 >= options_.max_rounds) break;
+      AssumeFailed(next.tau);
+      current = NewRound(next.index + 1);
+      SearchRound(&current, nullptr);
       continue;
     }
     current = std::move(next);  // searched, not planned yet (or no tau reaches its target)
   }
-  if (estimate.rounds == 0) estimate.tau = estimate.tau_lowest;  // no round was planned
-  estimate.seconds = Seconds(begin);
-  return estimate;
+  if (estimate_.rounds == 0) estimate_.tau = estimate_.tau_lowest;  // no round was planned
+  estimate_.seconds = Seconds(begin);
+  return estimate_;
+}
+
+}  // namespace
+
+TauEstimate EstimateTau(const PlanningProblem& problem, const IntersectionVolume& volume, VolumeMeasure measure,
+                        double psi, const TauEstimateOptions& options) {
+  options.Check();
+  return TauSearch(problem, volume, measure, psi, options).Run();
 }
 
 // ---------------------------------------------------------------- artifact
