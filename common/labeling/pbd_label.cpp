@@ -735,19 +735,11 @@ std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::u
   return weight;
 }
 
-}  // namespace
-
-PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& given_radii,
-                           const std::vector<std::uint8_t>& contact, const PbdLabelOptions& options) {
-  options.Check();
-  if (static_cast<int>(given_radii.size()) != topology.VertexCount() ||
-      (!contact.empty() && contact.size() != given_radii.size())) {
-    throw InputError("medial spheres: " + std::to_string(given_radii.size()) + " radii for " +
-                     std::to_string(topology.VertexCount()) + " vertices");
-  }
-  // r_min over reliable spheres (referenced, positive, not a contact); every
-  // radius is raised to at least r_min, so that a contact's sliver of a
-  // sphere neither sets the load nor makes a vertex weightless.
+// r_min over reliable spheres (referenced, positive, not a contact); every
+// radius is raised to at least r_min, so that a contact's sliver of a
+// sphere neither sets the load nor makes a vertex weightless.
+std::vector<double> RadiiAtLeastRMin(const MeshTopology& topology, const std::vector<double>& given_radii,
+                                     const std::vector<std::uint8_t>& contact) {
   double r_min = std::numeric_limits<double>::infinity();
   for (int v = 0; v < topology.VertexCount(); ++v) {
     if (topology.referenced[v] && given_radii[v] > 0 && (contact.empty() || !contact[v])) {
@@ -757,37 +749,34 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   if (!std::isfinite(r_min)) throw InputError("D has no medial sphere of positive radius (outside contacts)");
   std::vector<double> radii(given_radii.size());
   for (std::size_t v = 0; v < radii.size(); ++v) radii[v] = std::max(given_radii[v], r_min);
-  const auto started = std::chrono::steady_clock::now();
-  PbdLabels labels;
-  labels.steps = options.Steps();
-  labels.solver_stiffness = options.SolverStiffness();
-  // Refine long edges over thin places; the simulation runs on the refined
-  // mesh and the labels are read off at the original vertices (which keep
-  // their indices).
-  MeshTopology refined_topology;
-  std::vector<double> refined_radii;
-  if (options.refine > 0) {
-    const RefinedMesh refined = Refine(topology, radii, options.refine, options.refine_min_length * topology.diagonal);
-    MeshTopologyOptions keep;
-    keep.weld_tolerance = 0;
-    keep.orient = false;
-    refined_topology = BuildMeshTopology(refined.mesh, keep);
-    refined_radii.assign(refined_topology.VertexCount(), 0.0);
-    for (int i = static_cast<int>(refined.radii.size()) - 1; i >= 0; --i) {
-      refined_radii[refined_topology.welded_of_original[i]] = refined.radii[i];
-    }
-  }
-  const MeshTopology& simulated = options.refine > 0 ? refined_topology : topology;
-  const Model model = BuildModel(simulated, options.refine > 0 ? refined_radii : radii, options, &labels);
-  const int n = model.n;
-  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
+  return radii;
+}
 
+// Which simulated vertices are loaded, and with what weight.
+struct LoadPlan {
+  std::vector<int> sim_of_vertex;    // D's welded vertex -> simulation index (-1: none)
+  std::vector<std::uint8_t> loaded;  // per simulation index
+  std::vector<double> load_weight;   // per simulation index
+  std::vector<double> represented;   // under a budget: area each vertex stands for
+  std::vector<int> cell;             // under a budget: the load case whose cell a vertex is in
+};
+
+LoadPlan PlanLoadCases(const MeshTopology& topology, const MeshTopology& refined_topology, const Model& model,
+                       const PbdLabelOptions& options) {
+  const int n = model.n;
+  const MeshTopology& simulated = options.refine > 0 ? refined_topology : topology;
+  LoadPlan plan;
+  std::vector<int>& sim_of_vertex = plan.sim_of_vertex;
+  std::vector<std::uint8_t>& loaded = plan.loaded;
+  std::vector<double>& load_weight = plan.load_weight;
+  std::vector<double>& represented = plan.represented;
+  std::vector<int>& cell = plan.cell;
   // Load cases: one per referenced vertex of D (inserted vertices only add
   // degrees of freedom). sim_of_vertex: D's welded vertex -> simulation index.
   std::vector<int> sim_of_simulated(simulated.VertexCount(), -1);
   for (int i = 0; i < n; ++i) sim_of_simulated[model.welded[i]] = i;
-  std::vector<int> sim_of_vertex(topology.VertexCount(), -1);
-  std::vector<std::uint8_t> loaded(n, 0);
+  sim_of_vertex.assign(topology.VertexCount(), -1);
+  loaded.assign(n, 0);
   for (int w = 0; w < topology.VertexCount(); ++w) {
     if (!topology.referenced[w]) continue;
     const int s = sim_of_simulated[options.refine > 0 ? refined_topology.welded_of_original[w] : w];
@@ -797,9 +786,7 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
   // Weight of each load case in "sum": its vertex's share of D's area
   // relative to the mean (1 on a uniform mesh), so that the sum approximates
   // an integral over where the load is applied, whatever the sampling.
-  std::vector<double> load_weight(n, 0.0);
-  std::vector<double> represented;  // under a budget: area each vertex stands for
-  std::vector<int> cell;            // under a budget: the load case whose cell a vertex is in
+  load_weight.assign(n, 0.0);
   {
     double area = 0.0;
     int count = 0;
@@ -828,9 +815,19 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
       }
     }
   }
+  return plan;
+}
+
+// The load cases in batches of kLanes (one component per batch); the size
+// of the largest component in *largest.
+std::vector<Batch> MakeBatches(const Model& model, const std::vector<std::uint8_t>& loaded, int* largest_out,
+                               std::int64_t* load_cases_out) {
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
   std::vector<Batch> batches;
-  int largest = 0;
-  std::int64_t load_cases = 0;
+  int& largest = *largest_out;
+  largest = 0;
+  std::int64_t& load_cases = *load_cases_out;
+  load_cases = 0;
   for (int c = 0; c < components; ++c) {
     const int begin = model.vertex_begin[c], end = model.vertex_begin[c + 1];
     largest = std::max(largest, end - begin);
@@ -846,6 +843,56 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
     }
     if (batch.count > 0) batches.push_back(batch);
   }
+
+  return batches;
+}
+
+}  // namespace
+
+PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& given_radii,
+                           const std::vector<std::uint8_t>& contact, const PbdLabelOptions& options) {
+  options.Check();
+  if (static_cast<int>(given_radii.size()) != topology.VertexCount() ||
+      (!contact.empty() && contact.size() != given_radii.size())) {
+    throw InputError("medial spheres: " + std::to_string(given_radii.size()) + " radii for " +
+                     std::to_string(topology.VertexCount()) + " vertices");
+  }
+  const std::vector<double> radii = RadiiAtLeastRMin(topology, given_radii, contact);
+  const auto started = std::chrono::steady_clock::now();
+  PbdLabels labels;
+  labels.steps = options.Steps();
+  labels.solver_stiffness = options.SolverStiffness();
+  // Refine long edges over thin places; the simulation runs on the refined
+  // mesh and the labels are read off at the original vertices (which keep
+  // their indices).
+  MeshTopology refined_topology;
+  std::vector<double> refined_radii;
+  if (options.refine > 0) {
+    const RefinedMesh refined = Refine(topology, radii, options.refine, options.refine_min_length * topology.diagonal);
+    MeshTopologyOptions keep;
+    keep.weld_tolerance = 0;
+    keep.orient = false;
+    refined_topology = BuildMeshTopology(refined.mesh, keep);
+    refined_radii.assign(refined_topology.VertexCount(), 0.0);
+    for (int i = static_cast<int>(refined.radii.size()) - 1; i >= 0; --i) {
+      refined_radii[refined_topology.welded_of_original[i]] = refined.radii[i];
+    }
+  }
+  const MeshTopology& simulated = options.refine > 0 ? refined_topology : topology;
+  const Model model = BuildModel(simulated, options.refine > 0 ? refined_radii : radii, options, &labels);
+  const int n = model.n;
+
+  // Load cases: one per referenced vertex of D (inserted vertices only add
+  // degrees of freedom); under a budget, a sample of them.
+  const LoadPlan plan = PlanLoadCases(topology, refined_topology, model, options);
+  const std::vector<int>& sim_of_vertex = plan.sim_of_vertex;
+  const std::vector<std::uint8_t>& loaded = plan.loaded;
+  const std::vector<double>& load_weight = plan.load_weight;
+  const std::vector<double>& represented = plan.represented;
+  const std::vector<int>& cell = plan.cell;
+  int largest = 0;
+  std::int64_t load_cases = 0;
+  const std::vector<Batch> batches = MakeBatches(model, loaded, &largest, &load_cases);
   labels.load_cases = load_cases;
 
   const bool sum = options.measure == "sum";
