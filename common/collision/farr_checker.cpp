@@ -387,6 +387,10 @@ bool FarrCollisionChecker::Skip(const Pose& pose) const {
   return d > 1.1 * robot_radius_ + 2.0 * environment_field_->spacing();
 }
 
+// Kept as one function (about 150 lines) on purpose: FARR's inner loop
+// (thesis 4.2.3), run for every collision query before FCL; the rays'
+// stack arrays (kMaxRays) and the march through both distance fields share
+// its locals, and a split would pass them by reference per ray step.
 FarrCollisionChecker::ProbeResult FarrCollisionChecker::Rays(const Pose& pose, int rays, bool complete) const {
   constexpr int kMax = FarrOptions::kMaxRays;
   ProbeResult result;

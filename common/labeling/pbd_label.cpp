@@ -849,6 +849,11 @@ std::vector<Batch> MakeBatches(const Model& model, const std::vector<std::uint8_
 
 }  // namespace
 
+// Kept as one function (about 170 lines) on purpose: after the set-up
+// (RadiiAtLeastRMin, PlanLoadCases, MakeBatches) it is one OpenMP region
+// whose per-thread buffers, SIMD lanes and fixed-point sums are shared by
+// the simulation and the accumulation; split, a dozen buffers would travel
+// by reference through every call of the innermost loop.
 PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<double>& given_radii,
                            const std::vector<std::uint8_t>& contact, const PbdLabelOptions& options) {
   options.Check();
