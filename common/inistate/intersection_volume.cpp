@@ -233,7 +233,7 @@ double IntersectionVolume::LabeledMliv(const Pose& pose, double tau, VolumeQuery
 // Kept as one function (about 160 lines) on purpose: the planners' hottest
 // query (every validity check of a volume mode). Its traversal keeps the
 // running sum, the early exit against tau and the per-part bookkeeping in
-// registers; the phases are marked by comments below.
+// registers; its steps are commented below.
 double IntersectionVolume::Run(const Pose& pose, Mode mode, double tau, VolumeQuery* query) {
   const Data& d = *data_;
   Buffers& b = *buffers_;

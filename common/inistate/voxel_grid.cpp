@@ -378,7 +378,7 @@ void CheckVoxelMemory(const VoxelGridGeometry& g, std::int64_t limit, const std:
 
 // Kept as one function (about 140 lines) on purpose: its parallel passes
 // (surface voxels, then the inside fill by winding numbers) share the grid,
-// the topology and the progress reporter; each pass is marked below.
+// the topology and the progress reporter; the five steps are numbered below.
 VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options,
                        VoxelizeStats* stats_out, const std::string& phase) {
   if (!geometry.axes.isIdentity(0)) {
