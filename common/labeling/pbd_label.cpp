@@ -359,36 +359,18 @@ int FindRoot(std::vector<int>& parent, int x) {
   return x;
 }
 
-Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii, const PbdLabelOptions& options,
-                 PbdLabels* labels) {
-  Model model;
+// The steps of BuildModel, in order.
+
+// Simulation order: (glued) component by component; within one, breadth
+// first from its lowest vertex (neighbours in increasing order), for memory
+// locality. Glued components (`parent`: union-find over the topology's
+// components) are simulated together. Returns the simulation index of each
+// welded vertex (-1: unreferenced).
+std::vector<int> OrderForSimulation(const MeshTopology& topology, const std::vector<std::pair<int, int>>& glue,
+                                    std::vector<int>& parent, Model* model_out, PbdLabels* labels) {
+  Model& model = *model_out;
   const int welded_count = topology.VertexCount();
-  // Scale to a box of largest extent 1, centred.
-  const Eigen::Vector3d size = topology.bounds.Size();
-  const double extent = size.maxCoeff();
-  if (!(extent > 0)) throw InputError("the part D has no extent");
-  const double scale = 1.0 / extent;
-  const Eigen::Vector3d centre = topology.bounds.Center();
-  labels->scale = scale;
-
-  // Glue separate components where they touch or overlap; glued components
-  // are simulated together.
-  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
-  const std::vector<std::pair<int, int>> glue =
-      options.glue ? FindGlue(topology, options.glue_tolerance * topology.diagonal, threads)
-                   : std::vector<std::pair<int, int>>{};
-  labels->glue_constraints = static_cast<std::int64_t>(glue.size());
   const int topology_components = topology.stats.components;
-  std::vector<int> parent(topology_components);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (const auto& [v, w] : glue) {
-    const int a = FindRoot(parent, topology.component[v]), b = FindRoot(parent, topology.component[w]);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-
-  // Simulation order: (glued) component by component; within one, breadth
-  // first from its lowest vertex (neighbours in increasing order), for
-  // memory locality.
   std::vector<std::vector<int>> neighbours(welded_count);
   for (const auto& e : topology.edges) {
     neighbours[e[0]].push_back(e[1]);
@@ -432,9 +414,17 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
     model.vertex_begin.push_back(static_cast<int>(model.welded.size()));
   }
   model.n = static_cast<int>(model.welded.size());
-  const int n = model.n;
 
-  // Radii, r_min, sigma.
+  return sim_of_welded;
+}
+
+// Radii, r_min and sigma (in *labels), rest positions (scaled and centred)
+// and masses, with the density given or automatic.
+void SetRestAndMasses(const MeshTopology& topology, const std::vector<double>& radii, double scale,
+                      const Eigen::Vector3d& centre, const PbdLabelOptions& options, Model* model_out,
+                      PbdLabels* labels) {
+  Model& model = *model_out;
+  const int n = model.n;
   std::vector<double> radius(n);
   double r_min = std::numeric_limits<double>::infinity(), r_sum = 0.0;
   for (int i = 0; i < n; ++i) {
@@ -472,8 +462,14 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   mass_sum *= labels->density;
   const double mass_floor = 1e-6 * mass_sum / n;
   for (double& m : model.mass) m = std::max(m, mass_floor);
+}
 
-  // Constraints: edges and bending pairs, once per vertex pair.
+// Constraints: edges and bending pairs (and glue), once per vertex pair,
+// sorted; model.constraint_begin per component.
+void BuildConstraints(const MeshTopology& topology, const std::vector<int>& sim_of_welded,
+                      const std::vector<std::pair<int, int>>& glue, const PbdLabelOptions& options, Model* model_out) {
+  Model& model = *model_out;
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
   std::vector<std::pair<int, int>> pairs;
   pairs.reserve(topology.edges.size() * 2);
   for (std::size_t e = 0; e < topology.edges.size(); ++e) {
@@ -530,12 +526,18 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
     }
     model.constraint_begin[components] = static_cast<int>(model.constraints.size());
   }
-  // Gauss-Seidel order: within each component, greedy colouring (in the
-  // sorted order, each constraint takes the lowest colour that neither of its
-  // vertices has yet), then colour by colour, each in the sorted order. Two
-  // consecutive constraints of one colour share no vertex, so the processor
-  // overlaps their projections instead of waiting for one to store what the
-  // next loads.
+}
+
+// Gauss-Seidel order: within each component, greedy colouring (in the
+// sorted order, each constraint takes the lowest colour that neither of its
+// vertices has yet), then colour by colour, each in the sorted order. Two
+// consecutive constraints of one colour share no vertex, so the processor
+// overlaps their projections instead of waiting for one to store what the
+// next loads.
+void OrderConstraintsByColour(Model* model_out) {
+  Model& model = *model_out;
+  const int n = model.n;
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
   {
     std::vector<std::uint64_t> used(n, 0);
     std::vector<int> colour(model.constraints.size());
@@ -558,6 +560,40 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
     }
     model.constraints.swap(ordered);
   }
+}
+
+Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii, const PbdLabelOptions& options,
+                 PbdLabels* labels) {
+  Model model;
+  // Scale to a box of largest extent 1, centred.
+  const Eigen::Vector3d size = topology.bounds.Size();
+  const double extent = size.maxCoeff();
+  if (!(extent > 0)) throw InputError("the part D has no extent");
+  const double scale = 1.0 / extent;
+  const Eigen::Vector3d centre = topology.bounds.Center();
+  labels->scale = scale;
+
+  // Glue separate components where they touch or overlap; glued components
+  // are simulated together.
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  const std::vector<std::pair<int, int>> glue =
+      options.glue ? FindGlue(topology, options.glue_tolerance * topology.diagonal, threads)
+                   : std::vector<std::pair<int, int>>{};
+  labels->glue_constraints = static_cast<std::int64_t>(glue.size());
+  const int topology_components = topology.stats.components;
+  std::vector<int> parent(topology_components);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (const auto& [v, w] : glue) {
+    const int a = FindRoot(parent, topology.component[v]), b = FindRoot(parent, topology.component[w]);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+
+  const std::vector<int> sim_of_welded = OrderForSimulation(topology, glue, parent, &model, labels);
+  const int n = model.n;
+
+  SetRestAndMasses(topology, radii, scale, centre, options, &model, labels);
+  BuildConstraints(topology, sim_of_welded, glue, options, &model);
+  OrderConstraintsByColour(&model);
   labels->constraints = static_cast<std::int64_t>(model.constraints.size());
 
   // Load: f = -sigma n_i, as a velocity increment dt w_i f per step.
