@@ -606,7 +606,8 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
   return model;
 }
 
-// Load cases under a budget ("sum" only, see pbd_label.h). `loadable`: per
+// Load cases under a budget ("sum" only, see pbd_label.h; BuildConstraintGraph
+// and LoadCaseQuotas below, then SampleLoadCases). `loadable`: per
 // simulation vertex (not: vertices inserted by refinement); `area`: the area
 // it stands for as a load vertex. Sets `loaded` to the chosen load vertices
 // and `cell` to the sample whose cell each simulation vertex lies in, and
@@ -625,14 +626,21 @@ Model BuildModel(const MeshTopology& topology, const std::vector<double>& radii,
 // Everything is in a fixed order with ties to the lower index: deterministic.
 constexpr int kMinLoadCases = kLanes;
 
-std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::uint8_t>& loadable,
-                                    const std::vector<double>& area, std::int64_t budget,
-                                    std::vector<std::uint8_t>* loaded, std::vector<int>* cell) {
-  const int n = model.n;
-  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
-  // Graph over the constraints, compressed rows.
-  std::vector<int> offset(n + 1, 0), target;
+// The simulation's vertices as a graph over the constraints (compressed
+// rows: the neighbours of i are target[offset[i] .. offset[i + 1]), with
+// the constraint's rest length).
+struct ConstraintGraph {
+  std::vector<int> offset, target;
   std::vector<float> length;
+};
+
+ConstraintGraph BuildConstraintGraph(const Model& model) {
+  const int n = model.n;
+  ConstraintGraph graph;
+  std::vector<int>& offset = graph.offset;
+  std::vector<int>& target = graph.target;
+  std::vector<float>& length = graph.length;
+  offset.assign(n + 1, 0);
   for (const Constraint& c : model.constraints) {
     ++offset[c.i + 1];
     ++offset[c.j + 1];
@@ -649,10 +657,23 @@ std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::u
       length[fill[c.j]++] = c.rest;
     }
   }
+  return graph;
+}
+
+// Load cases per simulated component (SampleLoadCases): in proportion to its
+// loadable area, at least kMinLoadCases (or 1 where the budget is short) or
+// all its loadable vertices; `count` gets the loadable vertices per
+// component.
+std::vector<std::int64_t> LoadCaseQuotas(const Model& model, const std::vector<std::uint8_t>& loadable,
+                                         const std::vector<double>& area, std::int64_t budget,
+                                         std::vector<std::int64_t>* count_out) {
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
+  std::vector<std::int64_t>& count = *count_out;
+  count.assign(components, 0);
   // Quotas: q_c(lambda) = min(count_c, max(minimum_c, floor(lambda area_c)))
   // grows with lambda; take the largest lambda within the budget, then hand
   // the rest out one by one, largest remainder first.
-  std::vector<std::int64_t> count(components, 0), minimum(components), quota(components);
+  std::vector<std::int64_t> minimum(components), quota(components);
   std::vector<double> component_area(components, 0.0);
   for (int c = 0; c < components; ++c) {
     for (int i = model.vertex_begin[c]; i < model.vertex_begin[c + 1]; ++i) {
@@ -698,6 +719,21 @@ std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::u
     ++quota[best];
     --left;
   }
+
+  return quota;
+}
+
+std::vector<double> SampleLoadCases(const Model& model, const std::vector<std::uint8_t>& loadable,
+                                    const std::vector<double>& area, std::int64_t budget,
+                                    std::vector<std::uint8_t>* loaded, std::vector<int>* cell) {
+  const int n = model.n;
+  const int components = static_cast<int>(model.vertex_begin.size()) - 1;
+  const ConstraintGraph graph = BuildConstraintGraph(model);
+  const std::vector<int>& offset = graph.offset;
+  const std::vector<int>& target = graph.target;
+  const std::vector<float>& length = graph.length;
+  std::vector<std::int64_t> count;
+  const std::vector<std::int64_t> quota = LoadCaseQuotas(model, loadable, area, budget, &count);
 
   // Farthest-point sampling, one component at a time; dist and owner are
   // updated incrementally (a Dijkstra from each new sample only visits the
