@@ -460,14 +460,27 @@ std::string HtmlEscape(std::string_view text) {
 
 // ------------------------------------------------------------------ report
 
-std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& assets, ReportSummary* summary) {
-  ReportSummary local;
-  if (!summary) summary = &local;
-  if (options.scene.empty()) throw InputError("--scene is required");
-  fs::path path_file = options.path;
-  fs::path smoothed_file = options.smoothed;
-  fs::path labels_file, verdict_file, stats_file, spheres_file;
-  std::vector<std::pair<std::string, std::string>> artifacts;  // name, status (HTML)
+namespace {
+
+// The files of a report: given one by one, or found by name in a run
+// folder (the command line's files win). What a run folder lacks is noted
+// in the summary and in `artifacts` (name, status as HTML).
+struct ReportFiles {
+  fs::path path_file, smoothed_file, labels_file, verdict_file, stats_file, spheres_file;
+};
+
+ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary,
+                            std::vector<std::pair<std::string, std::string>>* artifacts_out) {
+  std::vector<std::pair<std::string, std::string>>& artifacts = *artifacts_out;
+  ReportFiles files;
+  fs::path& path_file = files.path_file;
+  fs::path& smoothed_file = files.smoothed_file;
+  fs::path& labels_file = files.labels_file;
+  fs::path& verdict_file = files.verdict_file;
+  fs::path& stats_file = files.stats_file;
+  fs::path& spheres_file = files.spheres_file;
+  path_file = options.path;
+  smoothed_file = options.smoothed;
   std::string absent;
   if (!options.run_dir.empty()) {
     std::error_code ec;
@@ -492,34 +505,16 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
     if (!absent.empty()) summary->notes.push_back("not in " + options.run_dir.string() + ": " + absent);
   }
 
-  const Scene scene = LoadScene(options.scene);
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  summary->used.push_back("scene: " + options.scene.string());
+  return files;
+}
 
-  std::vector<PathEntry> paths;
-  if (!path_file.empty()) paths.push_back(LoadPath("planned", path_file));
-  if (!smoothed_file.empty()) paths.push_back(LoadPath("smoothed", smoothed_file));
-  const double tolerance = 1e-9 * (1.0 + problem.robot_diagonal);
-  for (PathEntry& e : paths) {
-    if ((e.artifact.dynamic_origin - scene.dynamic_origin).norm() > tolerance) {
-      throw InputErrorAt(e.file.string(), "belongs to another scene: its dynamic_origin " +
-                                              VectorText(e.artifact.dynamic_origin) + " differs from the scene's " +
-                                              VectorText(scene.dynamic_origin));
-    }
-    if (!e.artifact.scene.empty() && e.artifact.scene != scene.name) {
-      summary->notes.push_back(e.file.string() + ": planned for scene '" + e.artifact.scene + "', shown in '" +
-                               scene.name + "'");
-    }
-    e.times = AnimationTimes(e.artifact, scene.dynamic_mesh);
-    summary->used.push_back(e.key + " path: " + e.file.string());
-    artifacts.emplace_back(e.file.filename().string(), "used: " + e.key + " path");
-  }
-  if (!paths.empty()) {
-    const FclCollisionChecker checker(problem.robot, problem.environment);
-    for (PathEntry& e : paths) ComputeClearance(&e, problem, checker, options.clearance_samples);
-  }
-
-  BufferStore store;
+// D's labels for the viewer (deformability per vertex, as float32 in the
+// buffer store), or "null". Labels that do not fit D are ignored with a
+// note, not an error: the report still shows the path.
+std::string LabelsJson(const fs::path& labels_file, const Scene& scene, BufferStore* store_out, ReportSummary* summary,
+                       std::vector<std::pair<std::string, std::string>>* artifacts_out) {
+  BufferStore& store = *store_out;
+  std::vector<std::pair<std::string, std::string>>& artifacts = *artifacts_out;
   std::string labels_json = "null";
   if (!labels_file.empty()) {
     try {
@@ -552,6 +547,53 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
       artifacts.emplace_back("labels.h5", "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
     }
   }
+  return labels_json;
+}
+
+}  // namespace
+
+std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& assets, ReportSummary* summary) {
+  ReportSummary local;
+  if (!summary) summary = &local;
+  if (options.scene.empty()) throw InputError("--scene is required");
+  std::vector<std::pair<std::string, std::string>> artifacts;  // name, status (HTML)
+  const ReportFiles files = FindReportFiles(options, summary, &artifacts);
+  const fs::path& path_file = files.path_file;
+  const fs::path& smoothed_file = files.smoothed_file;
+  const fs::path& labels_file = files.labels_file;
+  const fs::path& verdict_file = files.verdict_file;
+  const fs::path& stats_file = files.stats_file;
+  const fs::path& spheres_file = files.spheres_file;
+
+  const Scene scene = LoadScene(options.scene);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  summary->used.push_back("scene: " + options.scene.string());
+
+  std::vector<PathEntry> paths;
+  if (!path_file.empty()) paths.push_back(LoadPath("planned", path_file));
+  if (!smoothed_file.empty()) paths.push_back(LoadPath("smoothed", smoothed_file));
+  const double tolerance = 1e-9 * (1.0 + problem.robot_diagonal);
+  for (PathEntry& e : paths) {
+    if ((e.artifact.dynamic_origin - scene.dynamic_origin).norm() > tolerance) {
+      throw InputErrorAt(e.file.string(), "belongs to another scene: its dynamic_origin " +
+                                              VectorText(e.artifact.dynamic_origin) + " differs from the scene's " +
+                                              VectorText(scene.dynamic_origin));
+    }
+    if (!e.artifact.scene.empty() && e.artifact.scene != scene.name) {
+      summary->notes.push_back(e.file.string() + ": planned for scene '" + e.artifact.scene + "', shown in '" +
+                               scene.name + "'");
+    }
+    e.times = AnimationTimes(e.artifact, scene.dynamic_mesh);
+    summary->used.push_back(e.key + " path: " + e.file.string());
+    artifacts.emplace_back(e.file.filename().string(), "used: " + e.key + " path");
+  }
+  if (!paths.empty()) {
+    const FclCollisionChecker checker(problem.robot, problem.environment);
+    for (PathEntry& e : paths) ComputeClearance(&e, problem, checker, options.clearance_samples);
+  }
+
+  BufferStore store;
+  const std::string labels_json = LabelsJson(labels_file, scene, &store, summary, &artifacts);
   if (!spheres_file.empty()) artifacts.emplace_back("spheres.h5", "present (not shown by this version)");
 
   std::string json_files = "[";
