@@ -132,30 +132,9 @@ int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& comput
 
 int StageDefinition::Run(int argc, char** argv, const std::function<int(const StageRun&)>& compute,
                          const std::function<int(const StageRun&)>& reuse) {
-  try {
-    app_.parse(argc, argv);
-    SetLogLevel(ParseLogLevel(log_level_));
-  } catch (const CLI::Success& e) {
-    return app_.exit(e);  // --help, --version
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (see --help)\n", name_.c_str(), e.what());
-    return kExitBadInput;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), e.what());
-    return kExitBadInput;
-  }
-  try {
-    return RunParsed(compute, reuse);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", name_.c_str(), e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", name_.c_str(), e.what());
-    return kExitInternal;
-  } catch (...) {
-    std::fprintf(stderr, "%s: internal error: unknown exception\n", name_.c_str());
-    return kExitInternal;
-  }
+  const int parsed = ParseStageArguments(name_, app_, argc, argv, log_level_);
+  if (parsed >= 0) return parsed;
+  return RunWithExitCodes(name_, [&] { return RunParsed(compute, reuse); });
 }
 
 }  // namespace ausbau

@@ -9,6 +9,37 @@
 
 namespace ausbau {
 
+int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level) {
+  try {
+    app.parse(argc, argv);
+    SetLogLevel(ParseLogLevel(log_level));
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    return kExitBadInput;
+  }
+  return -1;
+}
+
+int RunWithExitCodes(const std::string& name, const std::function<int()>& work) {
+  try {
+    return work();
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: internal error: %s\n", name.c_str(), e.what());
+    return kExitInternal;
+  } catch (...) {
+    std::fprintf(stderr, "%s: internal error: unknown exception\n", name.c_str());
+    return kExitInternal;
+  }
+}
+
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run) {
   SetLogProgramName(info.name);
@@ -16,31 +47,15 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "error, warn, info or debug (stderr)")->capture_default_str();
   app.set_version_flag("--version", std::string(AUSBAU_VERSION));
-  try {
+  // declare() may throw InputError (a bad default): exit 2 like a bad flag.
+  const int declared = RunWithExitCodes(info.name, [&] {
     declare(app);
-    app.parse(argc, argv);
-    SetLogLevel(ParseLogLevel(log_level));
-  } catch (const CLI::Success& e) {
-    return app.exit(e);  // --help, --version
-  } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (see --help)\n", info.name.c_str(), e.what());
-    return kExitBadInput;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", info.name.c_str(), e.what());
-    return kExitBadInput;
-  }
-  try {
-    return run();
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", info.name.c_str(), e.what());
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", info.name.c_str(), e.what());
-    return kExitInternal;
-  } catch (...) {
-    std::fprintf(stderr, "%s: internal error: unknown exception\n", info.name.c_str());
-    return kExitInternal;
-  }
+    return -1;
+  });
+  if (declared >= 0) return declared;
+  const int parsed = ParseStageArguments(info.name, app, argc, argv, log_level);
+  if (parsed >= 0) return parsed;
+  return RunWithExitCodes(info.name, run);
 }
 
 void AddSceneInputs(const Scene& scene, Provenance* provenance) {

@@ -24,6 +24,14 @@ struct StageInfo {
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run);
 
+// The two halves of every stage's main, shared by RunStage and the
+// declarative runner (cli/stage.h): parse argv (returns the exit code for
+// --help, --version or a bad flag, or -1 to go on), and run the work,
+// mapping exceptions to the documented exit codes (InputError: 2, one line
+// "<name>: error: <what>"; anything else: 1, "internal error").
+int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level);
+int RunWithExitCodes(const std::string& name, const std::function<int()>& work);
+
 // A number in [low, high], with a message that names the range in plain
 // numbers ("must lie in 0 .. 1024, got -1"); for flags whose type would
 // otherwise wrap (-1 as an unsigned seed) or overflow (1e308 seconds).
