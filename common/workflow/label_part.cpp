@@ -6,7 +6,6 @@
 #include <optional>
 
 #include "core/error.h"
-#include "core/hash.h"
 #include "core/log.h"
 #include "labeling/solid_labels.h"
 #include "planning/exact_check.h"
@@ -26,13 +25,14 @@ void LabelPartOptions::Check() const {
   }
 }
 
-LabelsArtifact LabelPart(const Scene& scene, const std::string& spheres_file, const LabelPartOptions& options) {
+LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, const std::string& spheres_file,
+                         const LabelPartOptions& options) {
   options.Check();
   // The spheres must belong to this D: their inputs hold D's content hash.
   SpheresArtifact spheres = ReadSpheresArtifact(spheres_file);
   if (ArtifactReader(spheres_file, kSpheresSchema, kSpheresSchemaVersion)
           .ReadStringAttribute("", "inputs")
-          .find(HashFile(scene.dynamic_file)) == std::string::npos) {
+          .find(dynamic_hash) == std::string::npos) {
     throw InputErrorAt(spheres_file, "computed for another part D (" + scene.dynamic_file.string() +
                                          " has different content); run ausbau-medial-spheres on this scene");
   }

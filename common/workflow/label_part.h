@@ -27,8 +27,10 @@ struct LabelPartOptions {
 };
 
 // The labels of D, from the medial spheres in `spheres_file`
-// (ausbau-medial-spheres; they must belong to this D). Logs which rule
-// labelled it and why.
-LabelsArtifact LabelPart(const Scene& scene, const std::string& spheres_file, const LabelPartOptions& options);
+// (ausbau-medial-spheres; they must belong to this D, whose mesh file has
+// the content hash `dynamic_hash`, as the stage's provenance records it).
+// Logs which rule labelled it and why.
+LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, const std::string& spheres_file,
+                         const LabelPartOptions& options);
 
 }  // namespace ausbau

@@ -36,7 +36,12 @@ void WriteExtras(const LabelStageOptions& options, const Scene& scene, const Lab
 }
 
 int Label(const StageRun& run, const LabelStageOptions& options) {
-  const LabelsArtifact artifact = LabelPart(run.scene, options.spheres, options.label);
+  // D's content hash: hashed once, by the runner, for the provenance.
+  std::string dynamic_hash;
+  for (const auto& [role, hash] : run.provenance.inputs) {
+    if (role == "dynamic") dynamic_hash = hash;
+  }
+  const LabelsArtifact artifact = LabelPart(run.scene, dynamic_hash, options.spheres, options.label);
   WriteLabelsArtifact(run.output, artifact, run.provenance);
   LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
   WriteExtras(options, run.scene, artifact);
