@@ -11,33 +11,34 @@
 
 namespace ausbau {
 
-StageDefinition::StageDefinition(std::string name, std::string description)
-    : name_(std::move(name)), app_(std::move(description), name_) {
+StageDefinition::StageDefinition(const StageSpec& spec)
+    : name_(spec.name), app_(spec.description, name_), scene_hash_(spec.scene) {
   SetLogProgramName(name_);
   app_.add_option("--log-level", log_level_, "error, warn, info or debug (stderr)")->capture_default_str();
   app_.set_version_flag("--version", std::string(AUSBAU_VERSION));
   app_.add_flag("--validate", validate_,
                 "check the options and inputs, print the resolved options and the provenance hash, do no work");
   not_in_cache_key_.insert("validate");
-}
-
-void StageDefinition::SceneInput(SceneHash what, std::string* path) {
-  scene_path_ = path;
-  scene_hash_ = what;
-  app_.add_option("--scene", *path, "scene.yaml")->required();
+  app_.add_option("--scene", scene_path_, "scene.yaml")->required();
   not_in_cache_key_.insert("scene");  // its content is hashed instead
+  if (spec.output.file) {
+    has_output_ = true;
+    output_ = spec.output.file;
+    output_schema_ = spec.output.schema;
+    output_schema_version_ = spec.output.schema_version;
+    app_.add_option("-o,--output", output_, "output artifact (HDF5, schema " + output_schema_ + ")")
+        ->capture_default_str();
+    app_.add_flag("--force", force_, "compute even when the output is up to date");
+    not_in_cache_key_.insert("output");
+    not_in_cache_key_.insert("force");
+  }
 }
 
-void StageDefinition::Output(std::string* path, const std::string& default_file, std::string schema,
-                             int schema_version) {
-  output_ = path;
-  *path = default_file;
-  output_schema_ = std::move(schema);
-  output_schema_version_ = schema_version;
-  app_.add_option("-o,--output", *path, "output artifact (HDF5, schema " + output_schema_ + ")")->capture_default_str();
-  app_.add_flag("--force", force_, "compute even when the output is up to date");
-  not_in_cache_key_.insert("output");
-  not_in_cache_key_.insert("force");
+std::string StageRun::DynamicMeshHash() const {
+  for (const auto& [role, hash] : provenance.inputs) {
+    if (role == "dynamic") return hash;
+  }
+  return std::string();
 }
 
 CLI::Option* StageDefinition::InputFile(const std::string& flags, std::string* path, const std::string& role,
@@ -54,6 +55,11 @@ CLI::Option* StageDefinition::InputArtifact(const std::string& flags, std::strin
   inputs_.back().schema = std::move(schema);
   inputs_.back().schema_version = schema_version;
   return option;
+}
+
+CLI::Option* StageDefinition::ExtraOutput(const std::string& flags, std::string* path, const std::string& help) {
+  extra_outputs_.push_back(path);
+  return Option(flags, path, help, CacheKey::kNo);
 }
 
 CLI::Option* StageDefinition::Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key) {
@@ -78,12 +84,10 @@ std::string StageDefinition::OptionsText() const {
 
 Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   Provenance provenance{name_, AUSBAU_VERSION, OptionsText(), {}};
-  if (scene_path_) {
-    if (scene_hash_ == SceneHash::kWholeScene) {
-      AddSceneInputs(scene, &provenance);
-    } else {
-      provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
-    }
+  if (scene_hash_ == SceneHash::kWholeScene) {
+    AddSceneInputs(scene, &provenance);
+  } else {
+    provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
   }
   for (const InputFileSpec& input : inputs_) {
     if (input.path->empty()) continue;
@@ -104,27 +108,25 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
 int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& compute,
                                const std::function<int(const StageRun&)>& reuse) {
   if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
-  const struct Scene scene = scene_path_ ? LoadScene(*scene_path_) : ausbau::Scene{};
+  const struct Scene scene = LoadScene(scene_path_);
   const Provenance provenance = MakeProvenance(scene);
-  static const std::string no_output;
-  const StageRun run{scene, output_ ? *output_ : no_output, provenance};
+  const StageRun run{scene, scene_path_, output_, provenance};
   if (validate_) {
     std::printf("%s: the options and inputs are valid\n", name_.c_str());
     std::printf("options (cache key):\n%s", provenance.parameters_yaml.c_str());
     std::printf("inputs:\n");
     for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
     std::printf("provenance hash: %s\n", provenance.Hash().c_str());
-    if (output_) {
-      const bool current =
-          ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash();
-      std::printf("output %s: %s\n", output_->c_str(), current ? "up to date" : "would be computed");
+    if (has_output_) {
+      const bool current = ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash();
+      std::printf("output %s: %s\n", output_.c_str(), current ? "up to date" : "would be computed");
     }
     return kExitOk;
   }
-  if (output_ && !force_ &&
-      ExistingProvenanceHash(*output_, output_schema_, output_schema_version_) == provenance.Hash()) {
+  if (has_output_ && !force_ &&
+      ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash()) {
     if (reuse) return reuse(run);
-    LogInfo("%s is up to date (same inputs and options); use --force to compute again", output_->c_str());
+    LogInfo("%s is up to date (same inputs and options); use --force to compute again", output_.c_str());
     return kExitOk;
   }
   return compute(run);

@@ -12,10 +12,11 @@
 // and the cache short-circuit: when the output's recorded provenance equals
 // this run's, the stage's work is skipped (its `reuse` step runs instead).
 //
-// A main then reads:
-//   StageDefinition stage("ausbau-voxelize", "Voxelizes ...");
-//   stage.SceneInput(SceneHash::kWholeScene, &options.scene);
-//   stage.Output(&options.output, "voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion);
+// A stage's main.cpp then starts with what the stage is, in one constant:
+//   constexpr StageSpec kVoxelizeStage{"ausbau-voxelize", "Voxelizes ...", SceneHash::kWholeScene,
+//                                      {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
+// and its main declares the options and runs:
+//   StageDefinition stage(kVoxelizeStage);
 //   stage.Option("--voxel-size", &options.voxel_size, "voxel edge ...", CacheKey::kYes);
 //   stage.Threads(&options.threads);
 //   return stage.Run(argc, argv, [&](const StageRun& run) { return Voxelize(run, options); });
@@ -40,29 +41,45 @@ namespace ausbau {
 // else is written (kNo: --csv, --threads, file names already hashed).
 enum class CacheKey { kYes, kNo };
 
-// What of the scene the output depends on.
+// What of the scene (--scene, required) the output depends on.
 enum class SceneHash {
   kWholeScene,   // scene.yaml, every static mesh file, D's mesh file
   kDynamicMesh,  // only D's mesh file (e.g. the medial spheres)
 };
 
-// What the runner hands to the stage's work: the loaded scene, the output
-// file and the provenance to record in it.
+// What a stage is: its name, its line for --help, the scene it reads and
+// the artifact it writes (-o/--output, with the schema the cache check and
+// --validate read it by; no output file: the stage writes no artifact,
+// only files named by ExtraOutput).
+struct StageSpec {
+  const char* name;         // "ausbau-plan"
+  const char* description;  // one line for --help
+  SceneHash scene;
+  struct Artifact {
+    const char* file = nullptr;  // the default of -o
+    const char* schema = nullptr;
+    int schema_version = 0;
+  } output;
+};
+
+// What the runner hands to the stage's work: the loaded scene (and the file
+// it came from), the output file and the provenance to record in it.
 struct StageRun {
   const Scene& scene;
+  const std::string& scene_file;
   const std::string& output;
   const Provenance& provenance;
+  // D's mesh content hash as the provenance records it ("" without a scene).
+  std::string DynamicMeshHash() const;
 };
 
 class StageDefinition {
  public:
-  StageDefinition(std::string name, std::string description);
+  explicit StageDefinition(const StageSpec& spec);
 
-  // --scene (required): loaded by the runner and hashed per `what`.
-  void SceneInput(SceneHash what, std::string* path);
-  // -o/--output: the artifact the stage writes, with the schema the cache
-  // check and --validate read it by.
-  void Output(std::string* path, const std::string& default_file, std::string schema, int schema_version);
+  // A further file the stage writes besides its artifact (--csv, --ply, a
+  // profile): never part of the cache key; empty = not written.
+  CLI::Option* ExtraOutput(const std::string& flags, std::string* path, const std::string& help);
   // An input file, hashed into the provenance under `role` where given.
   CLI::Option* InputFile(const std::string& flags, std::string* path, const std::string& role, const std::string& help);
   // An input artifact: its schema is checked (also by --validate), and its
@@ -114,9 +131,11 @@ class StageDefinition {
   bool validate_ = false;
   bool force_ = false;
   int* threads_ = nullptr;
-  std::string* scene_path_ = nullptr;
+  std::string scene_path_;
   SceneHash scene_hash_ = SceneHash::kWholeScene;
-  std::string* output_ = nullptr;
+  bool has_output_ = false;  // the stage writes an artifact
+  std::string output_;
+  std::vector<std::string*> extra_outputs_;
   std::string output_schema_;
   int output_schema_version_ = 0;
   std::vector<InputFileSpec> inputs_;

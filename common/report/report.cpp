@@ -552,26 +552,14 @@ std::string LabelsJson(const fs::path& labels_file, const Scene& scene, BufferSt
 
 }  // namespace
 
-std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& assets, ReportSummary* summary) {
-  ReportSummary local;
-  if (!summary) summary = &local;
-  if (options.scene.empty()) throw InputError("--scene is required");
-  std::vector<std::pair<std::string, std::string>> artifacts;  // name, status (HTML)
-  const ReportFiles files = FindReportFiles(options, summary, &artifacts);
-  const fs::path& path_file = files.path_file;
-  const fs::path& smoothed_file = files.smoothed_file;
-  const fs::path& labels_file = files.labels_file;
-  const fs::path& verdict_file = files.verdict_file;
-  const fs::path& stats_file = files.stats_file;
-  const fs::path& spheres_file = files.spheres_file;
-
-  const Scene scene = LoadScene(options.scene);
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  summary->used.push_back("scene: " + options.scene.string());
-
+// The planned and smoothed paths of the run, checked to belong to `scene`,
+// with their animation times and clearance along them.
+std::vector<PathEntry> LoadReportPaths(const ReportFiles& files, const Scene& scene, const PlanningProblem& problem,
+                                       int clearance_samples, ReportSummary* summary,
+                                       std::vector<std::pair<std::string, std::string>>* artifacts) {
   std::vector<PathEntry> paths;
-  if (!path_file.empty()) paths.push_back(LoadPath("planned", path_file));
-  if (!smoothed_file.empty()) paths.push_back(LoadPath("smoothed", smoothed_file));
+  if (!files.path_file.empty()) paths.push_back(LoadPath("planned", files.path_file));
+  if (!files.smoothed_file.empty()) paths.push_back(LoadPath("smoothed", files.smoothed_file));
   const double tolerance = 1e-9 * (1.0 + problem.robot_diagonal);
   for (PathEntry& e : paths) {
     if ((e.artifact.dynamic_origin - scene.dynamic_origin).norm() > tolerance) {
@@ -585,54 +573,47 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
     }
     e.times = AnimationTimes(e.artifact, scene.dynamic_mesh);
     summary->used.push_back(e.key + " path: " + e.file.string());
-    artifacts.emplace_back(e.file.filename().string(), "used: " + e.key + " path");
+    artifacts->emplace_back(e.file.filename().string(), "used: " + e.key + " path");
   }
   if (!paths.empty()) {
     const FclCollisionChecker checker(problem.robot, problem.environment);
-    for (PathEntry& e : paths) ComputeClearance(&e, problem, checker, options.clearance_samples);
+    for (PathEntry& e : paths) ComputeClearance(&e, problem, checker, clearance_samples);
   }
+  return paths;
+}
 
-  BufferStore store;
-  const std::string labels_json = LabelsJson(labels_file, scene, &store, summary, &artifacts);
-  if (!spheres_file.empty()) artifacts.emplace_back("spheres.h5", "present (not shown by this version)");
-
+// verdict.json and stats.json as they are, for the page's tables; an
+// unreadable one is noted and left out.
+std::string JsonFilesJson(const ReportFiles& files, ReportSummary* summary,
+                          std::vector<std::pair<std::string, std::string>>* artifacts) {
   std::string json_files = "[";
-  for (const auto& [name, file] : {std::pair<std::string, fs::path>{"verdict", verdict_file}, {"stats", stats_file}}) {
+  for (const auto& [name, file] :
+       {std::pair<std::string, fs::path>{"verdict", files.verdict_file}, {"stats", files.stats_file}}) {
     if (file.empty()) continue;
     std::string text;
     try {
       text = ReadTextFile(file);
     } catch (const InputError& e) {
       summary->notes.push_back(e.what());
-      artifacts.emplace_back(file.filename().string(),
-                             "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
+      artifacts->emplace_back(file.filename().string(),
+                              "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
       continue;
     }
     json_files += (json_files.size() > 1 ? "," : "") +
                   ("{\"name\":" + JsonString(name) + ",\"file\":" + JsonString(file.string()) +
                    ",\"text\":" + JsonString(text) + "}");
     summary->used.push_back(name + ": " + file.string());
-    artifacts.emplace_back(file.filename().string(), "used: shown as a table");
+    artifacts->emplace_back(file.filename().string(), "used: shown as a table");
   }
-  json_files += "]";
+  return json_files + "]";
+}
 
-  // Geometry: S in world coordinates; D relative to the reference point, so
-  // that float32 keeps D's detail however far its mesh origin is.
-  const std::string static_json = MeshJson(scene.static_mesh, Eigen::Vector3d::Zero(), &store);
-  const std::string dynamic_json = MeshJson(scene.dynamic_mesh, problem.reference_point, &store);
-
-  std::string paths_json = "[";
-  for (std::size_t i = 0; i < paths.size(); ++i) paths_json += (i ? "," : "") + PathJson(paths[i]);
-  paths_json += "]";
-
-  const std::string data =
-      "{\"format\":\"ausbau-report/1\",\"scene\":{\"name\":" + JsonString(scene.name) +
-      ",\"units\":" + JsonString(scene.units) + ",\"dynamic_origin\":" + JsonVector(scene.dynamic_origin) +
-      ",\"start\":" + JsonPose(scene.start) + ",\"goal\":" + (scene.goal ? JsonPose(*scene.goal) : "null") +
-      "},\"static\":" + static_json + ",\"dynamic\":" + dynamic_json +
-      ",\"dynamic_shift\":" + JsonVector(problem.reference_point) + ",\"paths\":" + paths_json +
-      ",\"labels\":" + labels_json + ",\"json_files\":" + json_files + "}";
-
+// What the page shows, as the page: header, 3D view and its controls, the
+// plot, the tables; `data` is the JSON the viewer script reads.
+std::string ReportPageHtml(const ReportOptions& options, const ReportAssets& assets, const Scene& scene,
+                           const PlanningProblem& problem, const std::vector<PathEntry>& paths,
+                           const std::vector<std::pair<std::string, std::string>>& artifacts, const std::string& data,
+                           const BufferStore& store) {
   std::ostringstream html;
   html << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
        << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
@@ -684,6 +665,43 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
   html << store.Html();
   html << "<script type=\"module\">\n" << ScriptSafe(assets.viewer) << "\n</script>\n</body>\n</html>\n";
   return html.str();
+}
+
+std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& assets, ReportSummary* summary) {
+  ReportSummary local;
+  if (!summary) summary = &local;
+  if (options.scene.empty()) throw InputError("--scene is required");
+  std::vector<std::pair<std::string, std::string>> artifacts;  // name, status (HTML)
+  const ReportFiles files = FindReportFiles(options, summary, &artifacts);
+
+  const Scene scene = LoadScene(options.scene);
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  summary->used.push_back("scene: " + options.scene.string());
+  const std::vector<PathEntry> paths =
+      LoadReportPaths(files, scene, problem, options.clearance_samples, summary, &artifacts);
+
+  BufferStore store;
+  const std::string labels_json = LabelsJson(files.labels_file, scene, &store, summary, &artifacts);
+  if (!files.spheres_file.empty()) artifacts.emplace_back("spheres.h5", "present (not shown by this version)");
+  const std::string json_files = JsonFilesJson(files, summary, &artifacts);
+
+  // Geometry: S in world coordinates; D relative to the reference point, so
+  // that float32 keeps D's detail however far its mesh origin is.
+  const std::string static_json = MeshJson(scene.static_mesh, Eigen::Vector3d::Zero(), &store);
+  const std::string dynamic_json = MeshJson(scene.dynamic_mesh, problem.reference_point, &store);
+
+  std::string paths_json = "[";
+  for (std::size_t i = 0; i < paths.size(); ++i) paths_json += (i ? "," : "") + PathJson(paths[i]);
+  paths_json += "]";
+  const std::string data =
+      "{\"format\":\"ausbau-report/1\",\"scene\":{\"name\":" + JsonString(scene.name) +
+      ",\"units\":" + JsonString(scene.units) + ",\"dynamic_origin\":" + JsonVector(scene.dynamic_origin) +
+      ",\"start\":" + JsonPose(scene.start) + ",\"goal\":" + (scene.goal ? JsonPose(*scene.goal) : "null") +
+      "},\"static\":" + static_json + ",\"dynamic\":" + dynamic_json +
+      ",\"dynamic_shift\":" + JsonVector(problem.reference_point) + ",\"paths\":" + paths_json +
+      ",\"labels\":" + labels_json + ",\"json_files\":" + json_files + "}";
+
+  return ReportPageHtml(options, assets, scene, problem, paths, artifacts, data, store);
 }
 
 // -------------------------------------------------------------- markdown

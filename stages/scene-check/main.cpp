@@ -11,8 +11,11 @@
 namespace ausbau {
 namespace {
 
+constexpr StageSpec kSceneCheckStage{
+    "ausbau-scene-check", "Prints what a scene contains and what in it is suspicious (units, poses, meshes).",
+    SceneHash::kWholeScene};
+
 struct SceneCheckOptions {
-  std::string scene;
   std::string json;     // empty: no JSON file
   bool strict = false;  // exit 1 when any finding is a warning
 };
@@ -33,10 +36,8 @@ int Check(const StageRun& run, const SceneCheckOptions& options) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   SceneCheckOptions options;
-  StageDefinition stage("ausbau-scene-check",
-                        "Prints what a scene contains and what in it is suspicious (units, poses, meshes).");
-  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
-  stage.Option("--json", &options.json, "also write the summary and the findings as JSON (atomically)", CacheKey::kNo);
+  StageDefinition stage(kSceneCheckStage);
+  stage.ExtraOutput("--json", &options.json, "also write the summary and the findings as JSON (atomically)");
   stage.Flag("--strict", &options.strict, "exit 1 when any finding is a warning", CacheKey::kNo);
   return stage.Run(argc, argv, [&](const StageRun& run) { return Check(run, options); });
 }

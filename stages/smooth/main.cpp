@@ -3,7 +3,7 @@
 // work is workflow/smooth_path.h; see README.md beside this file.
 #include <filesystem>
 
-#include "cli/stage.h"
+#include "cli/stage_options.h"
 #include "core/log.h"
 #include "planning/path_io.h"
 #include "workflow/path_profile.h"
@@ -12,10 +12,14 @@
 namespace ausbau {
 namespace {
 
+constexpr StageSpec kSmoothStage{
+    "ausbau-smooth",
+    "Shortens a planned path by shortcuts that keep it valid (collision-free, or within its InIState volume).",
+    SceneHash::kWholeScene,
+    {"path-smooth.h5", kPathSchema, kPathSchemaVersion}};
+
 struct SmoothStageOptions {
-  std::string scene;
   std::string path;
-  std::string output;
   std::string csv;
   std::string profile;  // intersection and clearance profile (CSV)
   SmoothPlannedPathOptions smooth;
@@ -58,29 +62,13 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   SmoothStageOptions options;
-  SmoothOptions& smooth = options.smooth.smooth;
-  VolumeInputs& volume = options.smooth.volume;
-  StageDefinition stage(
-      "ausbau-smooth",
-      "Shortens a planned path by shortcuts that keep it valid (collision-free, or within its InIState volume).");
-  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
+  StageDefinition stage(kSmoothStage);
   stage.InputFile("--path", &options.path, "path", "path artifact from ausbau-plan")->required();
-  stage.Seed(&smooth.seed);
-  stage.Option("--attempts", &smooth.attempts, "shortcut attempts, 0 = automatic", CacheKey::kYes);
-  stage.Option("--time-limit", &smooth.time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
-  stage.Option("--resolution", &smooth.resolution, "edge check step as a fraction of D's AABB diagonal",
-               CacheKey::kYes);
-  stage.Output(&options.output, "path-smooth.h5", kPathSchema, kPathSchemaVersion);
-  stage.Option("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)", CacheKey::kNo);
-  stage.Option("--profile", &options.profile, "also write the intersection and clearance profile along the path (CSV)",
-               CacheKey::kNo);
-  stage.InputFile("--voxels", &volume.voxels, "voxels",
-                  "InIState paths: voxels they were planned with (ausbau-voxelize); default: voxelized here");
-  stage.InputFile("--labels", &volume.labels, "labels", "InIState paths: labels of D (the labeled modes)");
-  stage.Option("--rigid-tolerance", &volume.rigid_tolerance_mm,
-               "rigid-exact paths, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in mm "
-               "(scene units converted)",
-               CacheKey::kYes);
+  stage.ExtraOutput("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
+  stage.ExtraOutput("--profile", &options.profile,
+                    "also write the intersection and clearance profile along the path (CSV)");
+  AddSmoothOptions(stage, &options.smooth.smooth);
+  AddVolumeInputOptions(stage, &options.smooth.volume);
   return stage.Run(
       argc, argv, [&](const StageRun& run) { return Smooth(run, options); },
       [&](const StageRun& run) { return Reuse(run, options); });

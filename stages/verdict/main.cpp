@@ -9,14 +9,22 @@
 #include "core/atomic_file.h"
 #include "workflow/verdict.h"
 
+namespace ausbau {
+namespace {
+
+// No artifact: the verdict is JSON (-o), always written anew.
+constexpr StageSpec kVerdictStage{"ausbau-verdict",
+                                  "Says whether D is removable and summarizes an InIState run as verdict.json.",
+                                  SceneHash::kWholeScene};
+
+}  // namespace
+}  // namespace ausbau
+
 int main(int argc, char** argv) {
   using namespace ausbau;
-  std::string scene;
   std::string output = "verdict.json";
   VerdictInputs inputs;
-  StageDefinition stage("ausbau-verdict",
-                        "Says whether D is removable and summarizes an InIState run as verdict.json.");
-  stage.SceneInput(SceneHash::kWholeScene, &scene);
+  StageDefinition stage(kVerdictStage);
   stage.InputFile("--path", &inputs.path, "path", "the final path artifact (ausbau-path), e.g. path-smooth.h5")
       ->required();
   stage.InputFile("--tau-file", &inputs.tau, "tau", "tau artifact (ausbau-tau-estimate)");
@@ -28,7 +36,7 @@ int main(int argc, char** argv) {
                "the path's CSV file: checked exactly as written (plain interpolation) and recorded", CacheKey::kNo);
   stage.Option("--rigid-tolerance", &inputs.rigid_tolerance_mm,
                "how deep D's rigid part may touch into S along the path, in mm (scene units converted)", CacheKey::kNo);
-  stage.Option("-o,--output", &output, "verdict (JSON, schemas/verdict.md)", CacheKey::kNo);
+  stage.ExtraOutput("-o,--output", &output, "verdict (JSON, schemas/verdict.md)");
   return stage.Run(argc, argv, [&](const StageRun& run) {
     if (!std::isfinite(inputs.budget)) throw InputError("--budget: must be a finite number");
     const Verdict verdict = JudgeRun(run.scene, inputs);

@@ -11,9 +11,13 @@
 namespace ausbau {
 namespace {
 
+constexpr StageSpec kVoxelizeStage{
+    "ausbau-voxelize",
+    "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV).",
+    SceneHash::kWholeScene,
+    {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
+
 struct VoxelizeStageOptions {
-  std::string scene;
-  std::string output;
   double memory_limit_gib = 2.0;
   int threads = 0;
   VoxelizeOptions voxelize;
@@ -51,10 +55,7 @@ int Voxelize(const StageRun& run, VoxelizeStageOptions options) {
 int main(int argc, char** argv) {
   using namespace ausbau;
   VoxelizeStageOptions options;
-  StageDefinition stage("ausbau-voxelize",
-                        "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV).");
-  stage.SceneInput(SceneHash::kWholeScene, &options.scene);
-  stage.Output(&options.output, "voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion);
+  StageDefinition stage(kVoxelizeStage);
   stage.Option("--voxel-size", &options.voxelize.voxel_size,
                "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)", CacheKey::kYes);
   stage.Option("--voxel-budget", &options.voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB",

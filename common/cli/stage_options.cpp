@@ -1,0 +1,144 @@
+#include "cli/stage_options.h"
+
+#include "core/hash.h"
+
+namespace ausbau {
+
+void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
+  stage.Option("--planner", &planner->planner,
+               "rrt | rrtc | cr-rrtc | est | prm; auto = cr-rrtc, or est for sigma_1 in volume modes", CacheKey::kYes);
+  stage.Option("--sampler", &planner->sampler, "uniform | gaussian | bridge | mixed", CacheKey::kYes);
+  stage.Option("--sigma", &planner->sampler_sigma,
+               "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)", CacheKey::kYes);
+  stage.Threads(&planner->threads);
+  stage.Seed(&planner->seed);
+  stage.Option("--time-limit", &planner->time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
+  stage.Option("--max-iterations", &planner->max_iterations, "0 = unlimited", CacheKey::kYes);
+  stage.Option("--u", &planner->u, "rrtc: metric weight of translation, (0, 1)", CacheKey::kYes);
+  stage.Option("--range-max", &planner->range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
+  stage.Option("--resolution", &planner->resolution, "edge check step as a fraction of D's AABB diagonal",
+               CacheKey::kYes);
+}
+
+void AddVolumeInputOptions(StageDefinition& stage, VolumeInputs* volume) {
+  stage.InputFile("--voxels", &volume->voxels, "voxels",
+                  "volume modes: voxels of S and D (ausbau-voxelize); default: voxelized here");
+  stage.InputFile("--labels", &volume->labels, "labels", "labels of D (ausbau-pbd-label); needed by the labeled modes");
+  stage.Option("--rigid-tolerance", &volume->rigid_tolerance_mm,
+               "rigid-exact, and labeled-mliv's rigid guard: how deep D's rigid part may touch into S, in mm "
+               "(converted by the scene's units)",
+               CacheKey::kYes);
+}
+
+void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
+  AddPlannerOptions(stage, &plan->planner);
+  stage
+      .Option("--collision", &plan->collision, "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)",
+              CacheKey::kYes)
+      ->check(CLI::IsMember({"fcl", "farr"}));
+  stage
+      .Option("--validity", &plan->validity,
+              "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
+              "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
+              CacheKey::kYes)
+      ->check(CLI::IsMember(PlanValidityNames()));
+  AddVolumeInputOptions(stage, &plan->volume);
+  stage.app()
+      .add_option("--tau", plan->tau,
+                  "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")
+      ->check(NonNegative());
+  stage.InputFile("--tau-file", &plan->tau_file, "tau", "tau and psi from ausbau-tau-estimate (HDF5)");
+  stage.app().add_option("--psi", plan->psi,
+                         "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+  stage.Option("--rigid-planner", &plan->rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
+               CacheKey::kYes);
+  stage.Option("--distfield", &plan->distfield,
+               "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused through the "
+               "cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)",
+               CacheKey::kNo);
+  // The two distance-field files, by content (one option names both).
+  stage.AddInputs([plan](Provenance* provenance) {
+    const std::vector<std::string> distfield = DistfieldPaths(*plan);
+    if (distfield.empty()) return;
+    provenance->inputs.emplace_back("distfield-static", HashFile(distfield[0]));
+    provenance->inputs.emplace_back("distfield-dynamic", HashFile(distfield[1]));
+  });
+  stage.Flag("!--no-verify", &plan->verify, "skip the dense re-check of the result", CacheKey::kNo);
+}
+
+void AddSmoothOptions(StageDefinition& stage, SmoothOptions* smooth) {
+  stage.Seed(&smooth->seed);
+  stage.Option("--attempts", &smooth->attempts, "shortcut attempts, 0 = automatic", CacheKey::kYes);
+  stage.Option("--time-limit", &smooth->time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
+  stage.Option("--resolution", &smooth->resolution, "edge check step as a fraction of D's AABB diagonal",
+               CacheKey::kYes);
+}
+
+void AddTauEstimateOptions(StageDefinition& stage, TauEstimateOptions* estimate) {
+  stage.Seed(&estimate->planner.seed);
+  stage.Option("--time-limit", &estimate->planner.time_limit_s, "seconds per planning round", CacheKey::kYes)
+      ->check(TimeLimit());
+  stage.Option("--planner", &estimate->planner.planner, "local planner of sigma_1 (est, rrt, cr-rrtc, ...)",
+               CacheKey::kYes);
+  stage.Option("--initial-speed", &estimate->initial_speed, "s_init, nodes per reference second", CacheKey::kYes);
+  stage.Option("--speed-step", &estimate->speed_step, "delta_2: target speed increase after a failed round",
+               CacheKey::kYes);
+  stage.Option("--rounds", &estimate->max_rounds, "planning rounds at most", CacheKey::kYes);
+  stage.Option("--probe-attempts", &estimate->probe_attempts, "expansion attempts per speed probe", CacheKey::kYes);
+  stage.Threads(&estimate->threads);
+}
+
+void AddPartSpheresOptions(StageDefinition& stage, PartSpheresOptions* options) {
+  MedialSphereOptions* spheres = &options->spheres;
+  stage.Threads(&spheres->threads);
+  stage.Option("--delta", &spheres->delta, "start offset inside, fraction of D's AABB diagonal", CacheKey::kYes);
+  stage.Option("--push-factor", &spheres->step, "push factor eps while growing, in (0, 1)", CacheKey::kYes);
+  stage.Option("--cooling-iterations", &spheres->cooling_iterations,
+               "cooling iterations (eps falls linearly to push factor / iterations)", CacheKey::kYes);
+  stage.Option("--growth-iterations", &spheres->growth_iterations,
+               "at most this many iterations at eps = push factor while the sphere grows; 0 = cool from the start",
+               CacheKey::kYes);
+  AddRenamedFlag(stage.app(), "--step", "--push-factor");
+  AddRenamedFlag(stage.app(), "--iterations", "--cooling-iterations");
+  stage.Option("--weld-tolerance", &options->weld_tolerance,
+               "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
+}
+
+void AddLabelPartOptions(StageDefinition& stage, LabelPartOptions* label) {
+  PbdLabelOptions& pbd = label->pbd;
+  stage.Option("--rule", &label->rule,
+               "auto: by solids where D is made of closed solids whose installed intersections with S are measured, "
+               "else PBD | solids | pbd (the thesis's simulation)",
+               CacheKey::kYes);
+  stage.Option("--rigid-tolerance", &label->rigid_tolerance_mm,
+               "solid rule: a solid intersecting S deeper than this (mm) at the installed pose is a fastener",
+               CacheKey::kYes);
+  stage.Threads(&pbd.threads);
+  stage.Option("--measure", &pbd.measure, "sum (thesis: displacements summed over all load cases) | self",
+               CacheKey::kYes);
+  stage.Option("--max-load-cases", &pbd.max_load_cases,
+               "sum: load at most this many well-spread vertices, weighted by the area each stands for; 0 = every "
+               "vertex",
+               CacheKey::kYes);
+  stage.Option("--kappa", &pbd.kappa, "load sigma = kappa x r_min", CacheKey::kYes);
+  stage.Option("--density", &pbd.density, "rho in the scaled mesh; 0 = automatic (resolution-independent)",
+               CacheKey::kYes);
+  stage.Option("--time-step", &pbd.time_step, "seconds", CacheKey::kYes);
+  stage.Option("--duration", &pbd.duration, "simulated seconds per load case", CacheKey::kYes);
+  stage.Option("--solver-iterations", &pbd.solver_iterations, "solver iterations N per step", CacheKey::kYes);
+  AddRenamedFlag(stage.app(), "--iterations", "--solver-iterations");
+  stage.Option("--stiffness", &pbd.stiffness, "k", CacheKey::kYes);
+  stage.Option("--stiffness-formula", &pbd.stiffness_formula, "thesis: k' = 1-(1-k)^N | mueller: k' = 1-(1-k)^(1/N)",
+               CacheKey::kYes);
+  stage.Option("--damping", &pbd.damping, "velocity factor per step", CacheKey::kYes);
+  stage.Flag("!--no-bending", &pbd.bending, "no bending constraints", CacheKey::kYes);
+  stage.Flag("!--no-thickness", &pbd.thickness, "masses without the sphere diameters (mean diameter)", CacheKey::kYes);
+  stage.Flag("!--no-glue", &pbd.glue, "do not tie separate components that touch or overlap", CacheKey::kYes);
+  stage.Option("--glue-tolerance", &pbd.glue_tolerance, "touching: closer than this fraction of D's diagonal",
+               CacheKey::kYes);
+  stage.Option("--refine", &pbd.refine, "split edges longer than this many local diameters; 0 = off", CacheKey::kYes);
+  stage.Option("--weld-tolerance", &label->weld_tolerance,
+               "weld vertices closer than this fraction of D's AABB diagonal", CacheKey::kYes);
+}
+
+}  // namespace ausbau
