@@ -93,6 +93,17 @@ batch: build
 test: build deps-browser
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# The unit tests built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (in $(SANITIZE_BUILD), apart from the release build); any finding fails.
+# Part of .ci/run.
+SANITIZE_BUILD ?= build-sanitize
+.PHONY: test-sanitize
+test-sanitize: deps
+	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUSBAU_SANITIZE=ON > /dev/null
+	@cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target unit-tests
+	@cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest -L unit --output-on-failure -j $(JOBS)
+
 # Chromium for the report's browser test; without it (no root, no apt) that
 # test is skipped, so this never fails the test run.
 .PHONY: deps-browser
@@ -119,7 +130,7 @@ study: bench-build
 	@echo "study: $(STUDY_OUT)/study-summary.md (printed above), study-<scene>.csv and heat maps study-<scene>.svg"
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) $(SANITIZE_BUILD) out
 
 # FARR against plain FCL (thesis 4.3: sample sets, detection rate, collision
 # time, whole planning with the distance-field build) on alpha-1.2, alpha-1.5,
@@ -128,6 +139,16 @@ clean:
 # OMPL).
 BENCH_FARR_OUT ?= out/bench-farr
 BENCH_FARR_ARGS ?=
+
+# Path quality (docs/planning.md "Smoothing"): every generated family with a
+# known path, PATHS_SEEDS seeds each, through the InIState pipeline; the
+# smoothed path's translation and rotation against the known path's
+# (scripts/path-quality-bench.sh). About 3-6 min on 2 cores.
+PATHS_OUT ?= out/bench-paths
+PATHS_SEEDS ?= 1 2 3 4
+.PHONY: bench-paths
+bench-paths: build
+	@scripts/path-quality-bench.sh $(abspath $(BUILD)/bin) $(PATHS_OUT) "$(PATHS_SEEDS)"
 
 .PHONY: bench-farr
 bench-farr: configure

@@ -1,10 +1,15 @@
 #include "planning/smoother.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <optional>
 
 #include "core/error.h"
 #include "core/random.h"
+#include "planning/planner.h"
 
 namespace ausbau {
 
@@ -24,12 +29,250 @@ PathLength MeasurePath(const PlanningProblem& problem, const std::vector<Pose>& 
   return length;
 }
 
+std::optional<Pose> StraightExitPose(const PlanningProblem& problem, const Pose& from, Eigen::Vector3d direction) {
+  if (!(direction.norm() > 1e-12)) return std::nullopt;
+  direction.normalize();
+  const Aabb box = problem.RobotBoxAt(from);
+  const Aabb& env = problem.environment_box;
+  double needed = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    const double d = direction[axis];
+    if (std::abs(d) < 1e-9) continue;
+    const double gap = d > 0 ? env.max[axis] - box.min[axis] : box.max[axis] - env.min[axis];
+    needed = std::min(needed, std::max(0.0, gap) / std::abs(d));
+  }
+  if (!std::isfinite(needed)) return std::nullopt;
+  Pose end = from;
+  end.t += (needed + 0.01 * problem.robot_diagonal) * direction;
+  if (!problem.InBounds(end) || !problem.InGoalRegion(end)) return std::nullopt;
+  return end;
+}
+
 namespace {
 
 double SegmentCost(const PlanningProblem& problem, const std::vector<Pose>& path, std::size_t from, std::size_t to) {
   double cost = 0;
   for (std::size_t i = from; i < to; ++i) cost += problem.metric.Distance(path[i], path[i + 1], 0.5);
   return cost;
+}
+
+// Where the path is a disassembly (no goal pose), its end may move: any
+// pose in the goal region will do.
+bool EndIsFree(const PlanningProblem& problem) { return !problem.goal.has_value(); }
+
+// The 26 directions of a 3x3x3 grid's neighbours: the axes, the face and
+// the space diagonals (CAD parts leave along these far more often than not).
+std::vector<Eigen::Vector3d> AxisDirections() {
+  std::vector<Eigen::Vector3d> directions;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        if (x != 0 || y != 0 || z != 0) directions.emplace_back(x, y, z);
+      }
+    }
+  }
+  return directions;
+}
+
+// Step 2: of 64 points evenly spread along the path (by its metric
+// length), the one from which one straight translation leaves S and makes
+// the whole path shortest. Directions: the axes and diagonals, the way to
+// the current end, and the path's own direction there. A candidate is
+// motion-checked only when it would beat the best so far, so blocked
+// directions cost little.
+void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, SmoothResult* result) {
+  std::vector<Pose>& path = result->path;
+  if (!EndIsFree(problem) || path.size() < 2) return;
+  std::vector<double> cost_to(path.size(), 0.0);  // metric length from the start to waypoint i
+  for (std::size_t i = 1; i < path.size(); ++i) {
+    cost_to[i] = cost_to[i - 1] + problem.metric.Distance(path[i - 1], path[i], 0.5);
+  }
+  double best_cost = cost_to.back() * (1 - 1e-9);
+  std::optional<Pose> best_from, best_end;
+  std::size_t best_segment = 0;
+  constexpr int kPoints = 64;
+  std::size_t segment = 0;
+  for (int point = 0; point < kPoints; ++point) {
+    // The point at this fraction of the length, on segment [segment, segment + 1].
+    const double at = cost_to.back() * point / kPoints;
+    while (segment + 2 < path.size() && cost_to[segment + 1] <= at) ++segment;
+    const double span = cost_to[segment + 1] - cost_to[segment];
+    const Pose from =
+        span > 0 ? Interpolate(path[segment], path[segment + 1], (at - cost_to[segment]) / span) : path[segment];
+    std::vector<Eigen::Vector3d> directions = AxisDirections();
+    directions.push_back(path.back().t - from.t);
+    directions.push_back(path[segment + 1].t - path[segment].t);
+    for (const Eigen::Vector3d& direction : directions) {
+      const std::optional<Pose> end = StraightExitPose(problem, from, direction);
+      if (!end) continue;
+      const double cost = at + problem.metric.Distance(from, *end, 0.5);
+      if (cost < best_cost && motion.IsValid(from) && motion.MotionValid(from, *end)) {
+        best_from = from;
+        best_end = end;
+        best_cost = cost;
+        best_segment = segment;
+      }
+    }
+  }
+  if (!best_end) return;
+  path.resize(best_segment + 1);
+  if (best_from->t != path.back().t || !best_from->q.isApprox(path.back().q, 0.0)) path.push_back(*best_from);
+  path.push_back(*best_end);
+  result->retreat_from = static_cast<int>(best_segment);
+}
+
+// The pose `pose` with degree of freedom `dof` (0..2: x, y, z; 3: the
+// rotation) taken from `from` -> `to` at fraction s.
+Pose WithDof(Pose pose, const Pose& from, const Pose& to, int dof, double s) {
+  if (dof < 3) {
+    pose.t[dof] = from.t[dof] + s * (to.t[dof] - from.t[dof]);
+  } else {
+    pose.q = from.q.slerp(s, to.q).normalized();
+  }
+  return pose;
+}
+
+// Step 3, one attempt: between waypoints i < j, degree of freedom `dof`
+// made linear in the path parameter (the metric length along the path);
+// with `freeze_tail` (j is the end of a disassembly path) the rotation stays
+// at waypoint i's instead. Kept when valid, still ending in the goal region,
+// and shorter.
+bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion, std::vector<Pose>* path_in,
+                     std::size_t i, std::size_t j, int dof, bool freeze_tail) {
+  const std::vector<Pose>& path = *path_in;
+  std::vector<double> along(j - i + 1, 0.0);
+  for (std::size_t m = i + 1; m <= j; ++m) {
+    along[m - i] = along[m - i - 1] + problem.metric.Distance(path[m - 1], path[m], 0.5);
+  }
+  if (!(along.back() > 0)) return false;
+  Pose target = path[j];
+  if (freeze_tail) target.q = path[i].q;
+  std::vector<Pose> next(path.begin() + i, path.begin() + j + 1);
+  double old_cost = along.back(), new_cost = 0;
+  for (std::size_t m = i + 1; m <= j; ++m) {
+    next[m - i] = WithDof(path[m], path[i], target, dof, freeze_tail ? 1.0 : along[m - i] / along.back());
+    new_cost += problem.metric.Distance(next[m - i - 1], next[m - i], 0.5);
+  }
+  if (!(new_cost < old_cost - 1e-9 * (1.0 + old_cost))) return false;
+  if (freeze_tail && !problem.InGoalRegion(next.back())) return false;
+  for (std::size_t m = 1; m < next.size(); ++m) {
+    if (!motion.MotionValid(next[m - 1], next[m])) return false;
+  }
+  std::copy(next.begin(), next.end(), path_in->begin() + i);
+  return true;
+}
+
+// Step 3's freeze: from 16 waypoints evenly spread, the first one from
+// which the rest of a disassembly path can keep that waypoint's rotation.
+void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, SmoothResult* result) {
+  std::vector<Pose>& path = result->path;
+  if (!EndIsFree(problem) || path.size() < 3) return;
+  constexpr std::size_t kTries = 16;
+  for (std::size_t n = 0; n < kTries; ++n) {
+    const std::size_t i = n * (path.size() - 2) / kTries;
+    if (PartialShortcut(problem, motion, &path, i, path.size() - 1, 3, true)) {
+      ++result->shortcuts;
+      ++result->partial_shortcuts;
+      return;
+    }
+  }
+}
+
+// Step 1, one attempt: two random points on two different segments; the
+// path between them replaced by the straight motion when valid and shorter.
+bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, Random& random,
+                  std::vector<Pose>* path_in) {
+  std::vector<Pose>& path = *path_in;
+  const std::size_t segments = path.size() - 1;
+  std::size_t i = random.Index(segments), j = random.Index(segments);
+  const double fa = random.Uniform01(), fb = random.Uniform01();
+  if (i == j) return false;
+  if (i > j) std::swap(i, j);
+  const Pose a = fa == 0.0 ? path[i] : Interpolate(path[i], path[i + 1], fa);
+  const Pose b = Interpolate(path[j], path[j + 1], fb);
+  const double old_cost = problem.metric.Distance(a, path[i + 1], 0.5) + SegmentCost(problem, path, i + 1, j) +
+                          problem.metric.Distance(path[j], b, 0.5);
+  const double new_cost = problem.metric.Distance(a, b, 0.5);
+  if (!(new_cost < old_cost - 1e-12)) return false;
+  if (!motion.IsValid(a) || !motion.MotionValid(a, b)) return false;
+  std::vector<Pose> next(path.begin(), path.begin() + i + 1);
+  if (fa != 0.0) next.push_back(a);
+  next.push_back(b);
+  next.insert(next.end(), path.begin() + j + 1, path.end());
+  path.swap(next);
+  return true;
+}
+
+// Drops waypoints whose neighbours see each other directly.
+void DropNeedlessWaypoints(const MotionChecker& motion, std::vector<Pose>* path) {
+  for (std::size_t i = 0; i + 2 < path->size();) {
+    if (motion.MotionValid((*path)[i], (*path)[i + 2])) {
+      path->erase(path->begin() + i + 1);
+    } else {
+      ++i;
+    }
+  }
+}
+
+// Steps 1-4 on one path.
+void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, int attempts, Random& random,
+                const std::function<bool()>& out_of_time, SmoothResult* result) {
+  std::vector<Pose>& path = result->path;
+  for (int attempt = 0; attempt < attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
+    ++result->attempts;
+    if (FullShortcut(problem, motion, random, &path)) ++result->shortcuts;
+  }
+  DropNeedlessWaypoints(motion, &path);
+  if (!out_of_time()) StraightRetreat(problem, motion, result);
+
+  // Partial shortcuts: a quarter of the attempts, each on one degree of
+  // freedom, between two freezes of a disassembly's tail rotation (the
+  // second after the others have straightened the course).
+  FreezeTailRotation(problem, motion, result);
+  const int partial_attempts = std::max(20, attempts / 4);
+  for (int attempt = 0; attempt < partial_attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
+    ++result->attempts;
+    std::size_t i = random.Index(path.size() - 1), j = random.Index(path.size());
+    if (i > j) std::swap(i, j);
+    if (j < i + 2) continue;
+    if (PartialShortcut(problem, motion, &path, i, j, static_cast<int>(random.Index(4)), false)) {
+      ++result->shortcuts;
+      ++result->partial_shortcuts;
+    }
+  }
+  if (!out_of_time()) FreezeTailRotation(problem, motion, result);
+  DropNeedlessWaypoints(motion, &path);
+}
+
+// Step 5 (disassembly): most CAD parts come out without turning, but a
+// path planned with rotation seldom loses it by local changes (its course
+// was found with the part turned). So a translation-only path is planned
+// too (RRT-Connect with D's start orientation fixed, a bounded number of
+// iterations, so that the answer does not depend on the machine), smoothed
+// the same way, and kept when it is shorter.
+std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, const PoseValidity& validity,
+                                            const MotionChecker& motion, const SmoothOptions& options, int attempts,
+                                            const std::function<bool()>& out_of_time) {
+  PlanningProblem fixed = problem;
+  fixed.fixed_rotation = problem.start.q;
+  PlannerOptions planner;
+  planner.planner = "rrtc";
+  planner.seed = options.seed;
+  planner.max_iterations = 20000;
+  planner.time_limit_s = std::max(0.1, options.time_limit_s / 4);
+  planner.resolution = options.resolution;
+  PlanResult planned;
+  try {
+    planned = Plan(fixed, validity, planner);
+  } catch (const InputError&) {
+    return std::nullopt;  // e.g. a start the planner does not take: no alternative then
+  }
+  if (!planned.solved() || out_of_time()) return std::nullopt;
+  SmoothResult result;
+  result.path = planned.path;
+  Random random(options.seed + 1);
+  SmoothOnce(problem, motion, attempts, random, out_of_time, &result);
+  return result;
 }
 
 }  // namespace
@@ -47,42 +290,22 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   const int attempts =
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
-
-  std::vector<Pose>& path = result.path;
-  for (int attempt = 0; attempt < attempts && path.size() >= 3; ++attempt) {
-    if (std::chrono::steady_clock::now() >= deadline) break;
-    ++result.attempts;
-    // Two random points on two different segments i < j; the path between
-    // them is replaced by the straight motion a -> b when that is valid and
-    // shorter.
-    const std::size_t segments = path.size() - 1;
-    std::size_t i = random.Index(segments), j = random.Index(segments);
-    const double fa = random.Uniform01(), fb = random.Uniform01();
-    if (i == j) continue;
-    if (i > j) std::swap(i, j);
-    const Pose a = fa == 0.0 ? path[i] : Interpolate(path[i], path[i + 1], fa);
-    const Pose b = Interpolate(path[j], path[j + 1], fb);
-    const double old_cost = problem.metric.Distance(a, path[i + 1], 0.5) + SegmentCost(problem, path, i + 1, j) +
-                            problem.metric.Distance(path[j], b, 0.5);
-    const double new_cost = problem.metric.Distance(a, b, 0.5);
-    if (!(new_cost < old_cost - 1e-12)) continue;
-    if (!motion.IsValid(a) || !motion.MotionValid(a, b)) continue;
-    std::vector<Pose> next(path.begin(), path.begin() + i + 1);
-    if (fa != 0.0) next.push_back(a);
-    next.push_back(b);
-    next.insert(next.end(), path.begin() + j + 1, path.end());
-    path.swap(next);
-    ++result.shortcuts;
-  }
-  // Drop waypoints whose neighbours see each other directly.
-  for (std::size_t i = 0; i + 2 < path.size();) {
-    if (motion.MotionValid(path[i], path[i + 2])) {
-      path.erase(path.begin() + i + 1);
-    } else {
-      ++i;
+  const std::function<bool()> out_of_time = [&] { return std::chrono::steady_clock::now() >= deadline; };
+  SmoothOnce(problem, motion, attempts, random, out_of_time, &result);
+  result.after = MeasurePath(problem, result.path);
+  const bool turns = result.after.rotation > 1e-9;
+  if (EndIsFree(problem) && turns && !out_of_time()) {
+    const std::optional<SmoothResult> straight =
+        TranslationOnly(problem, validity, motion, options, attempts, out_of_time);
+    if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized) {
+      result.path = straight->path;
+      result.after = MeasurePath(problem, result.path);
+      result.shortcuts += straight->shortcuts;
+      result.partial_shortcuts += straight->partial_shortcuts;
+      result.retreat_from = straight->retreat_from;
+      result.translation_only = true;
     }
   }
-  result.after = MeasurePath(problem, path);
   return result;
 }
 

@@ -1,9 +1,25 @@
-// Shortcut smoothing under the planner's own motion check: a shortcut is
-// kept only when its motion is valid and it makes the path shorter, so the
-// result is never less valid than the input.
+// Shortcut smoothing under the planner's own motion check: a change is kept
+// only when its motion is valid and it makes the path shorter, so the result
+// is never less valid than the input. In order:
+//   1. shortcuts: the path between two random points replaced by the
+//      straight motion (all degrees of freedom at once);
+//   2. a straight retreat (disassembly only: no goal pose): from the
+//      earliest waypoint where it is free, D leaves along one straight
+//      translation until its AABB is clear of S's, instead of the planner's
+//      way out;
+//   3. partial shortcuts (Geraerts & Overmars 2007): between two waypoints
+//      one degree of freedom (x, y, z, or the rotation) is made linear while
+//      the others keep their course; in a disassembly the rotation of the
+//      tail is also frozen where the part needs it no longer, which removes
+//      needless turning;
+//   4. waypoints whose neighbours see each other are dropped;
+//   5. (disassembly, when the result still turns D) a translation-only path
+//      is planned (D's start orientation fixed), smoothed by 1-4, and kept
+//      when it is shorter.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "planning/state_space.h"
@@ -26,11 +42,21 @@ struct PathLength {
 
 PathLength MeasurePath(const PlanningProblem& problem, const std::vector<Pose>& path);
 
+// The pose reached from `from` (planning convention) by the shortest
+// straight translation along `direction` that takes D's AABB clear of S's
+// (the disassembly goal region), plus 1% of D's diagonal; nothing when the
+// direction separates along no axis or the pose leaves the bounds. No
+// collision check.
+std::optional<Pose> StraightExitPose(const PlanningProblem& problem, const Pose& from, Eigen::Vector3d direction);
+
 struct SmoothResult {
   std::vector<Pose> path;
   PathLength before, after;
-  int shortcuts = 0;
+  int shortcuts = 0;  // full and partial shortcuts kept
   int attempts = 0;
+  int partial_shortcuts = 0;      // of them: partial ones (one degree of freedom)
+  int retreat_from = -1;          // waypoint the straight retreat leaves from; -1 = none
+  bool translation_only = false;  // the path is the translation-only alternative (step 5)
 };
 
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& path,

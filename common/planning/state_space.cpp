@@ -48,6 +48,7 @@ Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const {
 Pose PlanningProblem::SampleUniform(Random& random) const {
   Pose pose;
   pose.q = random.UniformQuaternion();
+  if (fixed_rotation) pose.q = *fixed_rotation;  // the same draws either way
   Eigen::Vector3d bounded;
   for (int i = 0; i < 3; ++i) bounded[i] = random.Uniform(bounds.min[i], bounds.max[i]);
   pose.t = bounded - pose.q * bounded_point;  // places bounded_point at `bounded`

@@ -52,8 +52,11 @@ struct PlanningProblem {
   Aabb bounds;
   Eigen::Vector3d bounded_point = Eigen::Vector3d::Zero();
   bool bounds_given = false;
-  Pose start;                 // planning convention
-  std::optional<Pose> goal;   // planning convention; none = disassembly region
+  Pose start;                // planning convention
+  std::optional<Pose> goal;  // planning convention; none = disassembly region
+  // When set, every sampled pose has this orientation: translation-only
+  // planning (the smoother's alternative without turning D).
+  std::optional<Eigen::Quaterniond> fixed_rotation;
   Aabb robot_local_box;       // AABB of `robot`
   double robot_radius = 0;    // max distance of a vertex of D from the reference point
   double robot_diagonal = 0;  // diagonal of D's AABB
