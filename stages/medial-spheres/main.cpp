@@ -51,6 +51,7 @@ int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
   const Scene& scene = run.scene;
   MeshTopologyOptions topology_options;
   topology_options.weld_tolerance = options.weld_tolerance;
+  topology_options.source = scene.dynamic_file.string();
   const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
   const MeshTopologyStats& stats = topology.stats;
   LogInfo(
