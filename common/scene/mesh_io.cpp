@@ -81,7 +81,11 @@ void CheckRawScene(const aiScene& scene, const std::string& name) {
     if (mesh->mNumFaces > 0 && mesh->mFaces == nullptr) throw InputErrorAt(name, "mesh has no face data");
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices > 0 && face.mIndices == nullptr) throw InputErrorAt(name, "face without indices");
+      // assimp's triangulation aborts the process (ai_assert) on a face
+      // without indices, as a corrupt OFF or PLY face count produces.
+      if (face.mNumIndices == 0 || face.mIndices == nullptr) {
+        throw InputErrorAt(name, "face " + std::to_string(f) + " has no vertex indices");
+      }
       for (unsigned k = 0; k < face.mNumIndices; ++k) {
         if (face.mIndices[k] >= mesh->mNumVertices) {
           // A negative index in the file arrives as a huge unsigned one.
