@@ -163,7 +163,7 @@ bench-end-to-end: build
 	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --output-dir $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
 	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"
 
-# libFuzzer harnesses of every file reader (fuzz/README.md): builds them with
+# libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints
 # per harness the executions and the findings (crash files under
