@@ -245,6 +245,16 @@ TEST_F(Readers, MeshFaceIndexOutOfRangeNamesTheFile) {
   ExpectInputError([&] { LoadMesh(negative); }, {negative.string(), "refers to vertex -1, out of range"});
 }
 
+TEST_F(Readers, MeshFaceWithoutIndicesIsRefused) {
+  // Found by fuzz_mesh: the face count of an OFF face read as garbage gave a
+  // face with no indices, and assimp's triangulation aborted the process.
+  std::string off = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3";
+  off += std::string(122, '\0');
+  off += " 0 1 2\n3 0 1 3\n";
+  const fs::path file = Write("empty-face.off", off);
+  ExpectInputError([&] { LoadMesh(file); }, {file.string(), "has no vertex indices"});
+}
+
 TEST_F(Readers, MeshVertexAbsurdlyFarOutIsRefused) {
   // assimp reads float: 1e20 is finite there, 1e300 would be inf.
   const fs::path far = Write("far.obj", "v 1e20 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
