@@ -246,13 +246,25 @@ TEST_F(Readers, MeshFaceIndexOutOfRangeNamesTheFile) {
 }
 
 TEST_F(Readers, MeshFaceWithoutIndicesIsRefused) {
-  // Found by fuzz_mesh: the face count of an OFF face read as garbage gave a
-  // face with no indices, and assimp's triangulation aborted the process.
-  std::string off = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3";
-  off += std::string(122, '\0');
-  off += " 0 1 2\n3 0 1 3\n";
-  const fs::path file = Write("empty-face.off", off);
-  ExpectInputError([&] { LoadMesh(file); }, {file.string(), "has no vertex indices"});
+  // A face with no indices made assimp's triangulation abort the process.
+  const fs::path ply = Write("empty-face.ply", PlyWithFace("0"));
+  ExpectInputError([&] { LoadMesh(ply); }, {ply.string(), "face 0 has no vertex indices"});
+}
+
+TEST_F(Readers, MalformedOffIsRefusedBeforeAssimpReadsIt) {
+  // Found by fuzz_mesh: assimp 5.2's OFF importer aborted (a vertex count
+  // read from NUL bytes) or read out of bounds ("@3 0 1 2") on these.
+  std::string nul = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3";
+  nul += std::string(122, '\0');
+  nul += " 0 1 2\n3 0 1 3\n";
+  const fs::path with_nul = Write("nul.off", nul);
+  ExpectInputError([&] { LoadMesh(with_nul); }, {with_nul.string(), "malformed OFF file (face 0 does not start"});
+  const fs::path at = Write("at.off", "OFF\n4 2 0\n0 0 0\n2 0 0\n0 1 0\n0 0 1\n@3 0 1 2\n3 0 1 3\n");
+  ExpectInputError([&] { LoadMesh(at); }, {at.string(), "malformed OFF file (face 0 does not start"});
+  const fs::path index = Write("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+  ExpectInputError([&] { LoadMesh(index); }, {index.string(), "face 0 refers to vertex '3', out of range"});
+  const fs::path good = Write("good.off", "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 255 0 0\n");
+  EXPECT_EQ(LoadMesh(good).triangles.size(), 1u);
 }
 
 TEST_F(Readers, MeshVertexAbsurdlyFarOutIsRefused) {

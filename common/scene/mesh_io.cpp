@@ -13,14 +13,18 @@
 #include <assimp/Importer.hpp>
 
 #include <Eigen/Core>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -138,6 +142,80 @@ void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d
   }
 }
 
+// The structure of an OFF file, checked before assimp reads it: assimp
+// 5.2's OFF importer reads out of bounds on a malformed face line (fuzz_mesh
+// found "@3 0 1 2" crashing it). Header (OFF, COFF, NOFF, ...), the counts,
+// then per vertex a line starting with three numbers and per face a line
+// "k i_1 ... i_k" with 1 <= k and every index in [0, vertices). Blank lines
+// and '#' comments are skipped; what follows on a line (colours) is allowed.
+void CheckOffStructure(const fs::path& path, const std::string& name) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
+  std::vector<std::vector<std::string>> lines;  // tokens of the lines that matter
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream tokens(line);
+    std::vector<std::string> words;
+    for (std::string word; tokens >> word;) words.push_back(word);
+    if (!words.empty()) lines.push_back(std::move(words));
+  }
+  auto fail = [&](const std::string& what) { throw InputErrorAt(name, "malformed OFF file (" + what + ")"); };
+  auto integer = [](const std::string& word, long long* value) {
+    char* end = nullptr;
+    errno = 0;
+    *value = std::strtoll(word.c_str(), &end, 10);
+    return errno == 0 && end != word.c_str() && end == word.c_str() + word.size();  // no trailing text, no NUL
+  };
+  if (lines.empty() || lines[0][0].size() < 3 || lines[0][0].compare(lines[0][0].size() - 3, 3, "OFF") != 0) {
+    fail("no OFF header");
+  }
+  // The counts follow the header word, on its line or on the next.
+  std::vector<std::string> counts(lines[0].begin() + 1, lines[0].end());
+  std::size_t next = 1;
+  if (counts.empty()) {
+    if (lines.size() < 2) fail("no vertex and face counts");
+    counts = lines[1];
+    next = 2;
+  }
+  long long vertices = 0, faces = 0;
+  if (counts.size() < 2 || !integer(counts[0], &vertices) || !integer(counts[1], &faces) || vertices < 0 || faces < 0) {
+    fail("the counts are not two non-negative integers");
+  }
+  if (static_cast<unsigned long long>(vertices) > lines.size() ||
+      static_cast<unsigned long long>(faces) > lines.size() - static_cast<std::size_t>(vertices)) {
+    fail("declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) + " faces in " +
+         std::to_string(lines.size()) + " lines");
+  }
+  for (long long v = 0; v < vertices; ++v, ++next) {
+    if (next >= lines.size()) fail("fewer vertex lines than declared");
+    const std::vector<std::string>& words = lines[next];
+    for (int k = 0; k < 3; ++k) {
+      char* end = nullptr;
+      if (static_cast<int>(words.size()) <= k ||
+          (std::strtod(words[k].c_str(), &end), end != words[k].c_str() + words[k].size())) {
+        fail("vertex " + std::to_string(v) + " is not three numbers");
+      }
+    }
+  }
+  for (long long f = 0; f < faces; ++f, ++next) {
+    if (next >= lines.size()) fail("fewer face lines than declared");
+    const std::vector<std::string>& words = lines[next];
+    long long k = 0;
+    if (!integer(words[0], &k) || k < 1 || k > static_cast<long long>(words.size()) - 1) {
+      fail("face " + std::to_string(f) + " does not start with its vertex count");
+    }
+    for (long long i = 1; i <= k; ++i) {
+      long long index = 0;
+      if (!integer(words[i], &index) || index < 0 || index >= vertices) {
+        fail("face " + std::to_string(f) + " refers to vertex '" + words[i] + "', out of range (the mesh has " +
+             std::to_string(vertices) + " vertices)");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 TriangleMesh LoadMesh(const fs::path& path) {
@@ -156,6 +234,9 @@ TriangleMesh LoadMesh(const fs::path& path) {
     throw InputErrorAt(name, "cannot read mesh (unknown format '" + extension +
                                  "': expected a format assimp reads, e.g. .obj, .stl, .ply, .off, .dae)");
   }
+  std::string lower = extension;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == ".off") CheckOffStructure(path, name);
   // Read without post-processing first: the raw vertices are checked before
   // aiProcess_JoinIdenticalVertices, which mangles NaN vertices (NaN never
   // compares equal, so they get merged into or dropped for others).
