@@ -35,7 +35,7 @@ STUDY_SCENES ?= alpha-1.5,Easy
 STUDY_OUT ?= out/study
 STUDY_ARGS ?=
 
-.PHONY: all deps configure build demo demo-rigid run batch test clean bench-deps bench-build bench study
+.PHONY: all deps configure build demo demo-rigid run batch test clean bench-deps bench-build bench study fuzz
 .DELETE_ON_ERROR:
 
 all: build
@@ -183,3 +183,20 @@ BENCH_E2E_ARGS ?=
 bench-end-to-end: build
 	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --output-dir $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
 	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"
+
+# libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
+# clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
+# `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints
+# per harness the executions and the findings (crash files under
+# FUZZ_BUILD/fuzz-out/<harness>/findings/). Fails when any harness has a
+# finding. FUZZ_HARNESSES picks some, e.g. FUZZ_HARNESSES="scene mesh".
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD ?= build-fuzz
+FUZZ_HARNESSES ?=
+
+fuzz:
+	@scripts/install-deps.sh fuzz
+	@cmake -S . -B $(FUZZ_BUILD) -DAUSBAU_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ > /dev/null
+	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target ausbau_fuzzers
+	@fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_HARNESSES)

@@ -6,6 +6,8 @@
 #                                   ausbau-bench: `make bench`, `make study`)
 #   scripts/install-deps.sh browser those plus chromium (headless browser for
 #                                   the report's browser test: `make test`)
+#   scripts/install-deps.sh fuzz    those plus clang and libFuzzer (the
+#                                   harnesses in fuzz/: `make fuzz`)
 set -euo pipefail
 
 packages=(
@@ -18,7 +20,8 @@ case "${1:-}" in
   "") ;;
   bench) packages+=(libompl-dev) ;;
   browser) packages+=(chromium) ;;
-  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench' or 'browser')" >&2; exit 2 ;;
+  fuzz) packages+=(clang libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev) ;;
+  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench', 'browser' or 'fuzz')" >&2; exit 2 ;;
 esac
 
 missing=()

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <system_error>
@@ -134,6 +135,31 @@ std::size_t ElementCount(const std::vector<std::size_t>& dims) {
   std::size_t n = 1;
   for (std::size_t d : dims) n *= d;
   return n;
+}
+
+// The product of `dims`, or nothing when it does not fit in 64 bits (a
+// corrupt or hostile file can declare dims whose product wraps around).
+std::optional<std::uint64_t> CheckedElementCount(const std::vector<std::uint64_t>& dims) {
+  for (std::uint64_t d : dims) {
+    if (d == 0) return 0;
+  }
+  std::uint64_t n = 1;
+  for (std::uint64_t d : dims) {
+    if (n > std::numeric_limits<std::uint64_t>::max() / d) return std::nullopt;
+    n *= d;
+  }
+  return n;
+}
+
+// The most bytes of data a file of `file_bytes` can hold: our writer
+// compresses with shuffle + deflate, and deflate expands at most 1032:1;
+// the slack covers small datasets h5py leaves unallocated (fill values).
+// A dataset declaring more is refused before anything is allocated.
+constexpr std::uint64_t kMaxExpansion = 1100;
+constexpr std::uint64_t kDataSlackBytes = std::uint64_t{1} << 20;
+std::uint64_t MaxDataBytes(std::uint64_t file_bytes) {
+  const std::uint64_t cap = std::numeric_limits<std::uint64_t>::max() / 2;
+  return file_bytes > cap / kMaxExpansion ? cap : file_bytes * kMaxExpansion + kDataSlackBytes;
 }
 
 std::string DimsText(const std::vector<std::size_t>& dims) {
@@ -511,6 +537,7 @@ void ArtifactWriter::Commit() {
 
 struct ArtifactReader::Impl {
   std::filesystem::path path;
+  std::uint64_t file_bytes = 0;  // bounds what a dataset may declare (MaxDataBytes)
   Handle file;
   std::string provenance;
   std::string parameters;
@@ -595,6 +622,10 @@ struct ArtifactReader::Impl {
       return value;
     }
     const std::size_t size = H5Tget_size(type.get());
+    if (size == 0 || size > MaxDataBytes(file_bytes)) {
+      Fail(Describe(object, name) + " declares a string of " + std::to_string(size) + " bytes in a file of " +
+           std::to_string(file_bytes) + " bytes (truncated or corrupt file?)");
+    }
     std::vector<char> buffer(size + 1, '\0');
     if (H5Aread(attr.get(), type.get(), buffer.data()) < 0) {
       Fail("cannot read " + Describe(object, name) + " (corrupt file?)");
@@ -656,8 +687,19 @@ struct ArtifactReader::Impl {
     if (rank > 0 && H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr) < 0) {
       Fail("cannot read dataset '" + name + "' (corrupt file?)");
     }
+    // Bound the allocation by what the file can hold, before allocating:
+    // a 46 KB file can declare a 64 GB dataset (or dims whose product wraps
+    // past 2^64, which would under-allocate and overflow the buffer).
+    const std::vector<std::uint64_t> dims64(dims.begin(), dims.end());
+    const std::optional<std::uint64_t> count = CheckedElementCount(dims64);
+    const std::uint64_t element_bytes = std::max<std::uint64_t>(H5Tget_size(type.get()), sizeof(T));
+    if (!count || *count > MaxDataBytes(file_bytes) / element_bytes) {
+      Fail("dataset '" + name + "' declares " + DimsText(std::vector<std::size_t>(dims.begin(), dims.end())) +
+           " elements, more than a file of " + std::to_string(file_bytes) +
+           " bytes can hold (truncated or corrupt file?)");
+    }
     out.dims.assign(dims.begin(), dims.end());
-    out.data.resize(ElementCount(out.dims));
+    out.data.resize(static_cast<std::size_t>(*count));
     if (!out.data.empty() &&
         H5Dread(dataset.get(), MemoryType(target), H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0) {
       Fail("cannot read dataset '" + name + "' (truncated or corrupt file?)");
@@ -675,6 +717,11 @@ ArtifactReader::ArtifactReader(std::filesystem::path path, const std::string& sc
     const std::filesystem::file_status status = std::filesystem::status(impl_->path, ec);
     if (!std::filesystem::exists(status)) impl_->Fail("file not found");
     if (std::filesystem::is_directory(status)) impl_->Fail("is a directory (expected an HDF5 file)");
+    // A FIFO or a device (/dev/zero) is no artifact: refuse it before HDF5
+    // blocks on it or reads it without end.
+    if (!std::filesystem::is_regular_file(status)) impl_->Fail("not a regular file (expected an HDF5 file)");
+    impl_->file_bytes = std::filesystem::file_size(impl_->path, ec);
+    if (ec) impl_->Fail("cannot read file size (" + ec.message() + ")");
 
     Handle fapl = PropertyList(H5P_FILE_ACCESS);
     if (!fapl.valid() || H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG) < 0) {

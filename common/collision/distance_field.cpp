@@ -881,11 +881,20 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
     field->dims_[k] = static_cast<int>(dims.data[k]);
     field->origin_[k] = origin.data[k];
   }
+  if (!field->origin_.allFinite() || !std::isfinite(spacing.data[0] * 4 * kMaxDistanceFieldResolution) ||
+      !(field->origin_ + field->spacing_ * Eigen::Vector3d::Constant(4.0 * kMaxDistanceFieldResolution)).allFinite()) {
+    throw InputErrorAt(where, "grid/origin or grid/spacing is not finite or out of range");
+  }
   field->spacing_ = spacing.data[0];
   field->resolution_ = static_cast<int>(reader.ReadIntAttribute("", "resolution"));
   field->padding_ = reader.ReadDoubleAttribute("", "padding");
   field->mesh_hash_ = reader.ReadStringAttribute("", "mesh_hash");
   field->triangle_count_ = reader.ReadIntAttribute("", "triangles");
+  // Cells store int32 triangle indices; a mesh has at least one triangle.
+  if (field->triangle_count_ < 1 || field->triangle_count_ > std::numeric_limits<std::int32_t>::max()) {
+    throw InputErrorAt(where,
+                       "root attribute 'triangles' is out of range (" + std::to_string(field->triangle_count_) + ")");
+  }
   const std::size_t n = static_cast<std::size_t>(field->size());
   const std::vector<std::size_t> shape = {static_cast<std::size_t>(field->dims_[2]),
                                           static_cast<std::size_t>(field->dims_[1]),
@@ -916,7 +925,15 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
   {
     const Array<float> nearest = reader.ReadFloats("nearest_point", 4);
     check_shape("nearest_point", nearest.dims, {shape[0], shape[1], shape[2], 3});
-    for (std::size_t i = 0; i < n; ++i) std::memcpy(field->cells_[i].nearest, &nearest.data[3 * i], 3 * sizeof(float));
+    for (std::size_t i = 0; i < n; ++i) {
+      // A NaN point would make every distance and cell look-up from it undefined.
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(nearest.data[3 * i + k])) {
+          throw InputErrorAt(where, "dataset 'nearest_point' holds a non-finite value at cell " + std::to_string(i));
+        }
+      }
+      std::memcpy(field->cells_[i].nearest, &nearest.data[3 * i], 3 * sizeof(float));
+    }
   }
   return field;
 }

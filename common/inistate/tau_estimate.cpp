@@ -395,8 +395,17 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
   e.tau_lowest = scalar("tau_lowest");
   e.speed_target = scalar("speed_target");
   e.seconds = scalar("seconds");
-  e.rounds = static_cast<int>(r.ReadInts("rounds").data.at(0));
-  e.solved = r.ReadInts("solved").data.at(0) != 0;
+  auto int_scalar = [&](const char* name) {
+    const Array<std::int64_t> a = r.ReadInts(name);
+    if (a.data.size() != 1) throw InputErrorAt(file.string(), std::string("dataset '") + name + "' must be a scalar");
+    return a.data[0];
+  };
+  const std::int64_t round_count = int_scalar("rounds");
+  if (round_count < 0 || round_count > std::numeric_limits<int>::max()) {
+    throw InputErrorAt(file.string(), "dataset 'rounds' is out of range (" + std::to_string(round_count) + ")");
+  }
+  e.rounds = static_cast<int>(round_count);
+  e.solved = int_scalar("solved") != 0;
   if (r.Has("sigma_1")) {
     e.local_path = ReadPoseRows(r, "sigma_1");
     e.local_seed = static_cast<std::uint64_t>(r.ReadIntAttribute("sigma_1", "seed"));
@@ -417,6 +426,11 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
        {speeds.data.size(), targets.data.size(), seconds.data.size(), rounds.data.size(), nodes.data.size(),
         attempts.data.size(), checks.data.size(), planning.data.size(), solved.data.size()}) {
     if (size != n) throw InputErrorAt(file.string(), "trace datasets differ in length");
+  }
+  for (const Array<double>* values : {&taus, &speeds, &targets, &seconds}) {
+    for (double v : values->data) {
+      if (!std::isfinite(v)) throw InputErrorAt(file.string(), "trace datasets hold a non-finite value");
+    }
   }
   for (std::size_t i = 0; i < n; ++i) {
     TauProbe p;

@@ -719,6 +719,12 @@ VoxelGrid ReadGrid(const ArtifactReader& r, const std::string& group) {
     }
     grid.geometry.dims[k] = static_cast<int>(dims.data[k]);
   }
+  // The far corner must be finite too (origin 1e300, spacing 1e300 are
+  // each finite but the grid's extent is not).
+  const Eigen::Vector3d extent = grid.geometry.spacing * Eigen::Vector3d(dims.data[0], dims.data[1], dims.data[2]);
+  if (!(grid.geometry.origin + extent).allFinite() || !(extent.maxCoeff() < 1e300)) {
+    throw InputErrorAt(where, "group '" + group + "' describes a grid of non-finite extent");
+  }
   Array<std::uint8_t> cells = r.ReadBytes(group + "/occupancy", 3);
   if (cells.dims != std::vector<size_t>{static_cast<size_t>(grid.geometry.dims[2]),
                                         static_cast<size_t>(grid.geometry.dims[1]),
@@ -766,6 +772,9 @@ SceneVoxels ReadVoxelArtifact(const std::filesystem::path& file, VoxelArtifactIn
   const Array<double> shrink = r.ReadDoubles("dynamic/shrink");
   if (shrink.data.size() != 1) throw InputErrorAt(file.string(), "dataset 'dynamic/shrink' must be a scalar");
   out.shrink = shrink.data[0];
+  if (!(std::isfinite(out.shrink) && out.shrink >= 0)) {
+    throw InputErrorAt(file.string(), "dataset 'dynamic/shrink' must be a finite number >= 0");
+  }
   out.static_stats.surface = out.static_grid.Count(kVoxelSurface);
   out.static_stats.inside = out.static_grid.Count(kVoxelInside);
   out.dynamic_stats.surface = out.dynamic_grid.Count(kVoxelSurface);

@@ -230,6 +230,12 @@ SpheresArtifact ReadSpheresArtifact(const std::filesystem::path& path) {
     out.contact.assign(n, 0);
   }
   for (std::size_t i = 0; i < n; ++i) {
+    if (!out.centers[i].allFinite()) {
+      throw InputErrorAt(path.string(), "dataset 'centers' holds a non-finite value at " + std::to_string(i));
+    }
+    if (!out.normals.empty() && !out.normals[i].allFinite()) {
+      throw InputErrorAt(path.string(), "dataset 'normals' holds a non-finite value at " + std::to_string(i));
+    }
     if (!std::isfinite(out.radii[i]) || out.radii[i] < 0) {
       throw InputErrorAt(path.string(), "dataset 'radii' holds a negative or non-finite value at " + std::to_string(i));
     }

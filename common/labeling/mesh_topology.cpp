@@ -84,7 +84,10 @@ void WeldAndClean(const TriangleMesh& mesh, const MeshTopologyOptions& options, 
     kept.push_back(candidates[i].index);
   }
   std::sort(kept.begin(), kept.end());  // input order
-  if (kept.empty()) throw InputError("the part D has no triangle of positive area");
+  if (kept.empty()) {
+    const std::string what = "the part D has no triangle of positive area";
+    throw options.source.empty() ? InputError(what) : InputErrorAt(options.source, what);
+  }
   const int m = static_cast<int>(kept.size());
   topo.source_triangle = kept;
   topo.triangles.resize(m);

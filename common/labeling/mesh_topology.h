@@ -53,6 +53,7 @@ struct MeshTopologyOptions {
   double weld_tolerance = 1e-7;  // fraction of the AABB diagonal; 0 welds exact duplicates only
   int orientation_samples = 32;  // triangles sampled per patch for the ray-parity votes
   bool orient = true;            // false: keep the triangles' orientation as given (steps 3-4 skipped)
+  std::string source;            // the mesh's file, named in error messages ("" = none)
 };
 
 struct MeshTopologyStats {
@@ -99,7 +100,8 @@ struct MeshTopology {
   int OriginalVertexCount() const { return static_cast<int>(welded_of_original.size()); }
 };
 
-// Throws InputError when the mesh has no triangle of positive area.
+// Throws InputError when the mesh has no triangle of positive area (naming
+// options.source when given).
 MeshTopology BuildMeshTopology(const TriangleMesh& mesh, const MeshTopologyOptions& options = {});
 
 // Per ORIGINAL vertex: 0 where it lies inside (or on) another component of

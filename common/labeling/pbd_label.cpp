@@ -1168,10 +1168,21 @@ LabelsArtifact ReadLabelsArtifact(const std::filesystem::path& path) {
       throw InputErrorAt(path.string(), "dataset 'deformability' holds a value outside [0, 1] at " + std::to_string(i));
     }
   }
-  out.r_min = reader.ReadDoubleAttribute("", "r_min");
-  out.sigma = reader.ReadDoubleAttribute("", "sigma");
-  out.scale = reader.ReadDoubleAttribute("", "scale");
-  out.density = reader.ReadDoubleAttribute("", "density");
+  for (std::size_t i = 0; i < out.displacement.size(); ++i) {
+    if (!std::isfinite(out.displacement[i])) {
+      throw InputErrorAt(path.string(), "dataset 'displacement' holds a non-finite value at " + std::to_string(i));
+    }
+  }
+  auto finite_attribute = [&](const char* name) {
+    const double value = reader.ReadDoubleAttribute("", name);
+    if (!std::isfinite(value))
+      throw InputErrorAt(path.string(), std::string("root attribute '") + name + "' is not finite");
+    return value;
+  };
+  out.r_min = finite_attribute("r_min");
+  out.sigma = finite_attribute("sigma");
+  out.scale = finite_attribute("scale");
+  out.density = finite_attribute("density");
   out.measure = reader.ReadStringAttribute("", "measure");
   out.load_cases = reader.ReadIntAttribute("", "load_cases");
   return out;

@@ -6,10 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/format.h"
+#include "core/input_file.h"
 
 namespace ausbau {
 
@@ -33,6 +35,11 @@ std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& 
   const Array<double> rows = reader.ReadDoubles(name, 2);
   if (rows.dims[1] != 7) {
     throw InputErrorAt(file, "dataset '" + name + "' must have 7 columns (got " + std::to_string(rows.dims[1]) + ")");
+  }
+  // The reader bounds and checks the element count; index only what was read.
+  if (rows.data.size() / 7 != rows.dims[0] || rows.data.size() % 7 != 0) {
+    throw InputErrorAt(file,
+                       "dataset '" + name + "' holds " + std::to_string(rows.data.size()) + " values, not rows x 7");
   }
   std::vector<Pose> poses;
   for (std::size_t i = 0; i < rows.dims[0]; ++i) {
@@ -91,7 +98,9 @@ namespace {
 Eigen::Vector3d ReadVector3(const ArtifactReader& reader, const std::string& name) {
   const Array<double> a = reader.ReadDoubles(name, 1);
   if (a.data.size() != 3) throw InputErrorAt(reader.path().string(), "dataset '" + name + "' must hold 3 numbers");
-  return {a.data[0], a.data[1], a.data[2]};
+  const Eigen::Vector3d v(a.data[0], a.data[1], a.data[2]);
+  if (!v.allFinite()) throw InputErrorAt(reader.path().string(), "dataset '" + name + "' is not finite");
+  return v;
 }
 
 double ReadScalar(const ArtifactReader& reader, const std::string& name) {
@@ -132,21 +141,44 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   if (reader.Has("inistate/volume")) {
     path.tau = ReadScalar(reader, "inistate/tau");
     path.psi = ReadScalar(reader, "inistate/psi");
-    path.inter_index = static_cast<int>(ReadIntScalar(reader, "inistate/inter_index"));
+    const std::int64_t inter_index = ReadIntScalar(reader, "inistate/inter_index");
+    // Checked against the waypoints below; out of int range it would wrap.
+    path.inter_index =
+        inter_index < -1 || inter_index > std::numeric_limits<int>::max() ? -2 : static_cast<int>(inter_index);
     path.waypoint_volume = reader.ReadDoubles("inistate/volume", 1).data;
-    for (std::int64_t part : reader.ReadInts("inistate/part", 1).data)
+    for (std::int64_t part : reader.ReadInts("inistate/part", 1).data) {
+      // Out of int range would wrap into a plausible index.
+      if (part < -1 || part > std::numeric_limits<int>::max()) {
+        throw InputErrorAt(file.string(), "dataset 'inistate/part' holds an index out of range");
+      }
       path.waypoint_part.push_back(static_cast<int>(part));
+    }
     path.waypoint_deformability = reader.ReadDoubles("inistate/deformability", 1).data;
     const std::size_t n = path.waypoints.size();
     if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n ||
         path.inter_index < -1 || path.inter_index >= static_cast<int>(n)) {
       throw InputErrorAt(file.string(), "inistate datasets do not match the waypoints");
     }
+    // A verdict trusts these numbers: NaN or a negative volume must not pass.
+    if (!std::isfinite(path.tau) || !std::isfinite(path.psi)) {
+      throw InputErrorAt(file.string(), "dataset 'inistate/tau' or 'inistate/psi' is not finite");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(std::isfinite(path.waypoint_volume[i]) && path.waypoint_volume[i] >= 0)) {
+        throw InputErrorAt(file.string(),
+                           "dataset 'inistate/volume' holds a negative or non-finite value at " + std::to_string(i));
+      }
+      if (path.waypoint_part[i] < -1) {
+        throw InputErrorAt(file.string(), "dataset 'inistate/part' holds a negative index at " + std::to_string(i));
+      }
+    }
   }
   return path;
 }
 
 std::vector<Pose> ReadPathCsv(const std::filesystem::path& file) {
+  // A FIFO would block, a device never end (CheckInputFile).
+  CheckInputFile(file, kMaxTextInputBytes, "path CSV");
   std::ifstream in(file);
   if (!in) throw InputErrorAt(file.string(), "cannot be read");
   std::string line;

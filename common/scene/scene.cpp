@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "scene/mesh_io.h"
 
 namespace ausbau {
@@ -85,8 +86,18 @@ class Reader {
     return out;
   }
 
+  // Positions (dynamic_origin, t, bounds) share the meshes' bound: a
+  // coordinate of 1e300 is finite but breaks every distance computed from it.
   Eigen::Vector3d Vector3(const YAML::Node& node, const std::string& what) const {
     const auto v = Numbers(node, 3, what);
+    for (double x : v) {
+      if (!(std::abs(x) <= kMaxMeshCoordinate)) {
+        char buf[64];
+        std::snprintf(buf, sizeof(buf), "%.6g", x);
+        Fail(what + " holds " + buf + ", absurdly far out (|value| must be <= 1e9, line " + std::to_string(Line(node)) +
+             ")");
+      }
+    }
     return {v[0], v[1], v[2]};
   }
 
@@ -217,6 +228,8 @@ Scene LoadScene(const fs::path& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) r.Fail("file not found");
   if (fs::is_directory(path, ec)) r.Fail("cannot read (is a directory)");
+  // A FIFO would block, /dev/zero never end: a regular file of sane size only.
+  CheckInputFile(path, kMaxSceneFileBytes, "scene file");
   std::ifstream in(path, std::ios::binary);
   if (!in) r.Fail("cannot read file");
   std::stringstream text;

@@ -55,6 +55,7 @@ LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, co
 
   MeshTopologyOptions topology_options;
   topology_options.weld_tolerance = options.weld_tolerance;
+  topology_options.source = scene.dynamic_file.string();
   const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
   std::vector<double> radii;
   std::vector<std::uint8_t> contact;

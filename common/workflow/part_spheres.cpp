@@ -56,6 +56,7 @@ SpheresArtifact ComputePartSpheres(const Scene& scene, const PartSpheresOptions&
   options.Check();
   MeshTopologyOptions topology_options;
   topology_options.weld_tolerance = options.weld_tolerance;
+  topology_options.source = scene.dynamic_file.string();  // named by "no triangle of positive area"
   const MeshTopology topology = BuildMeshTopology(scene.dynamic_mesh, topology_options);
   LogTopology(topology.stats);
 

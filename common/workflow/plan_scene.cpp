@@ -34,11 +34,15 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const
   if (!paths.empty()) {
     static_field = ReadDistanceField(paths[0]);
     dynamic_field = ReadDistanceField(paths[1]);
-    if (static_field->mesh_hash() != MeshContentHash(problem.environment)) {
+    // The triangle count too: the hash is an attribute, and the cells' triangle
+    // indices are only checked against the count the file itself declares.
+    if (static_field->mesh_hash() != MeshContentHash(problem.environment) ||
+        static_field->triangle_count() != static_cast<std::int64_t>(problem.environment.triangles.size())) {
       throw InputErrorAt(paths[0],
                          "distance field built for another mesh than this scene's S (ausbau-distfield-build)");
     }
-    if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot)) {
+    if (dynamic_field->mesh_hash() != MeshContentHash(problem.robot) ||
+        dynamic_field->triangle_count() != static_cast<std::int64_t>(problem.robot.triangles.size())) {
       throw InputErrorAt(paths[1],
                          "distance field built for another mesh than this scene's D (ausbau-distfield-build)");
     }

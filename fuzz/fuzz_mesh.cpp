@@ -1,0 +1,21 @@
+// libFuzzer harness of the mesh loader (LoadMesh, common/scene/mesh_io.cpp).
+// The first byte picks the file name's extension, which is how assimp picks
+// its importer: the formats the scenes use (OBJ, STL, PLY, OFF, COLLADA),
+// and names LoadMesh must refuse quickly (.txt, no extension). The rest is
+// the file's content.
+#include <cstdint>
+#include <string>
+
+#include "fuzz_util.h"
+#include "scene/mesh_io.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace ausbau::fuzz;
+  static const char* const kNames[] = {"mesh.obj", "mesh.stl", "mesh.ply", "mesh.off", "mesh.dae", "mesh.txt", "mesh"};
+  if (size == 0) return 0;
+  const std::filesystem::path file = WorkDir() / kNames[data[0] % (sizeof kNames / sizeof kNames[0])];
+  WriteBytes(file, data + 1, size - 1);
+  ExpectOnlyInputErrors([&] { ausbau::LoadMesh(file); });
+  std::filesystem::remove(file);
+  return 0;
+}

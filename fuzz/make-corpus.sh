@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Writes the seed corpus of every harness into fuzz/corpus/<harness>/ (the
+# files are committed; run this again after changing a harness's input
+# format). Small valid inputs: the fuzzer mutates from files our readers
+# accept, so it reaches the validation behind the parser.
+set -euo pipefail
+cd "$(dirname "$0")/corpus"
+rm -rf scene mesh path_csv artifact path tau voxels spheres labels distfield
+mkdir -p scene mesh path_csv artifact path tau voxels spheres labels distfield
+
+# scene.yaml beside s.obj and d.obj (the harness writes those).
+printf 'format: ausbau-scene/1\nstatic: s.obj\ndynamic: d.obj\n' > scene/minimal.yaml
+printf 'format: ausbau-scene/1\nname: full\nunits: mm\nstatic: [s.obj, s.obj]\ndynamic: d.obj\ndynamic_origin: [0.25, 0.25, 0.25]\nstart: {t: [0, 0, 0], q: [1, 0, 0, 0]}\ngoal: {t: [5, 0, 0], q: [0.7071068, 0.7071068, 0, 0]}\nbounds: {min: [-10, -10, -10], max: [10, 10, 10]}\n' > scene/full.yaml
+printf '# a comment\nformat: "ausbau-scene/1"\nstatic:\n  - s.obj\ndynamic: d.obj\nstart:\n  t: [1e3, -2.5, 0x10]\n' > scene/block.yaml
+
+# Meshes: the first byte picks the extension (fuzz_mesh.cpp): 0 .obj, 1 .stl,
+# 2 .ply, 3 .off, 4 .dae.
+tetra_obj='v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n'
+printf "\x00$tetra_obj" > mesh/tetra.obj
+printf '\x00o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -1 -2 -3\n' > mesh/quad.obj
+printf '\x01solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > mesh/tri.stl
+{ printf '\x01'; printf 'binary stl header%63s' ''; printf '\x01\x00\x00\x00'; head -c 12 /dev/zero;
+  printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00'; printf '\x00\x00\x80\x3f\x00\x00\x00\x00\x00\x00\x00\x00';
+  printf '\x00\x00\x00\x00\x00\x00\x80\x3f\x00\x00\x00\x00'; printf '\x00\x00'; } > mesh/tri-binary.stl
+printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > mesh/tetra.ply
+printf '\x03OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > mesh/tetra.off
+printf '\x04<?xml version="1.0"?>\n<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">\n<asset><up_axis>Z_UP</up_axis></asset>\n<library_geometries><geometry id="g"><mesh>\n<source id="p"><float_array id="a" count="9">0 0 0 1 0 0 0 1 0</float_array>\n<technique_common><accessor source="#a" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>\n<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>\n<triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>\n</mesh></geometry></library_geometries>\n<library_visual_scenes><visual_scene id="s"><node id="n"><matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</matrix><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url="#s"/></scene>\n</COLLADA>\n' > mesh/tri.dae
+printf "\x05$tetra_obj" > mesh/tetra.txt
+
+printf 'x,y,z,qw,qx,qy,qz\n0,0,0,1,0,0,0\n1.5,2,-3,0.7071067811865476,0,0.7071067811865476,0\n' > path_csv/plain.csv
+printf '# written by a tool\r\nqw, qx, qy, qz, x, y, z, extra\r\n1, 0, 0, 0, 1e3, 0, 0, note\r\n' > path_csv/reordered.csv
+
+# Artifact recipes (artifact_recipe.cpp): no bytes = the typical valid file;
+# then a dataset left out, free dims from the recipe, another type, a huge
+# declared size, and values from the palette (NaN, inf, 1e300, ...).
+for h in artifact path tau voxels spheres labels distfield; do
+  : > "$h/valid"
+  printf '\x01' > "$h/first-absent"
+  printf '\x05\x03\x03\x00\x05\x03\x03' > "$h/free-dims"
+  printf '\x02\x04' > "$h/other-type"
+  printf '\x04\x00\x01' > "$h/huge"
+  printf '\x00\x04\x05\x07\x0c\x01\x02\x03\x04\x05\x06\x07\x08' > "$h/values"
+done

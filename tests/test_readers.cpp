@@ -1,0 +1,403 @@
+// Hostile and broken inputs to every file reader (issue 16, and the classes
+// the fuzz harnesses in fuzz/ guard): each hand-made bad file must give an
+// InputError with one line naming the file (and the dataset or field) and
+// the problem, never a crash, a hang, std::bad_alloc or another exception.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "artifact/artifact.h"
+#include "collision/distance_field.h"
+#include "core/error.h"
+#include "geometry/primitives.h"
+#include "inistate/tau_estimate.h"
+#include "inistate/voxel_grid.h"
+#include "labeling/medial_spheres.h"
+#include "labeling/mesh_topology.h"
+#include "labeling/pbd_label.h"
+#include "planning/path_io.h"
+#include "scene/mesh_io.h"
+#include "scene/scene.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// Expects fn to throw InputError, one line, containing every part.
+void ExpectInputError(const std::function<void()>& fn, std::initializer_list<std::string> parts) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << "not one line: " << msg;
+    for (const auto& part : parts) EXPECT_NE(msg.find(part), std::string::npos) << "'" << part << "' not in: " << msg;
+    return;
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected InputError, got: " << e.what();
+    return;
+  }
+  ADD_FAILURE() << "expected InputError, nothing thrown";
+}
+
+Provenance TestProvenance() {
+  Provenance p;
+  p.producer = "ausbau-test";
+  p.producer_version = "0";
+  return p;
+}
+
+// Replaces (or adds) a dataset of an existing artifact: deleted, then
+// written again with the given type, dims and values (doubles converted by
+// HDF5 to the file type). A chunked layout with nothing written when `data`
+// is empty: a file can declare any size that way.
+void PutDataset(const fs::path& file, const std::string& name, hid_t file_type, const std::vector<hsize_t>& dims,
+                const std::vector<double>& data) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) H5Ldelete(f, name.c_str(), H5P_DEFAULT);
+  const hid_t space =
+      dims.empty() ? H5Screate(H5S_SCALAR) : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+  const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+  if (data.empty() && !dims.empty()) {
+    const std::vector<hsize_t> chunk(dims.size(), 1);
+    H5Pset_chunk(dcpl, static_cast<int>(chunk.size()), chunk.data());
+  }
+  const hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  const hid_t d = H5Dcreate2(f, name.c_str(), file_type, space, lcpl, dcpl, H5P_DEFAULT);
+  ASSERT_GE(d, 0) << name;
+  if (!data.empty()) {
+    ASSERT_GE(H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), 0);
+  }
+  H5Dclose(d);
+  H5Pclose(lcpl);
+  H5Pclose(dcpl);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+void PutIntAttribute(const fs::path& file, const std::string& name, std::int64_t value) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  if (H5Aexists(f, name.c_str()) > 0) H5Adelete(f, name.c_str());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(f, name.c_str(), H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_INT64, &value);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+void PutDoubleAttribute(const fs::path& file, const std::string& name, double value) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  if (H5Aexists(f, name.c_str()) > 0) H5Adelete(f, name.c_str());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(f, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, H5T_NATIVE_DOUBLE, &value);
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Fclose(f);
+}
+
+class Readers : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / ("ausbau_test_readers_" + std::to_string(::getpid()) + "_" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    SaveObj(MakeBox({-10, -10, -1}, {10, 10, 0}), dir_ / "env.obj");
+    SaveObj(MakeBox({-0.5, -0.5, 0.25}, {0.5, 0.5, 1.5}), dir_ / "robot.obj");
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  fs::path Write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+  fs::path Fifo(const std::string& name) const {
+    const fs::path p = dir_ / name;
+    EXPECT_EQ(::mkfifo(p.c_str(), 0600), 0);
+    return p;
+  }
+  fs::path WriteScene(const std::string& extra, const std::string& dynamic = "robot.obj") const {
+    return Write("scene.yaml", "format: ausbau-scene/1\nstatic: [env.obj]\ndynamic: " + dynamic + "\n" + extra);
+  }
+
+  fs::path WritePath() const {
+    PathArtifact path;
+    path.waypoints.resize(3);
+    path.waypoints[1].t = {1, 0, 0};
+    path.waypoints[2].t = {2, 0, 0};
+    path.validity = "iv";
+    path.tau = 1;
+    path.psi = 1;
+    path.inter_index = 1;
+    path.waypoint_volume = {0.5, 0.25, 0};
+    path.waypoint_part = {0, 0, -1};
+    path.waypoint_deformability = {0.5, 0.5, 0};
+    const fs::path file = dir_ / "path.h5";
+    WritePathArtifact(file, path, TestProvenance());
+    return file;
+  }
+
+  fs::path WriteVoxels() const {
+    SceneVoxels voxels;
+    for (VoxelGrid* grid : {&voxels.static_grid, &voxels.dynamic_grid}) {
+      grid->geometry.dims = {2, 2, 2};
+      grid->geometry.spacing = 0.5;
+      grid->cells.assign(8, 1);
+    }
+    const fs::path file = dir_ / "voxels.h5";
+    WriteVoxelArtifact(file, voxels, {"s", "mm"}, TestProvenance());
+    return file;
+  }
+
+  fs::path WriteDistanceFieldFile() const {
+    DistanceFieldOptions options;
+    options.resolution = 4;
+    options.threads = 1;
+    options.progress = false;
+    const auto field = BuildDistanceField(MakeBox({0, 0, 0}, {1, 1, 1}), options);
+    const fs::path file = dir_ / "distfield.h5";
+    WriteDistanceField(file, *field);
+    return file;
+  }
+
+  fs::path dir_;
+};
+
+// ---------------------------------------------------------------- the artifact layer
+
+TEST_F(Readers, ArtifactDeclaringHugeDatasetIsRefusedBeforeAllocating) {
+  const fs::path file = WritePath();
+  // 2^33 doubles (64 GiB) declared in a file of a few KB.
+  PutDataset(file, "reference_point", H5T_IEEE_F64LE, {hsize_t{1} << 33}, {});
+  ExpectInputError([&] { ReadPathArtifact(file); },
+                   {file.string(), "dataset 'reference_point' declares [8589934592]", "more than a file of"});
+}
+
+TEST_F(Readers, ArtifactElementCountWrappingPast64BitsIsRefused) {
+  const fs::path file = WritePath();
+  // 2635249153387078803 x 7 = 2^64 + 5: wrapped, the product is 5.
+  PutDataset(file, "waypoints", H5T_IEEE_F64LE, {2635249153387078803ull, 7}, {});
+  ExpectInputError([&] { ReadPathArtifact(file); }, {file.string(), "dataset 'waypoints' declares", "more than"});
+}
+
+TEST_F(Readers, ArtifactThatIsAFifoOrDeviceIsRefused) {
+  const fs::path fifo = Fifo("path.h5");
+  ExpectInputError([&] { ReadPathArtifact(fifo); }, {fifo.string(), "not a regular file"});
+  ExpectInputError([&] { ReadPathArtifact("/dev/zero"); }, {"/dev/zero", "not a regular file"});
+}
+
+// ---------------------------------------------------------------- meshes and scenes
+
+TEST_F(Readers, MeshThatIsAFifoDeviceOrFolderIsRefused) {
+  const fs::path fifo = Fifo("fifo.obj");
+  ExpectInputError([&] { LoadMesh(fifo); }, {fifo.string(), "not a regular file"});
+  ExpectInputError([&] { LoadMesh("/dev/zero"); }, {"/dev/zero", "not a regular file"});
+  ExpectInputError([&] { LoadMesh(dir_); }, {dir_.string(), "is a directory"});
+}
+
+TEST_F(Readers, SceneThatIsAFifoOrNamesADeviceIsRefused) {
+  const fs::path fifo = Fifo("scene-fifo.yaml");
+  ExpectInputError([&] { LoadScene(fifo); }, {fifo.string(), "not a regular file"});
+  const fs::path scene = WriteScene("", "/dev/zero");
+  ExpectInputError([&] { LoadScene(scene); }, {scene.string(), "dynamic: /dev/zero", "not a regular file"});
+}
+
+TEST_F(Readers, MeshOfUnknownFormatFailsFast) {
+  const fs::path txt = Write("mesh.txt", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  ExpectInputError([&] { LoadMesh(txt); }, {txt.string(), "unknown format '.txt'"});
+  const fs::path bare = Write("mesh", "solid x\nendsolid x\n");
+  ExpectInputError([&] { LoadMesh(bare); }, {bare.string(), "unknown format ''"});
+}
+
+std::string PlyWithFace(const std::string& face) {
+  return "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" +
+         face + "\n";
+}
+
+TEST_F(Readers, MeshFaceIndexOutOfRangeNamesTheFile) {
+  const fs::path big = Write("big.ply", PlyWithFace("3 0 1 7"));
+  ExpectInputError([&] { LoadMesh(big); }, {big.string(), "face 0", "refers to vertex 7, out of range", "3 vertices"});
+  const fs::path negative = Write("negative.ply", PlyWithFace("3 0 -1 2"));
+  ExpectInputError([&] { LoadMesh(negative); }, {negative.string(), "refers to vertex -1, out of range"});
+}
+
+TEST_F(Readers, MeshFaceWithoutIndicesIsRefused) {
+  // A face with no indices made assimp's triangulation abort the process.
+  const fs::path ply = Write("empty-face.ply", PlyWithFace("0"));
+  ExpectInputError([&] { LoadMesh(ply); }, {ply.string(), "face 0 has no vertex indices"});
+}
+
+TEST_F(Readers, MalformedOffIsRefusedBeforeAssimpReadsIt) {
+  // Found by fuzz_mesh: assimp 5.2's OFF importer aborted (a vertex count
+  // read from NUL bytes) or read out of bounds ("@3 0 1 2") on these.
+  std::string nul = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3";
+  nul += std::string(122, '\0');
+  nul += " 0 1 2\n3 0 1 3\n";
+  const fs::path with_nul = Write("nul.off", nul);
+  ExpectInputError([&] { LoadMesh(with_nul); }, {with_nul.string(), "malformed OFF file (face 0 does not start"});
+  const fs::path at = Write("at.off", "OFF\n4 2 0\n0 0 0\n2 0 0\n0 1 0\n0 0 1\n@3 0 1 2\n3 0 1 3\n");
+  ExpectInputError([&] { LoadMesh(at); }, {at.string(), "malformed OFF file (face 0 does not start"});
+  const fs::path index = Write("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+  ExpectInputError([&] { LoadMesh(index); }, {index.string(), "face 0 refers to vertex '3', out of range"});
+  const fs::path good = Write("good.off", "OFF\n# a comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 255 0 0\n");
+  EXPECT_EQ(LoadMesh(good).triangles.size(), 1u);
+}
+
+TEST_F(Readers, MeshVertexAbsurdlyFarOutIsRefused) {
+  // assimp reads float: 1e20 is finite there, 1e300 would be inf.
+  const fs::path far = Write("far.obj", "v 1e20 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  ExpectInputError([&] { LoadMesh(far); }, {far.string(), "vertex 0 is absurdly far out"});
+}
+
+TEST_F(Readers, SceneWithAbsurdPositionsIsRefused) {
+  const fs::path origin = WriteScene("dynamic_origin: [1e300, 0, 0]\n");
+  ExpectInputError([&] { LoadScene(origin); }, {origin.string(), "dynamic_origin holds 1e+300, absurdly far out"});
+  const fs::path start = WriteScene("start: {t: [0, -2e9, 0]}\n");
+  ExpectInputError([&] { LoadScene(start); }, {start.string(), "start.t holds -2e+09"});
+}
+
+TEST_F(Readers, PartWithoutPositiveAreaNamesTheFile) {
+  TriangleMesh flat;
+  flat.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  flat.triangles = {{0, 1, 2}};
+  MeshTopologyOptions options;
+  options.source = "flat.obj";
+  ExpectInputError([&] { BuildMeshTopology(flat, options); }, {"flat.obj: ", "no triangle of positive area"});
+}
+
+// ---------------------------------------------------------------- path artifacts and CSVs
+
+TEST_F(Readers, PathCsvThatIsAFifoOrFolderIsRefused) {
+  const fs::path fifo = Fifo("path.csv");
+  ExpectInputError([&] { ReadPathCsv(fifo); }, {fifo.string(), "not a regular file"});
+  ExpectInputError([&] { ReadPathCsv(dir_); }, {dir_.string(), "is a directory"});
+}
+
+TEST_F(Readers, PathWithNonFiniteOrNegativeVolumesIsRefused) {
+  const fs::path file = WritePath();
+  PutDataset(file, "inistate/volume", H5T_IEEE_F64LE, {3}, {0.5, kNan, 0});
+  ExpectInputError([&] { ReadPathArtifact(file); }, {file.string(), "'inistate/volume'", "non-finite value at 1"});
+  PutDataset(file, "inistate/volume", H5T_IEEE_F64LE, {3}, {0.5, -1, 0});
+  ExpectInputError([&] { ReadPathArtifact(file); }, {file.string(), "'inistate/volume'", "negative"});
+}
+
+TEST_F(Readers, PathWithNonFiniteReferencePointIsRefused) {
+  const fs::path file = WritePath();
+  PutDataset(file, "dynamic_origin", H5T_IEEE_F64LE, {3}, {0, kNan, 0});
+  ExpectInputError([&] { ReadPathArtifact(file); }, {file.string(), "dataset 'dynamic_origin' is not finite"});
+}
+
+// ---------------------------------------------------------------- the other artifacts
+
+TEST_F(Readers, TauWithEmptyScalarIsAnInputError) {
+  TauArtifact tau;
+  tau.estimate.tau = 1;
+  tau.estimate.psi = 1;
+  tau.validity = "iv";
+  tau.units = "mm";
+  const fs::path file = dir_ / "tau.h5";
+  WriteTauArtifact(file, tau, TestProvenance());
+  PutDataset(file, "rounds", H5T_STD_I64LE, {0}, {});  // was std::out_of_range from .at(0)
+  ExpectInputError([&] { ReadTauArtifact(file); }, {file.string(), "dataset 'rounds' must be a scalar"});
+}
+
+TEST_F(Readers, VoxelsWithNonFiniteShrinkAreRefused) {
+  const fs::path file = WriteVoxels();
+  PutDataset(file, "dynamic/shrink", H5T_IEEE_F64LE, {}, {kNan});
+  ExpectInputError([&] { ReadVoxelArtifact(file); }, {file.string(), "dataset 'dynamic/shrink'"});
+}
+
+TEST_F(Readers, VoxelsOfNonFiniteExtentAreRefused) {
+  const fs::path file = WriteVoxels();
+  PutDataset(file, "static/origin", H5T_IEEE_F64LE, {3}, {1.7e308, 0, 0});
+  PutDataset(file, "static/spacing", H5T_IEEE_F64LE, {}, {1e308});
+  ExpectInputError([&] { ReadVoxelArtifact(file); }, {file.string(), "group 'static'", "non-finite extent"});
+}
+
+TEST_F(Readers, SpheresWithNonFiniteCentersAreRefused) {
+  SpheresArtifact spheres;
+  spheres.centers = {{0, 0, 0}, {1, 1, 1}};
+  spheres.radii = {0.5, 0.5};
+  spheres.normals = {{0, 0, 1}, {0, 0, 1}};
+  spheres.valid = {1, 1};
+  spheres.contact = {0, 0};
+  const fs::path file = dir_ / "spheres.h5";
+  WriteSpheresArtifact(file, spheres, TestProvenance());
+  PutDataset(file, "centers", H5T_IEEE_F64LE, {2, 3}, {0, 0, 0, 1, kNan, 1});
+  ExpectInputError([&] { ReadSpheresArtifact(file); }, {file.string(), "dataset 'centers'", "non-finite value at 1"});
+}
+
+TEST_F(Readers, LabelsWithNonFiniteValuesAreRefused) {
+  LabelsArtifact labels;
+  labels.deformability = {0, 1};
+  labels.displacement = {0, 0.5};
+  labels.measure = "mean";
+  const fs::path file = dir_ / "labels.h5";
+  WriteLabelsArtifact(file, labels, TestProvenance());
+  PutDoubleAttribute(file, "sigma", kNan);
+  ExpectInputError([&] { ReadLabelsArtifact(file); }, {file.string(), "root attribute 'sigma' is not finite"});
+  PutDataset(file, "displacement", H5T_IEEE_F64LE, {2}, {0, std::numeric_limits<double>::infinity()});
+  ExpectInputError([&] { ReadLabelsArtifact(file); }, {file.string(), "dataset 'displacement'", "non-finite"});
+}
+
+TEST_F(Readers, DistanceFieldWithBadCellsIsRefused) {
+  const fs::path file = WriteDistanceFieldFile();
+  // Shape of the grid as written: read it back to get it.
+  const auto field = ReadDistanceField(file);
+  const auto& d = field->dims();
+  const std::vector<hsize_t> shape = {static_cast<hsize_t>(d[2]), static_cast<hsize_t>(d[1]),
+                                      static_cast<hsize_t>(d[0])};
+  const std::size_t n = static_cast<std::size_t>(field->size());
+
+  std::vector<double> nearest(3 * n, 0.5);
+  nearest[4] = kNan;
+  PutDataset(file, "nearest_point", H5T_IEEE_F32LE, {shape[0], shape[1], shape[2], 3}, nearest);
+  ExpectInputError([&] { ReadDistanceField(file); },
+                   {file.string(), "dataset 'nearest_point'", "non-finite value at cell 1"});
+
+  std::vector<double> classes(n, 0);
+  classes[0] = 7;
+  PutDataset(file, "class", H5T_STD_U8LE, shape, classes);
+  ExpectInputError([&] { ReadDistanceField(file); },
+                   {file.string(), "dataset 'class' holds a value other than 0, 1, 2"});
+}
+
+TEST_F(Readers, DistanceFieldTriangleIndexOutOfRangeIsRefused) {
+  const fs::path file = WriteDistanceFieldFile();
+  const auto field = ReadDistanceField(file);
+  const auto& d = field->dims();
+  std::vector<double> triangles(static_cast<std::size_t>(field->size()), 0);
+  triangles[2] = static_cast<double>(field->triangle_count());
+  PutDataset(file, "triangle", H5T_STD_I64LE,
+             {static_cast<hsize_t>(d[2]), static_cast<hsize_t>(d[1]), static_cast<hsize_t>(d[0])}, triangles);
+  ExpectInputError([&] { ReadDistanceField(file); }, {file.string(), "dataset 'triangle' holds an index out of range"});
+  PutIntAttribute(file, "triangles", 0);
+  ExpectInputError([&] { ReadDistanceField(file); }, {file.string(), "root attribute 'triangles' is out of range (0)"});
+}
+
+}  // namespace
+}  // namespace ausbau
