@@ -86,6 +86,9 @@ void BoundSharedFlags(CLI::App& app) {
       option->description(option->get_description() + " (at most 1 PiB)");
     } else if (name == "rigid-tolerance") {
       option->check(Within(0, 1e6));  // mm; a negative one had judged every path invalid
+    } else if (name == "max-iterations") {
+      // A cap itself (0 = none; --time-limit bounds the run): not negative.
+      option->check(Within(0, 1e15));
     } else if (name.size() > 11 && name.compare(name.size() - 11, 11, "-iterations") == 0) {
       option->check(Within(0, kMaxIterationFlag));
       option->description(option->get_description() + " (at most 10^6)");

@@ -76,7 +76,9 @@ inline void AddRenamedFlag(CLI::App& app, const std::string& old_name, const std
 // never meant), and the ranges below. Each is named in the flag's --help.
 //   --memory-limit   GiB, kMinMemoryLimitGiB .. kMaxMemoryLimitGiB (1e30 had
 //                    overflowed to "must be > 0")
-//   --*-iterations   at most kMaxIterationFlag (10^9 hung)
+//   --*-iterations   at most kMaxIterationFlag (10^9 hung); --max-iterations
+//                    (a cap itself, 0 = none) only >= 0
+//   --rigid-tolerance mm, >= 0
 inline constexpr double kMinMemoryLimitGiB = 1e-3;  // about 1 MiB
 inline constexpr double kMaxMemoryLimitGiB = 1e6;   // about 1 PiB
 inline constexpr double kMaxIterationFlag = 1e6;
