@@ -668,6 +668,8 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
           options.max_surface_tests);
     }
   }
+  CheckVoxelMemory(gd, options.memory_limit, "D's voxel grid");
+  CheckVoxelMemory(gs, options.memory_limit - VoxelizeMemoryBytes(gd), "S's voxel grid");
   {
     const double tests = SurfaceTests(scene.dynamic_mesh, gd) + SurfaceTests(scene.static_mesh, gs);
     if (gd.Count() + gs.Count() > options.max_voxels || tests > options.max_surface_tests) {
@@ -680,8 +682,6 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
       throw InputError(buf);
     }
   }
-  CheckVoxelMemory(gd, options.memory_limit, "D's voxel grid");
-  CheckVoxelMemory(gs, options.memory_limit - VoxelizeMemoryBytes(gd), "S's voxel grid");
   LogInfo("voxel size %g: S %d x %d x %d, D %d x %d x %d voxels", h, gs.dims[0], gs.dims[1], gs.dims[2], gd.dims[0],
           gd.dims[1], gd.dims[2]);
   SceneVoxels out;
