@@ -72,6 +72,9 @@ ifndef OUT
 $(error OUT=output/folder is required)
 endif
 
+include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
+ifeq ($(OUT_LOCKED),yes)
+
 # Make's `?=` keeps the spaces before a comment: strip them.
 SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
@@ -177,3 +180,5 @@ verdict: smooth
 
 report: verdict
 	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html $(REPORT_FLAGS)
+
+endif  # OUT_LOCKED (out-lock.mk)

@@ -23,6 +23,9 @@ ifndef OUT
 $(error OUT=output/folder is required)
 endif
 
+include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
+ifeq ($(OUT_LOCKED),yes)
+
 .PHONY: all plan smooth report generate-demo-scene
 .DELETE_ON_ERROR:
 
@@ -42,3 +45,5 @@ report: smooth
 
 generate-demo-scene:
 	@$(SCENE_GEN) --family rod-in-cage --seed $(SEED) -o $(dir $(SCENE)) > /dev/null
+
+endif  # OUT_LOCKED (out-lock.mk)

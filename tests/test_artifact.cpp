@@ -408,12 +408,10 @@ TEST_F(ArtifactTest, WriteFailuresAreRuntimeErrorsNamingThePath) {
   EXPECT_THROW(w.WriteDoubles("z", {1}, {1}), std::logic_error);
   EXPECT_EQ(ArtifactReader(path, kSchema, 1).ReadStringAttribute("x", "units"), "mm");
 
-  // Renaming onto a directory fails; the temporary file is cleaned up.
+  // A directory as the target is refused before anything is written (an
+  // output is never a directory, core/atomic_file.h); no temporary file.
   fs::create_directories(dir_ / "isdir" / "child");
-  {
-    ArtifactWriter w2(dir_ / "isdir", kSchema, 1, SampleProvenance());
-    EXPECT_THROW(w2.Commit(), std::runtime_error);
-  }
+  EXPECT_THROW(ArtifactWriter(dir_ / "isdir", kSchema, 1, SampleProvenance()), InputError);
   EXPECT_EQ(DirEntries(), (std::vector<std::string>{"a.h5", "file", "isdir"}));
 }
 

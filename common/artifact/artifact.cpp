@@ -32,6 +32,7 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/hash.h"
 
@@ -263,8 +264,6 @@ const std::set<std::string>& ReservedRootAttributes() {
   return names;
 }
 
-std::atomic<unsigned long> temp_counter{0};
-
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -426,9 +425,10 @@ ArtifactWriter::ArtifactWriter(std::filesystem::path path, std::string schema, i
                                  ec.message() + ")");
       }
     }
-    impl_->temp = impl_->target;
-    impl_->temp +=
-        ".tmp-" + std::to_string(static_cast<long>(::getpid())) + "-" + std::to_string(temp_counter.fetch_add(1));
+    // Never replace a link, FIFO or device; clear what killed writers left.
+    CheckOutputTarget(impl_->target);
+    RemoveStaleTemporaries(impl_->target);
+    impl_->temp = TemporaryPathFor(impl_->target);
 
     Handle fcpl = PropertyList(H5P_FILE_CREATE);
     CheckTargetId(fcpl.get(), impl_->target, "cannot set up file creation");

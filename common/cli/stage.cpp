@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 
@@ -70,7 +71,9 @@ CLI::Option* StageDefinition::Flag(const std::string& flags, bool* value, const 
 
 void StageDefinition::Threads(int* threads) {
   threads_ = threads;
-  app_.add_option("--threads", *threads, "OpenMP threads; 0 = all cores")->capture_default_str()->check(ThreadCount());
+  app_.add_option("--threads", *threads, "OpenMP threads; 0 = all cores, at most 1024")
+      ->capture_default_str()
+      ->check(ThreadCount());
   not_in_cache_key_.insert("threads");
 }
 
@@ -109,6 +112,16 @@ int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& comput
                                const std::function<int(const StageRun&)>& reuse) {
   if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
   const struct Scene scene = LoadScene(scene_path_);
+  {
+    // The outputs against the mesh files scene.yaml names (--csv onto D's
+    // mesh had overwritten it), before any work.
+    std::vector<std::pair<std::string, std::string>> meshes;
+    for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
+      meshes.emplace_back("scene's static[" + std::to_string(i) + "] mesh", scene.static_files[i].string());
+    }
+    meshes.emplace_back("scene's dynamic mesh", scene.dynamic_file.string());
+    CheckOutputPaths(app_, meshes);
+  }
   const Provenance provenance = MakeProvenance(scene);
   const StageRun run{scene, scene_path_, output_, provenance};
   if (validate_) {
@@ -129,7 +142,38 @@ int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& comput
     LogInfo("%s is up to date (same inputs and options); use --force to compute again", output_.c_str());
     return kExitOk;
   }
-  return compute(run);
+  const int code = compute(run);
+  CheckInputsUnchanged(scene, provenance);
+  return code;
+}
+
+void StageDefinition::CheckInputsUnchanged(const Scene& scene, const Provenance& used) const {
+  // The provenance was hashed after the inputs were read; hashing them again
+  // after the work tells whether one changed while the stage ran. Then the
+  // output was made from other bytes than its provenance may claim: it is
+  // removed, so that no later run trusts it as up to date.
+  const Provenance now = MakeProvenance(scene);
+  if (now.Hash() == used.Hash()) return;
+  std::string changed = "an input";
+  for (std::size_t i = 0; i < now.inputs.size() && i < used.inputs.size(); ++i) {
+    if (now.inputs[i] == used.inputs[i]) continue;
+    const std::string& role = now.inputs[i].first;
+    changed = role;
+    if (role == "scene") changed = scene.file.string();
+    if (role == "dynamic") changed = scene.dynamic_file.string();
+    if (role.rfind("static", 0) == 0 && !scene.static_files.empty()) {
+      const std::size_t at = role == "static" ? 0 : std::strtoul(role.c_str() + 7, nullptr, 10);
+      if (at < scene.static_files.size()) changed = scene.static_files[at].string();
+    }
+    for (const InputFileSpec& input : inputs_) {
+      if (input.role == role) changed = *input.path;
+    }
+    break;
+  }
+  std::error_code ignored;
+  if (has_output_) std::filesystem::remove(output_, ignored);
+  throw InputErrorAt(changed, "changed while " + name_ + " ran; its output " + (has_output_ ? output_ : "") +
+                                  " was removed (run it again)");
 }
 
 int StageDefinition::Run(int argc, char** argv, const std::function<int(const StageRun&)>& compute,

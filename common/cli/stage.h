@@ -124,6 +124,9 @@ class StageDefinition {
   };
   int RunParsed(const std::function<int(const StageRun&)>& compute, const std::function<int(const StageRun&)>& reuse);
   Provenance MakeProvenance(const Scene& scene) const;
+  // After the work: throws InputError (and removes the output) when an input
+  // changed while the stage ran.
+  void CheckInputsUnchanged(const Scene& scene, const Provenance& used) const;
 
   std::string name_;
   CLI::App app_;

@@ -1,18 +1,164 @@
 #include "cli/stage_main.h"
 
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <new>
 
+#include "core/atomic_file.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "scene/scene.h"
 
 namespace ausbau {
 
+namespace {
+
+bool IsOneOf(const std::string& name, std::initializer_list<const char*> names) {
+  for (const char* candidate : names) {
+    if (name == candidate) return true;
+  }
+  return false;
+}
+
+// A value that CLI11 would convert to a non-finite double ("nan", "inf",
+// "1e999"); anything else is left to the option's own conversion.
+CLI::Validator FiniteNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(text, value) || std::isfinite(value)) return std::string();
+        return "must be a finite number, got " + text;
+      },
+      "FINITE");
+}
+
+// The values an option was given, or its default when it was not (-o).
+std::vector<std::string> PathsOf(const CLI::Option* option) {
+  std::vector<std::string> paths;
+  if (option->count() > 0) {
+    for (const std::string& value : option->results()) {
+      if (!value.empty()) paths.push_back(value);
+    }
+  } else if (!option->get_default_str().empty()) {
+    paths.push_back(option->get_default_str());
+  }
+  return paths;
+}
+
+// Two spellings of one file: the same inode where both exist, else the same
+// absolute, normalized path.
+bool SameFile(const std::string& a, const std::string& b) {
+  std::error_code error;
+  if (std::filesystem::exists(a, error) && std::filesystem::exists(b, error)) {
+    return std::filesystem::equivalent(a, b, error) && !error;
+  }
+  const auto normal_a = std::filesystem::weakly_canonical(std::filesystem::absolute(a), error);
+  const auto normal_b = std::filesystem::weakly_canonical(std::filesystem::absolute(b), error);
+  return !error && normal_a == normal_b;
+}
+
+// An unknown flag is named before anything else: CLI11 checks required
+// options first, so "ausbau-verdict --bogus" had answered "--scene is
+// required". Values that merely start with "-" (numbers) are not flags.
+void RefuseUnknownFlags(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") break;
+    const bool long_flag = arg.size() > 2 && arg.compare(0, 2, "--") == 0;
+    const bool short_flag = arg.size() == 2 && arg[0] == '-' && std::isalpha(static_cast<unsigned char>(arg[1]));
+    if (!long_flag && !short_flag) continue;
+    const std::string name = arg.substr(0, arg.find('='));
+    if (app.get_option_no_throw(name) == nullptr) throw InputError(name + ": unknown flag (see --help)");
+  }
+}
+
+}  // namespace
+
+void BoundSharedFlags(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_single_name();
+    if (option->get_type_name().rfind("FLOAT", 0) == 0) option->check(FiniteNumber());
+    if (name == "memory-limit") {
+      option->check(Within(kMinMemoryLimitGiB, kMaxMemoryLimitGiB));
+      option->description(option->get_description() + " (at most 1 PiB)");
+    } else if (name == "rigid-tolerance") {
+      option->check(Within(0, 1e6));  // mm; a negative one had judged every path invalid
+    } else if (name == "max-iterations") {
+      // A cap itself (0 = none; --time-limit bounds the run): not negative.
+      option->check(Within(0, 1e15));
+    } else if (name.size() > 11 && name.compare(name.size() - 11, 11, "-iterations") == 0) {
+      option->check(Within(0, kMaxIterationFlag));
+      option->description(option->get_description() + " (at most 10^6)");
+    }
+  }
+}
+
+void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs) {
+  std::vector<std::pair<std::string, std::string>> outputs, inputs;  // (flag, file)
+  for (const CLI::Option* option : app.get_options()) {
+    const std::string name = option->get_single_name();
+    const bool output =
+        IsOneOf(name, {"output", "csv", "ply", "profile", "ompl-path", "json", "static-out", "dynamic-out"});
+    const bool input = IsOneOf(
+        name, {"scene", "path", "smoothed", "spheres", "voxels", "labels", "tau-file", "csv-name", "distfield"});
+    if (!output && !input) continue;
+    // A folder output (ausbau-scene-gen -o, "output folder") is no file,
+    // but must not be one either.
+    if (output && option->get_description().find("folder") != std::string::npos) {
+      for (const std::string& value : PathsOf(option)) {
+        std::error_code error;
+        if (std::filesystem::exists(value, error) && !std::filesystem::is_directory(value, error)) {
+          throw InputErrorAt(value, "--" + name + " names an output folder, but this is a file");
+        }
+      }
+      continue;
+    }
+    for (const std::string& value : PathsOf(option)) {
+      if (output) {
+        outputs.emplace_back("--" + name, value);
+        continue;
+      }
+      std::size_t begin = 0;  // --distfield S.h5,D.h5
+      while (begin <= value.size()) {
+        const std::size_t comma = name == "distfield" ? value.find(',', begin) : std::string::npos;
+        const std::size_t end = comma == std::string::npos ? value.size() : comma;
+        if (end > begin) inputs.emplace_back("--" + name, value.substr(begin, end - begin));
+        begin = end + 1;
+      }
+    }
+  }
+  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const auto& [flag, file] = outputs[i];
+    CheckOutputTarget(file);
+    for (const auto& [input_flag, input_file] : inputs) {
+      if (SameFile(file, input_file)) {
+        throw InputErrorAt(file,
+                           flag + " is the same file as the input " + input_flag + "; refusing to overwrite an input");
+      }
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      if (SameFile(file, outputs[j].second)) {
+        throw InputErrorAt(file, flag + " and " + outputs[j].first + " name the same file");
+      }
+    }
+  }
+}
+
 int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level) {
+  // Past a file size limit (ulimit -f) a write fails with EFBIG instead of
+  // killing the process, so that the writer can remove its temporary file
+  // and say which output could not be written.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
+    BoundSharedFlags(app);
+    RefuseUnknownFlags(app, argc, argv);
     app.parse(argc, argv);
     SetLogLevel(ParseLogLevel(log_level));
+    CheckOutputPaths(app);
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
@@ -31,6 +177,15 @@ int RunWithExitCodes(const std::string& name, const std::function<int()>& work) 
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
     return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    // Readers bound their sizes by what the file holds and the stages their
+    // grids by --memory-limit; what is left is a machine too small for the
+    // inputs: an environment failure (exit 1), said so.
+    std::fprintf(stderr,
+                 "%s: error: out of memory: the inputs need more memory than this machine has (see the stage's "
+                 "--memory-limit or a coarser resolution)\n",
+                 name.c_str());
+    return kExitInternal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: internal error: %s\n", name.c_str(), e.what());
     return kExitInternal;

@@ -70,6 +70,31 @@ inline void AddRenamedFlag(CLI::App& app, const std::string& old_name, const std
       ->group("");
 }
 
+// Bounds every stage shares by flag name (one meaning per flag: README
+// "Flags"), applied by ParseStageArguments before parsing, so that no main
+// can forget them: a finite value for every FLOAT option (NaN and inf are
+// never meant), and the ranges below. Each is named in the flag's --help.
+//   --memory-limit   GiB, kMinMemoryLimitGiB .. kMaxMemoryLimitGiB (1e30 had
+//                    overflowed to "must be > 0")
+//   --*-iterations   at most kMaxIterationFlag (10^9 hung); --max-iterations
+//                    (a cap itself, 0 = none) only >= 0
+//   --rigid-tolerance mm, >= 0
+inline constexpr double kMinMemoryLimitGiB = 1e-3;  // about 1 MiB
+inline constexpr double kMaxMemoryLimitGiB = 1e6;   // about 1 PiB
+inline constexpr double kMaxIterationFlag = 1e6;
+void BoundSharedFlags(CLI::App& app);
+
+// Refuses (InputError, before any work) an output path that would replace an
+// input or another output (the same file, also by another spelling or a
+// link), or that exists and is not a regular file (core/atomic_file.h:
+// CheckOutputTarget). Outputs and inputs are recognized by flag name:
+//   outputs: -o/--output, --csv, --ply, --profile, --ompl-path, --json,
+//            --static-out, --dynamic-out
+//   inputs:  --scene, --path, --smoothed, --spheres, --voxels, --labels,
+//            --tau-file, --csv-name, --distfield (comma-separated)
+// plus `more_inputs` (name, file), e.g. the scene's mesh files once loaded.
+void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs = {});
+
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded = {});

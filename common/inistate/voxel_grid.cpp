@@ -363,6 +363,29 @@ std::int64_t VoxelizeMemoryBytes(const VoxelGridGeometry& g) {
   return bytes > 9e18 ? std::numeric_limits<std::int64_t>::max() : static_cast<std::int64_t>(bytes);
 }
 
+// The triangle/voxel tests VoxelizeMesh's surface pass makes: the voxels of
+// each triangle's box in the grid's frame, clipped to the grid.
+double SurfaceTests(const TriangleMesh& mesh, const VoxelGridGeometry& g) {
+  const Eigen::Matrix3d to_grid = g.axes.transpose();
+  const Vec3 origin = to_grid * g.origin;
+  double total = 0;
+  for (const auto& tri : mesh.triangles) {
+    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (int corner = 0; corner < 3; ++corner) {
+      const Vec3 p = (to_grid * mesh.vertices[tri[corner]] - origin) / g.spacing;
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    double voxels = 1;
+    for (int k = 0; k < 3; ++k) {
+      const double first = std::max(0.0, std::floor(lo[k])), last = std::min(g.dims[k] - 1.0, std::floor(hi[k]));
+      voxels *= std::max(0.0, last - first + 1);
+    }
+    total += voxels;
+  }
+  return total;
+}
+
 void CheckVoxelMemory(const VoxelGridGeometry& g, std::int64_t limit, const std::string& what) {
   const std::int64_t bytes = VoxelizeMemoryBytes(g);
   if (bytes > limit) {
@@ -574,6 +597,15 @@ VoxelGrid ErodeVoxels(const VoxelGrid& grid, double distance) {
 
 SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
   options.Check();
+  const auto check_size = [&](const TriangleMesh& mesh, const std::string& file, const char* what) {
+    if (static_cast<std::int64_t>(mesh.triangles.size()) > options.max_triangles) {
+      throw InputErrorAt(file, std::string(what) + " has " + std::to_string(mesh.triangles.size()) +
+                                   " triangles, more than the voxelizer takes (" +
+                                   std::to_string(options.max_triangles) + "; decimate the mesh)");
+    }
+  };
+  check_size(scene.static_mesh, scene.static_files.empty() ? scene.file.string() : scene.static_files[0].string(), "S");
+  check_size(scene.dynamic_mesh, scene.dynamic_file.string(), "D");
   // D in its principal frame (voxel_grid.h).
   const std::vector<Vec3>& d_points = scene.dynamic_mesh.vertices;
   const Eigen::Matrix3d d_axes = PrincipalAxes(d_points);
@@ -618,18 +650,38 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
     // say so. An explicit --voxel-size is never changed (refused below).
     const double wished = h;
     // At most 2^30 times fewer cells; a limit below even that is refused below.
-    for (int k = 0; k < 90 && VoxelizeMemoryBytes(gd) + VoxelizeMemoryBytes(gs) > options.memory_limit; ++k) {
+    const auto too_much = [&] {
+      return VoxelizeMemoryBytes(gd) + VoxelizeMemoryBytes(gs) > options.memory_limit ||
+             gd.Count() + gs.Count() > options.max_voxels ||
+             SurfaceTests(scene.dynamic_mesh, gd) + SurfaceTests(scene.static_mesh, gs) > options.max_surface_tests;
+    };
+    for (int k = 0; k < 90 && too_much(); ++k) {
       h *= std::cbrt(2.0);
       gd = grid_in(d_box, d_axes, h);
       gs = grid_in(s_box, s_axes, h);
     }
     if (h != wished) {
-      LogWarn("automatic voxel size %g coarsened to %g to fit the memory limit of %.2f GiB (--memory-limit)", wished, h,
-              options.memory_limit / double(1 << 30));
+      LogWarn(
+          "automatic voxel size %g coarsened to %g to fit the memory limit of %.2f GiB (--memory-limit) and the "
+          "work bounds (%lld voxels, %.0f triangle/voxel tests)",
+          wished, h, options.memory_limit / double(1 << 30), static_cast<long long>(options.max_voxels),
+          options.max_surface_tests);
     }
   }
   CheckVoxelMemory(gd, options.memory_limit, "D's voxel grid");
   CheckVoxelMemory(gs, options.memory_limit - VoxelizeMemoryBytes(gd), "S's voxel grid");
+  {
+    const double tests = SurfaceTests(scene.dynamic_mesh, gd) + SurfaceTests(scene.static_mesh, gs);
+    if (gd.Count() + gs.Count() > options.max_voxels || tests > options.max_surface_tests) {
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "--voxel-size %g: %lld voxels and %.3g triangle/voxel tests, over the bounds of %lld voxels "
+                    "and %.3g tests (choose a larger --voxel-size)",
+                    h, static_cast<long long>(gd.Count() + gs.Count()), tests,
+                    static_cast<long long>(options.max_voxels), options.max_surface_tests);
+      throw InputError(buf);
+    }
+  }
   LogInfo("voxel size %g: S %d x %d x %d, D %d x %d x %d voxels", h, gs.dims[0], gs.dims[1], gs.dims[2], gd.dims[0],
           gd.dims[1], gd.dims[2]);
   SceneVoxels out;

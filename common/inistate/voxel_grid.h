@@ -155,6 +155,20 @@ struct VoxelizeOptions {
   // Bytes. Grids at an explicit voxel_size that need more are refused
   // (InputError); the automatic size is coarsened until they fit.
   std::int64_t memory_limit = std::int64_t{2} << 30;
+  // Triangles of S or of D at most (refused up front, InputError naming the
+  // file): the open parts' winding number is evaluated per voxel over the
+  // triangles, and a 10M-triangle S had taken over 600 s (issue 16).
+  // stages/voxelize/README.md documents the limit.
+  std::int64_t max_triangles = 2000000;
+  // Work bounds (issue 16: a single triangle as D gave a fine automatic size
+  // and S's large triangles then took 75-82 s and 5.5 GB): at most this many
+  // triangle/voxel tests in the surface pass (the voxels of each triangle's
+  // box) and this many voxels in both grids. The automatic size is coarsened
+  // until both hold; an explicit --voxel-size that breaks them is refused.
+  // Above what real scenes need (clips-ds*: a few million of each; the
+  // goldens are unchanged); a flat D's grids (73 s before) now take seconds.
+  double max_surface_tests = 1e8;
+  std::int64_t max_voxels = std::int64_t{1} << 25;
   double shrink = 0;  // erode D's voxels by this distance (scene units), thesis 5.3
   double winding_threshold = 0.5;
   // S's grid: all of S instead of S near D (VoxelizeScene). For checkers

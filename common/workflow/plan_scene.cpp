@@ -15,6 +15,7 @@
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
 #include "planning/smoother.h"
+#include "workflow/made_from.h"
 
 namespace ausbau {
 namespace {
@@ -106,6 +107,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
   if (!options.tau_file.empty()) {
     const TauArtifact stored = ReadTauArtifact(options.tau_file);
+    CheckMadeFrom(options.tau_file, kTauSchema, kTauSchemaVersion, scene, MadeFrom::kMeshes);
     if (stored.validity != options.validity) {
       throw InputErrorAt(options.tau_file,
                          "tau was estimated for --validity " + stored.validity + ", not " + options.validity);

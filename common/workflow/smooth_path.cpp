@@ -9,6 +9,7 @@
 #include "inistate/volume_smoother.h"
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
+#include "workflow/made_from.h"
 
 namespace ausbau {
 namespace {
@@ -103,6 +104,8 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
 
 SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
                                const std::string& input_file, const SmoothPlannedPathOptions& options) {
+  // A path of another scene whose poses happen to be valid here was smoothed.
+  CheckMadeFrom(input_file, kPathSchema, kPathSchemaVersion, scene, MadeFrom::kMeshes);
   if (!input.success || input.waypoints.empty()) {
     throw InputErrorAt(input_file, "holds no path (the planner did not succeed)");
   }

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/json_writer.h"
 #include "core/log.h"
+#include "workflow/made_from.h"
 
 namespace ausbau {
 namespace {
@@ -60,6 +61,38 @@ std::optional<MaxVolume> FindMaxVolume(const PathArtifact& path) {
   return max;
 }
 
+// A path the verdict can judge at all: finite numbers throughout (a NaN
+// volume or length must not reach a "removable" line), and a claimed success
+// that is a motion (at least two waypoints). Where it starts and ends is the
+// exact check's part (planning/exact_check.h: the start pose, separated at
+// the end), which a removable verdict requires.
+void CheckPathIsJudgeable(const std::string& file, const PathArtifact& path) {
+  for (std::size_t i = 0; i < path.waypoints.size(); ++i) {
+    const Pose& pose = path.waypoints[i];
+    if (!pose.t.allFinite() || !pose.q.coeffs().allFinite()) {
+      throw InputErrorAt(file, "waypoint " + std::to_string(i) + " is not finite");
+    }
+  }
+  const auto check_values = [&](const std::vector<double>& values, const char* what) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (!std::isfinite(values[i])) {
+        throw InputErrorAt(file, std::string(what) + " of waypoint " + std::to_string(i) + " is not finite");
+      }
+    }
+  };
+  check_values(path.waypoint_volume, "the volume");
+  check_values(path.waypoint_deformability, "the deformability");
+  const double lengths[] = {path.length_normalized, path.length_translation, path.length_rotation};
+  for (const double length : lengths) {
+    if (!std::isfinite(length) || length < 0) throw InputErrorAt(file, "a path length is not a finite number >= 0");
+  }
+  if (!std::isfinite(path.tau) || !std::isfinite(path.psi)) throw InputErrorAt(file, "tau or psi is not finite");
+  if (path.success && path.waypoints.size() < 2) {
+    throw InputErrorAt(file, "claims success with " + std::to_string(path.waypoints.size()) +
+                                 " waypoint(s); a removal needs at least two");
+  }
+}
+
 }  // namespace
 
 Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
@@ -70,12 +103,15 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   v.units = scene.units;
   v.path = ReadPathArtifact(options.path);
   const PathArtifact& path = v.path;
+  CheckPathIsJudgeable(options.path, path);
+  CheckMadeFrom(options.path, kPathSchema, kPathSchemaVersion, scene, MadeFrom::kMeshes);
   if (!path.scene.empty() && path.scene != scene.name) {
     throw InputErrorAt(options.path, "was planned for scene '" + path.scene + "', not '" + scene.name + "'");
   }
   std::optional<TauArtifact>& tau = v.tau;
   if (!options.tau.empty()) {
     tau = ReadTauArtifact(options.tau);
+    CheckMadeFrom(options.tau, kTauSchema, kTauSchemaVersion, scene, MadeFrom::kMeshes);
     if (IsVolumeValidity(path.validity) && tau->validity != path.validity) {
       LogWarn("%s was estimated for --validity %s, the path was planned under %s", options.tau.c_str(),
               tau->validity.c_str(), path.validity.c_str());
@@ -96,7 +132,10 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     exact = ExactCheckPath(scene, written, v.tolerance, unmeasured);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
-  v.removable = path.success && !path.waypoints.empty() && exact && exact->valid;
+  // Removable only when the path as written starts at the installed pose and
+  // ends separated (both part of exact->valid) without breaking the limits.
+  v.removable = path.success && path.waypoints.size() >= 2 && exact && exact->valid && exact->starts_at_start &&
+                exact->ends_separated;
   // Not removable: what holds D (straight pulls from the installed pose).
   if (!v.removable) {
     // The exact check classified D's solids the same way: reused.

@@ -6,6 +6,7 @@
 #include "labeling/pbd_label.h"
 #include "planning/exact_check.h"
 #include "scene/scene.h"
+#include "workflow/made_from.h"
 
 namespace ausbau {
 namespace {
@@ -25,6 +26,7 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
     voxels = VoxelizeScene(scene, VoxelizeOptions{});
   } else {
     voxels = ReadVoxelArtifact(inputs.voxels);
+    CheckMadeFrom(inputs.voxels, kVoxelsSchema, kVoxelsSchemaVersion, scene, MadeFrom::kMeshes);
     const double h = voxels.dynamic_grid.geometry.spacing;
     // D's grid covers D; S's grid covers S near D (VoxelizeScene): it
     // meets S's box.
@@ -39,6 +41,8 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
   std::vector<double> deformability;
   if (!inputs.labels.empty()) {
     deformability = ReadLabelsArtifact(inputs.labels).deformability;
+    // Labels of another part with the same vertex count passed the count check.
+    CheckMadeFrom(inputs.labels, kLabelsSchema, kLabelsSchemaVersion, scene, MadeFrom::kDynamicMesh);
     if (deformability.size() != scene.dynamic_mesh.vertices.size()) {
       throw InputErrorAt(inputs.labels, "labels for " + std::to_string(deformability.size()) + " vertices, but D has " +
                                             std::to_string(scene.dynamic_mesh.vertices.size()) +
