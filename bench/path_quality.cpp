@@ -46,8 +46,9 @@ int main(int argc, char** argv) {
       argc, argv,
       [&](CLI::App& app) {
         app.add_option("--scene", scene_file, "scene.yaml")->required();
-        app.add_option("--path", path_file, "the path to judge (CSV, x,y,z,qw,qx,qy,qz, scene convention)")->required();
-        app.add_option("--known", known_file, "the known path (CSV, same convention)")->required();
+        app.add_option("--path-csv", path_file, "the path to judge (CSV, x,y,z,qw,qx,qy,qz, scene convention)")
+            ->required();
+        app.add_option("--known", known_file, "the known path (CSV, same convention as --path-csv)")->required();
         app.add_option("--translation-factor", translation_factor, "translation_ok: at most this times the known")
             ->capture_default_str();
         app.add_option("--rotation-margin", rotation_margin, "rotation_ok: at most the known's plus this, rad")

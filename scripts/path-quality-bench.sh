@@ -33,7 +33,7 @@ for family in $families; do
     seconds=$(echo "$(date +%s.%N) - $start" | bc)
     row=",,,,,,,0,0"
     if [ -f "$dir/run/path.csv" ]; then
-      row=$("$bin/ausbau-path-quality" --scene "$dir/scene/scene.yaml" --path "$dir/run/path.csv" --known "$known" \
+      row=$("$bin/ausbau-path-quality" --scene "$dir/scene/scene.yaml" --path-csv "$dir/run/path.csv" --known "$known" \
         2> "$dir/quality.err" || echo ",,,,,,,0,0")
       row=${row#*,}
     fi

@@ -211,7 +211,9 @@ TEST(Smoother, ShortensAndStaysValid) {
   EXPECT_LE(result.after.normalized, result.before.normalized + 1e-12);
   EXPECT_LE(result.path.size(), plan.path.size() + result.shortcuts);
   EXPECT_TRUE(result.path.front().t.isApprox(plan.path.front().t));
-  EXPECT_TRUE(result.path.back().t.isApprox(plan.path.back().t));
+  // A disassembly's end may move (a straight retreat), but stays out of S.
+  ASSERT_FALSE(f.problem.goal.has_value());
+  EXPECT_TRUE(f.problem.InGoalRegion(result.path.back()));
   ExpectValidPath(f, result.path);
   // Deterministic.
   const SmoothResult again = SmoothPath(f.problem, f.checker, plan.path, smooth);

@@ -29,7 +29,10 @@ namespace ausbau {
 struct SmoothOptions {
   std::uint64_t seed = 1;
   int attempts = 0;  // 0 = automatic: 100 + 10 per waypoint, at most 2000
-  double time_limit_s = 10.0;
+  // A safety valve: the work is bounded by `attempts` (and the translation-
+  // only alternative by its iterations), so the result is the same on any
+  // machine unless this is hit (the OMPL Apartment scene takes about 12 s).
+  double time_limit_s = 60.0;
   double resolution = 0.01;  // as PlannerOptions::resolution
   void Check() const;
 };

@@ -55,7 +55,22 @@ Pose PlanningProblem::SampleUniform(Random& random) const {
   return pose;
 }
 
+namespace {
+
+// A part whose triangles all have zero area is invisible to the collision
+// checks: planning with it would answer for nothing.
+void CheckHasArea(const TriangleMesh& mesh, const std::filesystem::path& file, const char* what) {
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[t[0]];
+    if ((mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).norm() > 0) return;
+  }
+  throw InputErrorAt(file.string(), std::string(what) + " has no triangle of positive area");
+}
+
+}  // namespace
+
 PlanningProblem MakePlanningProblem(const Scene& scene) {
+  CheckHasArea(scene.dynamic_mesh, scene.dynamic_file, "the part D");
   PlanningProblem problem;
   const Aabb mesh_box = scene.dynamic_mesh.Bounds();
   problem.dynamic_origin = scene.dynamic_origin;
