@@ -13,13 +13,6 @@ function(ausbau_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ausbau_everything GTest::gtest GTest::gtest_main)
-  # The unit tests, as one target: `make test-sanitize` builds only these.
-  if("unit" IN_LIST ARG_LABELS)
-    if(NOT TARGET unit-tests)
-      add_custom_target(unit-tests)
-    endif()
-    add_dependencies(unit-tests ${name})
-  endif()
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS "${ARG_LABELS}"
                        ENVIRONMENT "AUSBAU_BIN_DIR=${CMAKE_BINARY_DIR}/bin" ENVIRONMENT "AUSBAU_SOURCE_DIR=${CMAKE_SOURCE_DIR}")
