@@ -42,24 +42,14 @@ namespace fs = std::filesystem;
 // Seconds a case may run before it counts as a hang (killed, exit 137).
 constexpr int kCaseTimeoutSeconds = 20;
 
-struct Outcome {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using Outcome = testing::CommandOutcome;  // stdout and stderr together
 
 // Runs `command` with bash in `dir`, the stages first on PATH.
 Outcome Shell(const fs::path& dir, const std::string& command, int timeout_s = kCaseTimeoutSeconds) {
   const std::string script = "cd '" + dir.string() + "' && PATH='" + testing::BinDir().string() + "':\"$PATH\" " +
                              "timeout -s KILL " + std::to_string(timeout_s) + " bash -c '" +
                              std::regex_replace(command, std::regex("'"), "'\\''") + "' 2>&1";
-  Outcome outcome;
-  FILE* pipe = popen(script.c_str(), "r");
-  if (!pipe) return outcome;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) outcome.output += buffer;
-  const int status = pclose(pipe);
-  outcome.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return outcome;
+  return testing::RunShellCommand(script);
 }
 
 std::string Read(const fs::path& path) { return testing::ReadTextFile(path); }

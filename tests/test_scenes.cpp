@@ -37,8 +37,11 @@ std::filesystem::path BinDir() {
 }
 
 CommandOutcome RunStageCommand(const std::string& stage, const std::string& arguments, const std::string& environment) {
-  const std::string command = (environment.empty() ? "" : environment + " ") +
-                              (BinDir() / ("ausbau-" + stage)).string() + " " + arguments + " 2>&1";
+  return RunShellCommand((environment.empty() ? "" : environment + " ") + (BinDir() / ("ausbau-" + stage)).string() +
+                         " " + arguments + " 2>&1");
+}
+
+CommandOutcome RunShellCommand(const std::string& command) {
   CommandOutcome outcome;
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return outcome;

@@ -22,6 +22,9 @@ struct CommandOutcome {
   int exit_code = -1;
   std::string output;
 };
+// Runs a shell command line; its stdout (and what it redirects there) and
+// exit status (-1 when it did not exit normally).
+CommandOutcome RunShellCommand(const std::string& command);
 // Runs `ausbau-<stage> <arguments>` from BinDir(), with `environment`
 // ("NAME=value ...", may be empty) in front.
 CommandOutcome RunStageCommand(const std::string& stage, const std::string& arguments,

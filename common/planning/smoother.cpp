@@ -116,7 +116,7 @@ void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion
   }
   if (!best_end) return;
   path.resize(best_segment + 1);
-  if (best_from->t != path.back().t || !best_from->q.isApprox(path.back().q, 0.0)) path.push_back(*best_from);
+  if (best_from->t != path.back().t || best_from->q.coeffs() != path.back().q.coeffs()) path.push_back(*best_from);
   path.push_back(*best_end);
   result->retreat_from = static_cast<int>(best_segment);
 }
