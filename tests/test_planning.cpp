@@ -306,6 +306,29 @@ TEST(Sampler, GaussianSamplesLieNearerToObstaclesThanUniformOnes) {
   EXPECT_THROW(ParseSamplerKind("nope"), InputError);
 }
 
+// The library names the field, not a flag its caller may not have; the
+// error carries the field's address for the stage runner to name the flag.
+TEST(OptionCheck, NamesTheFieldAndWhereItLives) {
+  PlannerOptions planner;
+  planner.range_max = 0;
+  try {
+    planner.Check();
+    FAIL() << "range_max 0 was accepted";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.field(), &planner.range_max);
+    EXPECT_EQ(std::string(e.what()), "range_max: must lie in (0, 1]");
+  }
+  planner = PlannerOptions();
+  planner.sampler = "nope";
+  try {
+    planner.Check();
+    FAIL() << "sampler 'nope' was accepted";
+  } catch (const OptionError& e) {
+    EXPECT_EQ(e.field(), &planner.sampler);
+    EXPECT_EQ(e.field_name(), "sampler");
+  }
+}
+
 TEST(DenseCheck, FindsACollisionBetweenValidWaypoints) {
   // Two collision-free poses on either side of the static box: the straight
   // motion between them passes through it.

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -47,6 +48,7 @@ CLI::Option* StageDefinition::InputFile(const std::string& flags, std::string* p
   CLI::Option* option = app_.add_option(flags, *path, help);
   not_in_cache_key_.insert(option->get_single_name());  // its content is hashed instead
   inputs_.push_back({path, role, "", 0});
+  NameField(path, option);
   return option;
 }
 
@@ -66,19 +68,39 @@ CLI::Option* StageDefinition::ExtraOutput(const std::string& flags, std::string*
 CLI::Option* StageDefinition::Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key) {
   CLI::Option* option = app_.add_flag(flags, *value, help);
   if (key == CacheKey::kNo) not_in_cache_key_.insert(option->get_single_name());
+  NameField(value, option);
   return option;
+}
+
+// The flag that wrote to the field, where the error is about the options
+// themselves; else the flag of the option's name (the library checks copies
+// it made, e.g. with "auto" resolved); else the library's name.
+std::string StageDefinition::FlagOf(const OptionError& error) const {
+  for (const auto& [field, flag] : flag_of_field_) {
+    if (field == error.field()) return flag;
+  }
+  std::string name = error.field_name();
+  std::replace(name.begin(), name.end(), '_', '-');
+  for (const CLI::Option* option : app_.get_options()) {
+    if (option->get_single_name() == name) return "--" + name;
+  }
+  return error.field_name();
+}
+
+void StageDefinition::NameField(const void* field, const CLI::Option* option) {
+  flag_of_field_.emplace_back(field, "--" + option->get_single_name());
 }
 
 void StageDefinition::Threads(int* threads) {
   threads_ = threads;
-  app_.add_option("--threads", *threads, "OpenMP threads; 0 = all cores, at most 1024")
-      ->capture_default_str()
-      ->check(ThreadCount());
+  NameField(threads, app_.add_option("--threads", *threads, "OpenMP threads; 0 = all cores, at most 1024")
+                         ->capture_default_str()
+                         ->check(ThreadCount()));
   not_in_cache_key_.insert("threads");
 }
 
 void StageDefinition::Seed(std::uint64_t* seed) {
-  app_.add_option("--seed", *seed, "random seed")->capture_default_str()->check(NonNegative());
+  NameField(seed, app_.add_option("--seed", *seed, "random seed")->capture_default_str()->check(NonNegative()));
 }
 
 std::string StageDefinition::OptionsText() const {
@@ -180,7 +202,13 @@ int StageDefinition::Run(int argc, char** argv, const std::function<int(const St
                          const std::function<int(const StageRun&)>& reuse) {
   const int parsed = ParseStageArguments(name_, app_, argc, argv, log_level_);
   if (parsed >= 0) return parsed;
-  return RunWithExitCodes(name_, [&] { return RunParsed(compute, reuse); });
+  return RunWithExitCodes(name_, [&] {
+    try {
+      return RunParsed(compute, reuse);
+    } catch (const OptionError& e) {
+      throw InputError(FlagOf(e) + ": " + e.problem());
+    }
+  });
 }
 
 }  // namespace ausbau

@@ -92,6 +92,7 @@ class StageDefinition {
   CLI::Option* Option(const std::string& flags, T* value, const std::string& help, CacheKey key) {
     CLI::Option* option = app_.add_option(flags, *value, help)->capture_default_str();
     if (key == CacheKey::kNo) not_in_cache_key_.insert(option->get_single_name());
+    NameField(value, option);
     return option;
   }
   CLI::Option* Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key);
@@ -102,6 +103,11 @@ class StageDefinition {
   void Threads(int* threads);
   // --seed (part of the cache key).
   void Seed(std::uint64_t* seed);
+
+  // Which flag writes `field`, for options added through app() directly:
+  // an OptionError thrown by a Check() about that field then names the flag.
+  // (Every declaration above does this itself.)
+  void NameField(const void* field, const CLI::Option* option);
 
   // For what the declarations above do not cover (option groups, excludes).
   CLI::App& app() { return app_; }
@@ -124,6 +130,7 @@ class StageDefinition {
   };
   int RunParsed(const std::function<int(const StageRun&)>& compute, const std::function<int(const StageRun&)>& reuse);
   Provenance MakeProvenance(const Scene& scene) const;
+  std::string FlagOf(const OptionError& error) const;
   // After the work: throws InputError (and removes the output) when an input
   // changed while the stage ran.
   void CheckInputsUnchanged(const Scene& scene, const Provenance& used) const;
@@ -144,6 +151,7 @@ class StageDefinition {
   std::vector<InputFileSpec> inputs_;
   std::vector<std::function<void(Provenance*)>> add_inputs_;
   std::set<std::string> not_in_cache_key_;
+  std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"
 };
 
 }  // namespace ausbau

@@ -147,12 +147,13 @@ std::string MeshContentHash(const TriangleMesh& mesh) {
 
 void DistanceFieldOptions::Check() const {
   if (resolution < 2 || resolution > kMaxDistanceFieldResolution) {
-    throw InputError("--field-cells: distance field resolution must lie in [2, " +
-                     std::to_string(kMaxDistanceFieldResolution) + "] (got " + std::to_string(resolution) + ")");
+    throw OptionError(&resolution, "field_cells",
+                      "distance field resolution must lie in [2, " + std::to_string(kMaxDistanceFieldResolution) +
+                          "] (got " + std::to_string(resolution) + ")");
   }
-  if (threads < 0) throw InputError("--threads: must be >= 0");
-  if (!(padding >= 1.0 && padding <= 4.0)) throw InputError("distance field padding must lie in [1, 4]");
-  if (memory_budget_bytes == 0) throw InputError("distance field memory budget must be positive");
+  if (threads < 0) throw OptionError(&threads, "threads", "must be >= 0");
+  if (!(padding >= 1.0 && padding <= 4.0)) throw OptionError(&padding, "padding", "must lie in [1, 4]");
+  if (memory_budget_bytes == 0) throw OptionError(&memory_budget_bytes, "memory_budget_bytes", "must be positive");
 }
 
 // Bytes per cell at the peak of construction: the cells (16) and classes

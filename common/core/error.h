@@ -24,6 +24,28 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A field of an options struct out of its range, thrown by the structs'
+// Check(). It names the option as the library knows it, in words with
+// underscores ("range_max": the field, or the option's documented name where
+// the field is spelled otherwise), and where the field lives. The stage
+// runner says it by the flag that wrote to that address, or by the flag of
+// that name ("--range-max: must lie in (0, 1]"); a caller without flags (a
+// test, a bench, another library) reads "range_max: must lie in (0, 1]". So
+// the library never names a flag that its caller may not have.
+class OptionError : public InputError {
+ public:
+  OptionError(const void* field, const std::string& field_name, const std::string& problem)
+      : InputError(field_name + ": " + problem), field_(field), field_name_(field_name), problem_(problem) {}
+  const void* field() const { return field_; }
+  const std::string& field_name() const { return field_name_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  const void* field_;
+  std::string field_name_;
+  std::string problem_;
+};
+
 // Convenience: InputError("<where>: <what>").
 inline InputError InputErrorAt(const std::string& where, const std::string& what) {
   return InputError(where + ": " + what);

@@ -19,13 +19,16 @@
 namespace ausbau {
 
 void TauEstimateOptions::Check() const {
-  if (!(initial_speed > 0) || !std::isfinite(initial_speed)) throw InputError("--initial-speed: must be > 0");
-  if (!(speed_step >= 0) || !std::isfinite(speed_step)) throw InputError("--speed-step: must be >= 0");
-  if (max_rounds < 1 || max_rounds > 100) throw InputError("--rounds: must lie in [1, 100]");
-  if (probe_attempts < 10 || probe_attempts > 1000000) throw InputError("--probe-attempts: must lie in [10, 10^6]");
-  if (bisection_steps < 0 || bisection_steps > 30) throw InputError("--bisection-steps: must lie in [0, 30]");
-  if (!(max_tau >= 0) || !std::isfinite(max_tau)) throw InputError("--max-tau: must be >= 0");
-  if (threads < 0) throw InputError("--threads: must be >= 0");
+  if (!(initial_speed > 0) || !std::isfinite(initial_speed))
+    throw OptionError(&initial_speed, "initial_speed", "must be > 0");
+  if (!(speed_step >= 0) || !std::isfinite(speed_step)) throw OptionError(&speed_step, "speed_step", "must be >= 0");
+  if (max_rounds < 1 || max_rounds > 100) throw OptionError(&max_rounds, "rounds", "must lie in [1, 100]");
+  if (probe_attempts < 10 || probe_attempts > 1000000)
+    throw OptionError(&probe_attempts, "probe_attempts", "must lie in [10, 10^6]");
+  if (bisection_steps < 0 || bisection_steps > 30)
+    throw OptionError(&bisection_steps, "bisection_steps", "must lie in [0, 30]");
+  if (!(max_tau >= 0) || !std::isfinite(max_tau)) throw OptionError(&max_tau, "max_tau", "must be >= 0");
+  if (threads < 0) throw OptionError(&threads, "threads", "must be >= 0");
   planner.Check();
 }
 

@@ -319,13 +319,15 @@ WindingBvh::Closest WindingBvh::ClosestPoint(const Vec3& p) const {
 
 void VoxelizeOptions::Check() const {
   if (!(voxel_size >= 0) || !std::isfinite(voxel_size)) {
-    throw InputError("--voxel-size: must be >= 0 (0 = automatic), got " + std::to_string(voxel_size));
+    throw OptionError(&voxel_size, "voxel_size", "must be >= 0 (0 = automatic), got " + std::to_string(voxel_size));
   }
-  if (voxel_budget < 1) throw InputError("--voxel-budget: must be >= 1, got " + std::to_string(voxel_budget));
-  if (memory_limit < 1) throw InputError("--memory-limit: must be > 0");
+  if (voxel_budget < 1)
+    throw OptionError(&voxel_budget, "voxel_budget", "must be >= 1, got " + std::to_string(voxel_budget));
+  if (memory_limit < 1) throw OptionError(&memory_limit, "memory_limit", "must be > 0");
   if (!(shrink >= 0) || !std::isfinite(shrink))
-    throw InputError("--shrink: must be >= 0, got " + std::to_string(shrink));
-  if (!(winding_threshold > 0 && winding_threshold < 1)) throw InputError("winding threshold must lie in (0, 1)");
+    throw OptionError(&shrink, "shrink", "must be >= 0, got " + std::to_string(shrink));
+  if (!(winding_threshold > 0 && winding_threshold < 1))
+    throw OptionError(&winding_threshold, "winding_threshold", "must lie in (0, 1)");
 }
 
 double AutomaticVoxelSize(const Aabb& box, std::int64_t budget) {

@@ -14,16 +14,17 @@
 namespace ausbau {
 
 void MedialSphereOptions::Check() const {
-  if (!(delta > 0 && delta < 1)) throw InputError("--delta: must lie in (0, 1) (a fraction of D's AABB diagonal)");
-  if (!(step > 0 && step < 1)) throw InputError("--push-factor: must lie in (0, 1)");
+  if (!(delta > 0 && delta < 1))
+    throw OptionError(&delta, "delta", "must lie in (0, 1) (a fraction of D's AABB diagonal)");
+  if (!(step > 0 && step < 1)) throw OptionError(&step, "push_factor", "must lie in (0, 1)");
   // Bounded: each iteration is a nearest-point query per vertex (10^9 hung).
   if (cooling_iterations < 1 || cooling_iterations > 10000) {
-    throw InputError("--cooling-iterations: must lie in 1 .. 10000 (default 30)");
+    throw OptionError(&cooling_iterations, "cooling_iterations", "must lie in 1 .. 10000 (default 30)");
   }
   if (growth_iterations < 0 || growth_iterations > 100000) {
-    throw InputError("--growth-iterations: must lie in 0 .. 100000 (default 200)");
+    throw OptionError(&growth_iterations, "growth_iterations", "must lie in 0 .. 100000 (default 200)");
   }
-  if (threads < 0) throw InputError("--threads: must be at least 0");
+  if (threads < 0) throw OptionError(&threads, "threads", "must be at least 0");
 }
 
 double MedialSpheres::MinRadius() const {

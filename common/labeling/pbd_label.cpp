@@ -19,28 +19,31 @@
 namespace ausbau {
 
 void PbdLabelOptions::Check() const {
-  if (!(time_step > 0)) throw InputError("--time-step: must be positive");
-  if (!(duration > 0)) throw InputError("--duration: must be positive");
-  if (Steps() > 100000) throw InputError("--duration: more than 100000 steps of --time-step");
+  if (!(time_step > 0)) throw OptionError(&time_step, "time_step", "must be positive");
+  if (!(duration > 0)) throw OptionError(&duration, "duration", "must be positive");
+  if (Steps() > 100000) throw OptionError(&duration, "duration", "more than 100000 time steps (duration / time_step)");
   if (solver_iterations < 1 || solver_iterations > 1000) {
-    throw InputError("--solver-iterations: must lie in 1 .. 1000 (solver iterations per step; the thesis uses 3)");
+    throw OptionError(&solver_iterations, "solver_iterations",
+                      "must lie in 1 .. 1000 (solver iterations per step; the thesis uses 3)");
   }
-  if (!(damping >= 0 && damping <= 1)) throw InputError("--damping: must lie in [0, 1]");
-  if (!(stiffness >= 0 && stiffness <= 1)) throw InputError("--stiffness: must lie in [0, 1]");
+  if (!(damping >= 0 && damping <= 1)) throw OptionError(&damping, "damping", "must lie in [0, 1]");
+  if (!(stiffness >= 0 && stiffness <= 1)) throw OptionError(&stiffness, "stiffness", "must lie in [0, 1]");
   if (stiffness_formula != "thesis" && stiffness_formula != "mueller") {
-    throw InputError("--stiffness-formula: expected thesis or mueller, got '" + stiffness_formula + "'");
+    throw OptionError(&stiffness_formula, "stiffness_formula",
+                      "expected thesis or mueller, got '" + stiffness_formula + "'");
   }
-  if (!(kappa > 0)) throw InputError("--kappa: must be positive");
-  if (!(density >= 0)) throw InputError("--density: must be positive (or 0: automatic)");
-  if (measure != "self" && measure != "sum") throw InputError("--measure: expected self or sum, got '" + measure + "'");
-  if (threads < 0) throw InputError("--threads: must be at least 0");
-  if (max_load_cases < 0) throw InputError("--max-load-cases: must be at least 0 (0: every vertex)");
-  if (!(refine >= 0)) throw InputError("--refine: must be at least 0 (0: off)");
+  if (!(kappa > 0)) throw OptionError(&kappa, "kappa", "must be positive");
+  if (!(density >= 0)) throw OptionError(&density, "density", "must be positive (or 0: automatic)");
+  if (measure != "self" && measure != "sum")
+    throw OptionError(&measure, "measure", "expected self or sum, got '" + measure + "'");
+  if (threads < 0) throw OptionError(&threads, "threads", "must be at least 0");
+  if (max_load_cases < 0) throw OptionError(&max_load_cases, "max_load_cases", "must be at least 0 (0: every vertex)");
+  if (!(refine >= 0)) throw OptionError(&refine, "refine", "must be at least 0 (0: off)");
   if (refine > 0 && !(refine_min_length > 0 && refine_min_length < 1)) {
     throw InputError("refine_min_length: must lie in (0, 1) (a fraction of D's AABB diagonal)");
   }
   if (!(glue_tolerance >= 0 && glue_tolerance < 1)) {
-    throw InputError("--glue-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
+    throw OptionError(&glue_tolerance, "glue_tolerance", "must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
 }
 

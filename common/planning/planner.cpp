@@ -70,20 +70,26 @@ void PlannerOptions::Check() const {
   if (FindPlanner(planner) == nullptr) {
     std::string expected;
     for (const std::string& name : PlannerNames()) expected += (expected.empty() ? "" : ", ") + name;
-    throw InputError("--planner: unknown planner '" + planner + "' (expected " + expected + ")");
+    throw OptionError(&planner, "planner", "unknown planner '" + planner + "' (expected " + expected + ")");
   }
-  ParseSamplerKind(sampler);
-  if (!(sampler_sigma >= 0) || !std::isfinite(sampler_sigma)) throw InputError("--sigma: must be >= 0");
-  if (threads < 0) throw InputError("--threads: must be >= 0");
+  try {
+    ParseSamplerKind(sampler);
+  } catch (const InputError& e) {
+    throw OptionError(&sampler, "sampler", e.what());
+  }
+  if (!(sampler_sigma >= 0) || !std::isfinite(sampler_sigma))
+    throw OptionError(&sampler_sigma, "sigma", "must be >= 0");
+  if (threads < 0) throw OptionError(&threads, "threads", "must be >= 0");
   if (!(time_limit_s > 0) || !std::isfinite(time_limit_s)) {
-    throw InputError("--time-limit: must be a positive number of seconds");
+    throw OptionError(&time_limit_s, "time_limit", "must be a positive number of seconds");
   }
-  if (max_iterations < 0) throw InputError("--max-iterations: must be >= 0");
-  if (!(u > 0 && u < 1)) throw InputError("--u: must lie in (0, 1)");
-  if (!(range_max > 0 && range_max <= 1)) throw InputError("--range-max: must lie in (0, 1]");
-  if (!(est_range >= 0 && est_range <= 1)) throw InputError("--est-range: must lie in [0, 1] (0 = automatic)");
+  if (max_iterations < 0) throw OptionError(&max_iterations, "max_iterations", "must be >= 0");
+  if (!(u > 0 && u < 1)) throw OptionError(&u, "u", "must lie in (0, 1)");
+  if (!(range_max > 0 && range_max <= 1)) throw OptionError(&range_max, "range_max", "must lie in (0, 1]");
+  if (!(est_range >= 0 && est_range <= 1))
+    throw OptionError(&est_range, "est_range", "must lie in [0, 1] (0 = automatic)");
   if (!(resolution > 0 && resolution <= 0.1)) {
-    throw InputError("--resolution: must lie in (0, 0.1] (a fraction of D's diagonal)");
+    throw OptionError(&resolution, "resolution", "must lie in (0, 0.1] (a fraction of D's diagonal)");
   }
 }
 

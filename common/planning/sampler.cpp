@@ -12,7 +12,7 @@ SamplerKind ParseSamplerKind(const std::string& name) {
   if (name == "gaussian") return SamplerKind::kGaussian;
   if (name == "bridge") return SamplerKind::kBridge;
   if (name == "mixed") return SamplerKind::kMixed;
-  throw InputError("--sampler: unknown sampler '" + name + "' (expected uniform, gaussian, bridge or mixed)");
+  throw InputError("unknown sampler '" + name + "' (expected uniform, gaussian, bridge or mixed)");
 }
 
 Sampler::Sampler(const PlanningProblem& problem, const MotionChecker& motion, SamplerKind kind, double sigma_fraction)

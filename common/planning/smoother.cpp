@@ -14,9 +14,10 @@
 namespace ausbau {
 
 void SmoothOptions::Check() const {
-  if (attempts < 0) throw InputError("--attempts: must be >= 0");
-  if (!(time_limit_s > 0) || !std::isfinite(time_limit_s)) throw InputError("--time-limit: must be positive");
-  if (!(resolution > 0 && resolution <= 0.1)) throw InputError("--resolution: must lie in (0, 0.1]");
+  if (attempts < 0) throw OptionError(&attempts, "attempts", "must be >= 0");
+  if (!(time_limit_s > 0) || !std::isfinite(time_limit_s))
+    throw OptionError(&time_limit_s, "time_limit", "must be positive");
+  if (!(resolution > 0 && resolution <= 0.1)) throw OptionError(&resolution, "resolution", "must lie in (0, 0.1]");
 }
 
 PathLength MeasurePath(const PlanningProblem& problem, const std::vector<Pose>& path) {

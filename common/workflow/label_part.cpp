@@ -15,13 +15,13 @@ namespace ausbau {
 void LabelPartOptions::Check() const {
   pbd.Check();
   if (rule != "auto" && rule != "solids" && rule != "pbd") {
-    throw InputError("--rule: expected auto, solids or pbd, got '" + rule + "'");
+    throw OptionError(&rule, "rule", "expected auto, solids or pbd, got '" + rule + "'");
   }
   if (!(rigid_tolerance_mm > 0 && std::isfinite(rigid_tolerance_mm))) {
-    throw InputError("--rigid-tolerance: must be a positive number of millimetres");
+    throw OptionError(&rigid_tolerance_mm, "rigid_tolerance", "must be a positive number of millimetres");
   }
   if (!(weld_tolerance >= 0 && weld_tolerance < 1)) {
-    throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
+    throw OptionError(&weld_tolerance, "weld_tolerance", "must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
 }
 

@@ -48,7 +48,7 @@ void LogSpheres(const Scene& scene, const MeshTopology& topology, const MedialSp
 void PartSpheresOptions::Check() const {
   spheres.Check();
   if (!(weld_tolerance >= 0 && weld_tolerance < 1)) {
-    throw InputError("--weld-tolerance: must lie in [0, 1) (a fraction of D's AABB diagonal)");
+    throw OptionError(&weld_tolerance, "weld_tolerance", "must lie in [0, 1) (a fraction of D's AABB diagonal)");
   }
 }
 

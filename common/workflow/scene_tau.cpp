@@ -14,7 +14,7 @@ void SceneTauOptions::Check() const {
   if (ParseValidityMode(validity) == ValidityMode::kCollision) {
     throw InputError("--validity collision has no tau; pick a volume mode");
   }
-  if (!(psi >= 0) || !std::isfinite(psi)) throw InputError("--psi: must be >= 0");
+  if (!(psi >= 0) || !std::isfinite(psi)) throw OptionError(&psi, "psi", "must be >= 0");
 }
 
 TauArtifact EstimateSceneTau(const Scene& scene, const SceneTauOptions& options) {

@@ -70,7 +70,8 @@ int main(int argc, char** argv) {
       [&](CLI::App& app) {
         app.add_option("--scene", options.scene, "scene.yaml")->required();
         app.add_option("--field-cells", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
-            ->capture_default_str();
+            ->capture_default_str()
+            ->check(Within(2, kMaxDistanceFieldResolution));
         app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")
             ->capture_default_str()
             ->check(ThreadCount());
