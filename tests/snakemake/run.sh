@@ -19,10 +19,8 @@
 #     inside S) ends with plan.status no-path, no smoothing and a
 #     not-removable verdict (pipeline.exit 3);
 #     (that dry run through the Slurm profile, pipelines/slurm: it parses);
-#  6. one job through the Slurm profile with stand-ins for sbatch and sacct
-#     (a job's own snakemake reads its checkpoints' files), and status.sh
-#     maps sacct's states;
-#  7. bad config (an unknown VALIDITY) exits 2 with one line.
+#  6. bad config (an unknown VALIDITY) exits 2 with one line.
+# The Slurm profile's jobs with stand-ins for sbatch and sacct: slurm.sh.
 set -u
 if [ $# -ne 2 ]; then
   echo "usage: $0 BIN WORK" >&2
@@ -120,42 +118,7 @@ done
 grep -q '"status": "not-removable"' out-more/boxed/verdict.json 2>/dev/null || fail "boxed: verdict not not-removable"
 grep -q '^rule smooth:' run5.log && fail "boxed: smoothing ran without a path"
 
-# 6. The Slurm profile with stand-ins for sbatch (runs the job script here,
-# in the background) and sacct (the job's state from its exit status, or
-# FAKE_STATE): a verdict job goes through sbatch, the job's own snakemake
-# (--mode 2, where the checkpoints are not in its DAG) and status.sh; then
-# status.sh's mapping of sacct's states.
-mkdir -p fake-bin fake-slurm
-cat > fake-bin/sbatch <<'EOF_SBATCH'
-#!/bin/bash
-id=$(( $(cat "$FAKE_SLURM/next" 2>/dev/null || echo 100) + 1 ))
-echo $id > "$FAKE_SLURM/next"
-printf '%s\n' "$*" >> "$FAKE_SLURM/sbatch.log"
-( bash "${@: -1}" > "$FAKE_SLURM/$id.out" 2>&1; echo $? > "$FAKE_SLURM/$id.rc" ) > /dev/null 2>&1 &
-echo $id
-EOF_SBATCH
-cat > fake-bin/sacct <<'EOF_SACCT'
-#!/bin/bash
-if [ -n "${FAKE_STATE+set}" ]; then echo "$FAKE_STATE"; exit 0; fi
-while [ $# -gt 0 ]; do [ "$1" = -j ] && id=$2; shift; done
-rc=$(cat "$FAKE_SLURM/$id.rc" 2>/dev/null) || { echo RUNNING; exit 0; }
-if [ "$rc" = 0 ]; then echo COMPLETED; else echo FAILED; fi
-EOF_SACCT
-chmod +x fake-bin/sbatch fake-bin/sacct
-rm -f out/two-boxes/verdict.json
-# CI=true: Snakemake 7 then polls the cluster every second instead of every 10 s.
-PATH="$WORK/fake-bin:$PATH" FAKE_SLURM="$WORK/fake-slurm" CI=true sm run6.log --profile "$REPO/pipelines/slurm" \
-  --latency-wait 5 out/two-boxes/verdict.json "${CONFIG[@]}" || { fail "verdict job through pipelines/slurm failed"; tail -n 20 run6.log fake-slurm/*.out >&2; }
-grep -q -- '--job-name=ausbau-verdict --cpus-per-task=1 --mem=4000 --time=30' fake-slurm/sbatch.log 2>/dev/null ||
-  fail "pipelines/slurm: no sbatch line for the verdict job with its resources"
-grep -q '"status": "removable"' out/two-boxes/verdict.json 2>/dev/null || fail "verdict job through pipelines/slurm: no verdict"
-for pair in COMPLETED:success TIMEOUT:failed OUT_OF_MEMORY:failed "CANCELLED by 12:failed" RUNNING:running PENDING:running :running; do
-  state=${pair%:*} want=${pair##*:}
-  got=$(PATH="$WORK/fake-bin:$PATH" FAKE_STATE=$state "$REPO/pipelines/slurm/status.sh" '4242;cluster')
-  [ "$got" = "$want" ] || fail "status.sh: sacct state '$state' gave '$got', expected '$want'"
-done
-
-# 7. Bad config: exit 2 and one line naming the key.
+# 6. Bad config: exit 2 and one line naming the key.
 sm bad2.log -n --config SCENES=scenes OUT=x BIN="$BIN" VALIDITY=exact
 [ $? -eq 2 ] && grep -q 'error: VALIDITY=exact' bad2.log || fail "VALIDITY=exact: not exit 2 with a message"
 
