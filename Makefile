@@ -6,6 +6,8 @@
 # And for your own scenes (README "Running the InIState pipeline"):
 #   make run SCENE=path/to/scene.yaml OUT=dir     one scene (pipelines/inistate.mk)
 #   make batch SCENES=dir OUT=dir [-j N]          every dir/*/scene.yaml, then a table
+#   make snakemake SCENES=dir OUT=dir [CORES=N | PROFILE=pipelines/slurm]
+#                                                 the same through Snakemake (pipelines/Snakefile), locally or on Slurm
 #   make demo-rigid                               the rigid planning demo (pipelines/plan.mk)
 # Everything builds into build/; stage executables land in build/bin/.
 
@@ -89,6 +91,28 @@ batch: build
 	@test -n "$(SCENES)" || { echo "make batch: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
 	@$(MAKE) --no-print-directory -f pipelines/batch.mk SCENES=$(SCENES) BIN=$(abspath $(BUILD)/bin) \
 	  OUT=$(or $(OUT),out/batch)
+
+# The same batch through Snakemake (pipelines/Snakefile; needs
+# `scripts/install-deps.sh snakemake`): locally on CORES cores, or on a
+# cluster with PROFILE=pipelines/slurm (run it on the login node). The
+# pipeline variables below, given on the command line, become --config keys;
+# SNAKEMAKE_ARGS adds options (-n, --forcerun plan, ...). Prints the table of
+# make batch (OUT/verdicts.txt); fails when any scene is not removable or failed.
+CORES ?= $(JOBS)
+PROFILE ?=
+SNAKEMAKE_ARGS ?=
+SNAKEMAKE_OUT = $(or $(OUT),out/snakemake)
+SNAKEMAKE_VARS := SEED TIME_LIMIT TAU_TIME_LIMIT VALIDITY RIGID_TOLERANCE PLANNER COLLISION THREADS BUDGET WITH_REPORT \
+  VOXELIZE_FLAGS SPHERES_FLAGS LABEL_FLAGS DISTFIELD_FLAGS TAU_FLAGS PLAN_FLAGS SMOOTH_FLAGS VERDICT_FLAGS REPORT_FLAGS
+.PHONY: snakemake
+snakemake: build
+	@test -n "$(SCENES)" || { echo "make snakemake: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
+	@command -v snakemake > /dev/null || { echo "make snakemake: snakemake is not installed (scripts/install-deps.sh snakemake)" >&2; exit 2; }
+	@snakemake -s pipelines/Snakefile $(if $(PROFILE),--profile $(PROFILE),--cores $(CORES)) $(SNAKEMAKE_ARGS) \
+	  --config SCENES=$(SCENES) OUT=$(SNAKEMAKE_OUT) BIN=$(abspath $(BUILD)/bin) \
+	  $(foreach v,$(SNAKEMAKE_VARS),$(if $(filter command line,$(origin $(v))),'$(v)=$($(v))'))
+	@if [ -f $(SNAKEMAKE_OUT)/verdicts.txt ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(SNAKEMAKE_OUT)/verdicts.txt; then \
+	  echo "make snakemake: not every scene is removable ($(SNAKEMAKE_OUT)/verdicts.txt)" >&2; exit 1; fi
 
 test: build deps-browser
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -8,6 +8,10 @@
 #                                   the report's browser test: `make test`)
 #   scripts/install-deps.sh fuzz    those plus clang and libFuzzer (the
 #                                   harnesses in fuzz/: `make fuzz`)
+#   scripts/install-deps.sh snakemake  those plus Snakemake 7 (batches
+#                                   locally or on Slurm: pipelines/Snakefile,
+#                                   `make snakemake`; about 80 Python
+#                                   packages, so not in the default set)
 set -euo pipefail
 
 packages=(
@@ -21,7 +25,8 @@ case "${1:-}" in
   bench) packages+=(libompl-dev) ;;
   browser) packages+=(chromium) ;;
   fuzz) packages+=(clang libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev) ;;
-  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench', 'browser' or 'fuzz')" >&2; exit 2 ;;
+  snakemake) packages+=(snakemake) ;;
+  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench', 'browser', 'fuzz' or 'snakemake')" >&2; exit 2 ;;
 esac
 
 missing=()
