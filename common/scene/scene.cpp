@@ -246,6 +246,7 @@ Scene LoadScene(const fs::path& path) {
   if (!root.IsMap()) r.Fail("expected a mapping of scene keys at the top level");
 
   Scene scene;
+  std::vector<std::string> static_written;  // the static files as written (labels of S's pieces)
   try {
     r.CheckKeys(root, {"format", "name", "units", "static", "dynamic", "dynamic_origin", "start", "goal", "bounds"},
                 "");
@@ -269,11 +270,12 @@ Scene LoadScene(const fs::path& path) {
                std::to_string(Reader::Line(stat)) + ")");
       }
       for (size_t i = 0; i < stat.size(); ++i) {
-        scene.static_files.push_back(Resolve(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
+        static_written.push_back(r.String(stat[i], "static[" + std::to_string(i) + "]"));
       }
     } else {
-      scene.static_files.push_back(Resolve(dir, r.String(stat, "static")));
+      static_written.push_back(r.String(stat, "static"));
     }
+    for (const std::string& written : static_written) scene.static_files.push_back(Resolve(dir, written));
     if (!root["dynamic"]) r.Fail("missing required key 'dynamic'");
     scene.dynamic_file = Resolve(dir, r.String(root["dynamic"], "dynamic"));
 
@@ -292,7 +294,11 @@ Scene LoadScene(const fs::path& path) {
   // Meshes: errors name the scene file, the key and the mesh file.
   for (size_t i = 0; i < scene.static_files.size(); ++i) {
     try {
-      scene.static_mesh.Append(LoadMesh(scene.static_files[i]));
+      const TriangleMesh piece = LoadMesh(scene.static_files[i]);
+      scene.static_mesh.Append(piece);
+      scene.static_part_names.push_back(static_written[i]);
+      scene.static_part_of_triangle.insert(scene.static_part_of_triangle.end(), piece.triangles.size(),
+                                           static_cast<int>(i));
     } catch (const InputError& e) {
       r.Fail("static: " + std::string(e.what()));
     }

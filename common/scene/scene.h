@@ -31,7 +31,15 @@ struct Scene {
   std::vector<std::filesystem::path> static_files;  // resolved paths
   std::filesystem::path dynamic_file;               // resolved path
   TriangleMesh static_mesh;                         // all static files merged
-  TriangleMesh dynamic_mesh;                        // D in its mesh coordinates
+  // Which piece of S each triangle of static_mesh came from, so that a
+  // result can name the part of S that blocks D: static_part_names holds one
+  // label per piece (the static file as written in scene.yaml, and
+  // "file:part" for a part picked from a multi-part file), and
+  // static_part_of_triangle[i] indexes it for triangle i of static_mesh
+  // (same size as static_mesh.triangles).
+  std::vector<std::string> static_part_names;
+  std::vector<int> static_part_of_triangle;
+  TriangleMesh dynamic_mesh;  // D in its mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   bool dynamic_origin_given = false;
   Pose start;                  // scene convention
