@@ -283,8 +283,8 @@ TEST_F(SceneFiles, UnknownKeyInsideBounds) {
 }
 
 TEST_F(SceneFiles, WrongFormat) {
-  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/2\nstatic: env.obj\ndynamic: robot.obj\n");
-  ExpectSceneError(yaml, {"unsupported format 'ausbau-scene/2'", "expected ausbau-scene/1"});
+  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/3\nstatic: env.obj\ndynamic: robot.obj\n");
+  ExpectSceneError(yaml, {"unsupported format 'ausbau-scene/3'", "expected ausbau-scene/1 or ausbau-scene/2"});
 }
 
 TEST_F(SceneFiles, MissingFormat) {
