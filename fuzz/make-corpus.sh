@@ -11,6 +11,7 @@ mkdir -p scene mesh path_csv artifact path tau voxels spheres labels distfield
 # scene.yaml beside s.obj and d.obj (the harness writes those).
 printf 'format: ausbau-scene/1\nstatic: s.obj\ndynamic: d.obj\n' > scene/minimal.yaml
 printf 'format: ausbau-scene/1\nname: full\nunits: mm\nstatic: [s.obj, s.obj]\ndynamic: d.obj\ndynamic_origin: [0.25, 0.25, 0.25]\nstart: {t: [0, 0, 0], q: [1, 0, 0, 0]}\ngoal: {t: [5, 0, 0], q: [0.7071068, 0.7071068, 0, 0]}\nbounds: {min: [-10, -10, -10], max: [10, 10, 10]}\n' > scene/full.yaml
+printf 'format: ausbau-scene/2\nunits: mm\nassembly: {file: s.obj, units: cm}\nstatic: [{file: s.obj, part: 0, pose: {t: [20, 0, 0], q: [1, 0, 0, 0]}}]\ndynamic: {file: d.obj, part: [0]}\n' > scene/assembly.yaml
 printf '# a comment\nformat: "ausbau-scene/1"\nstatic:\n  - s.obj\ndynamic: d.obj\nstart:\n  t: [1e3, -2.5, 0x10]\n' > scene/block.yaml
 
 # Meshes: the first byte picks the extension (fuzz_mesh.cpp): 0 .obj, 1 .stl,

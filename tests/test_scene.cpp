@@ -214,6 +214,10 @@ TEST_F(SceneFiles, GeneratedSceneRoundTrips) {
       EXPECT_LT(i, static_cast<int>(back.static_mesh.vertices.size()));
     }
   }
+  // Each triangle of S knows its static file: the first 12 are env.obj's.
+  ASSERT_EQ(back.static_part_names, (std::vector<std::string>{"env.obj", "second env.obj"}));
+  ASSERT_EQ(back.static_part_of_triangle.size(), 24u);
+  for (int t = 0; t < 24; ++t) EXPECT_EQ(back.static_part_of_triangle[t], t < 12 ? 0 : 1) << t;
 }
 
 TEST_F(SceneFiles, DefaultsAndComments) {
@@ -279,8 +283,8 @@ TEST_F(SceneFiles, UnknownKeyInsideBounds) {
 }
 
 TEST_F(SceneFiles, WrongFormat) {
-  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/2\nstatic: env.obj\ndynamic: robot.obj\n");
-  ExpectSceneError(yaml, {"unsupported format 'ausbau-scene/2'", "expected ausbau-scene/1"});
+  const fs::path yaml = Write("scene.yaml", "format: ausbau-scene/3\nstatic: env.obj\ndynamic: robot.obj\n");
+  ExpectSceneError(yaml, {"unsupported format 'ausbau-scene/3'", "expected ausbau-scene/1 or ausbau-scene/2"});
 }
 
 TEST_F(SceneFiles, MissingFormat) {

@@ -112,7 +112,7 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   if (scene_hash_ == SceneHash::kWholeScene) {
     AddSceneInputs(scene, &provenance);
   } else {
-    provenance.inputs.emplace_back("dynamic", HashFile(scene.dynamic_file));
+    provenance.inputs.emplace_back("dynamic", DynamicContentHash(scene));
   }
   for (const InputFileSpec& input : inputs_) {
     if (input.path->empty()) continue;

@@ -108,4 +108,11 @@ struct Scene;
 // (several), "dynamic".
 void AddSceneInputs(const Scene& scene, Provenance* provenance);
 
+// D's content hash, the role "dynamic" of every provenance: the hash of D's
+// file, and for a D picked from a file (format /2: `part:`, `units:`) the
+// hash of that and of the parts and scale, so that two parts of one
+// assembly file never share a cached artifact (the medial spheres hash D
+// alone). A plain D keeps the plain file hash, as before /2.
+std::string DynamicContentHash(const Scene& scene);
+
 }  // namespace ausbau

@@ -13,12 +13,14 @@
 #include <assimp/Importer.hpp>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -105,41 +107,61 @@ void CheckRawScene(const aiScene& scene, const std::string& name) {
   }
 }
 
-// Emits the triangles of every mesh of `node` and its descendants.
-void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent, TriangleMesh& out,
-                 BadVertex& bad) {
+// Emits every node of `node`'s subtree that holds a mesh (pre-order), each
+// with the triangles of its meshes placed by the accumulated transform.
+// `vertex_count` counts the vertices emitted so far in all nodes: the index
+// space of the merged mesh (LoadMesh), which errors and the int limit use.
+void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent,
+                 std::vector<std::string>& ancestors, MeshFile& out, std::size_t& vertex_count, BadVertex& bad) {
   const Eigen::Matrix4d transform = parent * ToEigen(node.mTransformation);
+  MeshPart part;
   for (unsigned k = 0; k < node.mNumMeshes; ++k) {
     const unsigned mesh_index = node.mMeshes[k];
     if (mesh_index >= scene.mNumMeshes || scene.mMeshes[mesh_index] == nullptr) continue;
     const aiMesh& mesh = *scene.mMeshes[mesh_index];
     // Triangles index vertices with int: a file whose nodes instance its
     // meshes past that is refused rather than wrapped.
-    if (out.vertices.size() + mesh.mNumVertices > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    if (vertex_count + mesh.mNumVertices > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
       throw InputError("more than 2^31 vertices once every node's meshes are placed");
     }
-    const int offset = static_cast<int>(out.vertices.size());
-    out.vertices.reserve(out.vertices.size() + mesh.mNumVertices);
+    part.mesh_names.emplace_back(mesh.mName.C_Str());
+    const int offset = static_cast<int>(part.mesh.vertices.size());
+    part.mesh.vertices.reserve(part.mesh.vertices.size() + mesh.mNumVertices);
     for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
       const aiVector3D& p = mesh.mVertices[i];
       const Eigen::Vector4d h(p.x, p.y, p.z, 1.0);
       const Eigen::Vector4d w = transform * h;
       if (bad.index < 0 && (Absurd(h.head<3>()) || Absurd(w.head<3>()))) {
-        bad.index = static_cast<long>(out.vertices.size());
+        bad.index = static_cast<long>(vertex_count);
         bad.value = Absurd(h.head<3>()) ? Eigen::Vector3d(h.head<3>()) : Eigen::Vector3d(w.head<3>());
       }
-      out.vertices.push_back(w.head<3>());
+      part.mesh.vertices.push_back(w.head<3>());
+      ++vertex_count;
     }
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines are dropped
-      out.triangles.push_back({offset + static_cast<int>(face.mIndices[0]), offset + static_cast<int>(face.mIndices[1]),
-                               offset + static_cast<int>(face.mIndices[2])});
+      part.mesh.triangles.push_back({offset + static_cast<int>(face.mIndices[0]),
+                                     offset + static_cast<int>(face.mIndices[1]),
+                                     offset + static_cast<int>(face.mIndices[2])});
     }
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) {
-    if (node.mChildren[c] != nullptr) CollectNode(scene, *node.mChildren[c], transform, out, bad);
+  const std::string node_name = node.mName.C_Str();
+  if (!part.mesh_names.empty()) {
+    part.node_name = node_name;
+    part.name = node_name;
+    for (const std::string& mesh_name : part.mesh_names) {
+      if (part.name.empty()) part.name = mesh_name;
+    }
+    part.groups = ancestors;
+    out.nodes.push_back(std::move(part));
   }
+  ancestors.push_back(node_name);
+  for (unsigned c = 0; c < node.mNumChildren; ++c) {
+    if (node.mChildren[c] != nullptr)
+      CollectNode(scene, *node.mChildren[c], transform, ancestors, out, vertex_count, bad);
+  }
+  ancestors.pop_back();
 }
 
 // The structure of an OFF file, checked before assimp reads it: assimp
@@ -218,7 +240,7 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
 
 }  // namespace
 
-TriangleMesh LoadMesh(const fs::path& path) {
+MeshFile LoadMeshFile(const fs::path& path) {
   const std::string name = path.string();
   // Missing, a folder, a FIFO or a device, absurdly large: refused before
   // assimp opens it (a FIFO would block it forever).
@@ -256,21 +278,86 @@ TriangleMesh LoadMesh(const fs::path& path) {
     throw InputErrorAt(name, "cannot read mesh (" + why + ")");
   }
 
-  TriangleMesh mesh;
+  MeshFile file;
   BadVertex bad;
   if (scene->mRootNode != nullptr) {
     try {
-      CollectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), mesh, bad);
+      std::vector<std::string> ancestors;
+      std::size_t vertex_count = 0;
+      CollectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), ancestors, file, vertex_count, bad);
     } catch (const InputError& e) {
       throw InputErrorAt(name, e.what());
     }
   }
-  if (mesh.triangles.empty()) throw InputErrorAt(name, "mesh has no triangles");
+  for (std::size_t n = 0; n < file.nodes.size(); ++n) {
+    if (!file.nodes[n].mesh.triangles.empty()) file.parts.push_back(static_cast<int>(n));
+  }
+  if (file.parts.empty()) throw InputErrorAt(name, "mesh has no triangles");
   if (bad.index >= 0) {
     // The index is 0-based in the loaded mesh (after assimp's vertex joining).
     throw InputErrorAt(name, BadVertexText(bad.index, bad.value));
   }
+  return file;
+}
+
+TriangleMesh MeshFile::Merged() const {
+  TriangleMesh mesh;
+  std::size_t vertices = 0, triangles = 0;
+  for (const MeshPart& node : nodes) {
+    vertices += node.mesh.vertices.size();
+    triangles += node.mesh.triangles.size();
+  }
+  mesh.vertices.reserve(vertices);
+  mesh.triangles.reserve(triangles);
+  for (const MeshPart& node : nodes) mesh.Append(node.mesh);
   return mesh;
+}
+
+TriangleMesh LoadMesh(const fs::path& path) { return LoadMeshFile(path).Merged(); }
+
+std::vector<int> PickParts(const MeshFile& file, const std::vector<PartPick>& picks) {
+  const int count = static_cast<int>(file.parts.size());
+  std::vector<bool> picked(file.parts.size(), false);
+  for (const PartPick& pick : picks) {
+    if (pick.index >= 0) {
+      if (pick.index >= count) {
+        throw InputError("part " + std::to_string(pick.index) + " is out of range (the file has " +
+                         std::to_string(count) + (count == 1 ? " part: " : " parts: ") + PartListText(file) + ")");
+      }
+      picked[pick.index] = true;
+      continue;
+    }
+    // The part's own name first, then a group above it, then a mesh's name:
+    // the most specific meaning a name can have in the file.
+    bool found = false;
+    for (int k = 0; k < count; ++k) {
+      if (file.Part(k).name == pick.name) picked[k] = found = true;
+    }
+    const auto pick_where = [&](const std::function<const std::vector<std::string>&(const MeshPart&)>& names) {
+      for (int k = 0; k < count; ++k) {
+        const std::vector<std::string>& list = names(file.Part(k));
+        if (std::find(list.begin(), list.end(), pick.name) != list.end()) picked[k] = found = true;
+      }
+    };
+    if (!found) pick_where([](const MeshPart& part) -> const std::vector<std::string>& { return part.groups; });
+    if (!found) pick_where([](const MeshPart& part) -> const std::vector<std::string>& { return part.mesh_names; });
+    if (!found) throw InputError("part '" + pick.name + "' not found (parts: " + PartListText(file) + ")");
+  }
+  std::vector<int> out;
+  for (int k = 0; k < count; ++k) {
+    if (picked[k]) out.push_back(k);
+  }
+  return out;
+}
+
+std::string PartListText(const MeshFile& file, std::size_t limit) {
+  std::string text;
+  for (std::size_t k = 0; k < file.parts.size() && k < limit; ++k) {
+    const std::string& name = file.Part(static_cast<int>(k)).name;
+    text += (k > 0 ? ", " : "") + std::to_string(k) + " " + (name.empty() ? "(unnamed)" : name);
+  }
+  if (file.parts.size() > limit) text += ", ... (" + std::to_string(file.parts.size() - limit) + " more)";
+  return text;
 }
 
 void SaveObj(const TriangleMesh& mesh, const fs::path& path) {

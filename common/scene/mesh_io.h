@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "geometry/mesh.h"
 
@@ -20,6 +22,51 @@ inline constexpr double kMaxMeshCoordinate = 1e9;
 // a face refers to a vertex out of range, when it holds no triangle, or when
 // a vertex is NaN, infinite or beyond kMaxMeshCoordinate.
 TriangleMesh LoadMesh(const std::filesystem::path& path);
+
+// One node of a mesh file's node tree that holds meshes: what an assembly
+// file calls a part (an OBJ object `o` or group `g`, a glTF or COLLADA node).
+struct MeshPart {
+  std::string name;                     // the node's name; its first named mesh's when the node has none; may be empty
+  std::string node_name;                // the node's own name, as assimp gives it
+  std::vector<std::string> mesh_names;  // its meshes' names, in order
+  std::vector<std::string> groups;      // the names of its ancestor nodes, root first
+  TriangleMesh mesh;                    // its meshes merged, placed by the node transforms (file coordinates)
+};
+
+// A mesh file node by node. `nodes` holds every node that holds a mesh,
+// depth-first in pre-order (children in file order): its triangles appended
+// in this order are exactly LoadMesh's mesh. `parts` indexes the nodes with
+// at least one triangle; part k of the file is nodes[parts[k]] (what
+// `part: k` in scene.yaml picks).
+struct MeshFile {
+  std::vector<MeshPart> nodes;
+  std::vector<int> parts;
+
+  TriangleMesh Merged() const;  // every node appended: LoadMesh's mesh
+  const MeshPart& Part(int k) const { return nodes[parts[k]]; }
+};
+
+// LoadMesh, node by node; the same checks and errors.
+MeshFile LoadMeshFile(const std::filesystem::path& path);
+
+// One pick of parts from a mesh file (scene.yaml `part:`): by index into
+// MeshFile::parts, or by name.
+struct PartPick {
+  int index = -1;    // >= 0: by index
+  std::string name;  // index < 0: by name
+  std::string Text() const { return index >= 0 ? std::to_string(index) : "'" + name + "'"; }
+};
+
+// The parts the picks name, as ascending indices into file.parts, each once.
+// A name picks the parts of that name; when none has it, every part below
+// a node of that name (a glTF or COLLADA group); when none, the parts with
+// a mesh of that name. Throws InputError("part 'x' not found (parts: 0 base,
+// 1 bolt, ...)") for a name that picks nothing or an index out of range.
+std::vector<int> PickParts(const MeshFile& file, const std::vector<PartPick>& picks);
+
+// "0 base, 1 bolt, 2 (unnamed)": the file's parts for messages; at most
+// `limit` of them, then "... (N more)".
+std::string PartListText(const MeshFile& file, std::size_t limit = 40);
 
 // Writes a mesh as Wavefront OBJ (used by generators and tests).
 void SaveObj(const TriangleMesh& mesh, const std::filesystem::path& path);

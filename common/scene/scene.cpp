@@ -3,10 +3,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <numeric>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -16,6 +20,8 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "scene/mesh_io.h"
+#include "scene/scene_parts.h"
+#include "scene/units.h"
 
 namespace ausbau {
 namespace {
@@ -23,6 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kFormat = "ausbau-scene/1";
+constexpr const char* kFormatV2 = "ausbau-scene/2";
 constexpr double kUnitTolerance = 1e-3;
 
 // ---------------------------------------------------------------- reading
@@ -165,6 +172,217 @@ fs::path Resolve(const fs::path& dir, const std::string& p) {
   return path.is_absolute() ? path : dir / path;
 }
 
+// ---------------------------------------------------------------- format /1 and /2
+
+int ReadFormatVersion(const Reader& r, const YAML::Node& root) {
+  if (!root["format"]) r.Fail(std::string("missing required key 'format' (expected ") + kFormatV2 + ")");
+  const YAML::Node format = root["format"];
+  if (format.IsScalar() && format.Scalar() == kFormat) return 1;
+  if (format.IsScalar() && format.Scalar() == kFormatV2) return 2;
+  r.Fail("unsupported format '" + (format.IsScalar() ? format.Scalar() : Reader::Show(format)) + "' (expected " +
+         kFormat + " or " + kFormatV2 + ")");
+}
+
+MeshSource PlainSource(const fs::path& dir, const std::string& written) {
+  MeshSource source;
+  source.written = written;
+  source.file = Resolve(dir, written);
+  return source;
+}
+
+void SetFiles(Scene& scene) {
+  scene.static_files.clear();
+  for (const MeshSource& source : scene.static_sources) scene.static_files.push_back(source.file);
+  scene.dynamic_file = scene.dynamic_source.file;
+}
+
+// Format /1: static is a file or a list of files, dynamic a file.
+void ReadFilesV1(const Reader& r, const YAML::Node& root, const fs::path& dir, Scene& scene) {
+  if (!root["static"]) r.Fail("missing required key 'static'");
+  const YAML::Node stat = root["static"];
+  if (stat.IsSequence()) {
+    if (stat.size() == 0) {
+      r.Fail("static must be a file name or a non-empty list of file names (got [], line " +
+             std::to_string(Reader::Line(stat)) + ")");
+    }
+    for (size_t i = 0; i < stat.size(); ++i) {
+      scene.static_sources.push_back(PlainSource(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
+    }
+  } else {
+    scene.static_sources.push_back(PlainSource(dir, r.String(stat, "static")));
+  }
+  if (!root["dynamic"]) r.Fail("missing required key 'dynamic'");
+  scene.dynamic_source = PlainSource(dir, r.String(root["dynamic"], "dynamic"));
+  SetFiles(scene);
+}
+
+// `part:` a name, an index (an unquoted whole number) or a non-empty list of them.
+std::vector<PartPick> ReadPicks(const Reader& r, const YAML::Node& node, const std::string& what) {
+  const auto one = [&](const YAML::Node& item) {
+    if (!item.IsScalar() || item.Scalar().empty()) {
+      r.Fail(what + " must be a part name, a part index or a list of them (got " + Reader::Show(item) + ", line " +
+             std::to_string(Reader::Line(item)) + ")");
+    }
+    PartPick pick;
+    const std::string& text = item.Scalar();
+    const bool digits = item.Tag() != "!" && text.size() <= 9 &&
+                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (digits) {
+      pick.index = std::stoi(text);
+    } else {
+      pick.name = text;
+    }
+    return pick;
+  };
+  std::vector<PartPick> picks;
+  if (node.IsSequence()) {
+    if (node.size() == 0) r.Fail(what + " must not be an empty list (line " + std::to_string(Reader::Line(node)) + ")");
+    for (size_t i = 0; i < node.size(); ++i) picks.push_back(one(node[i]));
+  } else {
+    picks.push_back(one(node));
+  }
+  return picks;
+}
+
+// The scene's `units:` in /2: a length unit scene/units.h converts, or
+// unitless / none (numbers without a unit, as the OMPL.app scenes).
+void CheckSceneUnitsV2(const Reader& r, const YAML::Node& root, const std::string& units) {
+  if (units.empty() || IsSceneUnitsName(units)) return;
+  r.Fail("units must be mm, cm, m, inch (or their spelled-out names), unitless or none (got '" + units + "', line " +
+         std::to_string(Reader::Line(root["units"])) + ")");
+}
+
+// An entry's own `units:`: the factor that converts its mesh to the scene's units.
+double ReadEntryUnits(const Reader& r, const YAML::Node& node, const std::string& what, const std::string& scene_units,
+                      std::string* units) {
+  *units = r.String(node, what);
+  const std::optional<double> entry = MillimetresPerUnit(*units);
+  if (!entry) {
+    r.Fail(what + " must be mm, cm, m or inch (or their spelled-out names) (got '" + *units + "', line " +
+           std::to_string(Reader::Line(node)) + ")");
+  }
+  const std::optional<double> world = MillimetresPerUnit(scene_units);
+  if (!world) {
+    r.Fail(what + ": converting from " + *units + " needs the scene's units as a length (units: mm, cm, m or inch" +
+           (scene_units.empty() ? std::string(", not given") : ", got '" + scene_units + "'") + ")");
+  }
+  return *entry == *world ? 1.0 : *entry / *world;
+}
+
+// A mapping entry of /2: {file, part, pose, units, without}, as `allowed` says.
+MeshSource ReadSourceMap(const Reader& r, const YAML::Node& node, const std::string& what, const fs::path& dir,
+                         const Scene& scene, const std::set<std::string>& allowed) {
+  r.CheckKeys(node, allowed, what + ".");
+  MeshSource source;
+  if (node["file"]) {
+    source = PlainSource(dir, r.String(node["file"], what + ".file"));
+  } else if (scene.assembly) {
+    source.file = scene.assembly->file;  // a part of the assembly, in its units
+    source.written = scene.assembly->written;
+    source.units = scene.assembly->units;
+    source.scale = scene.assembly->scale;
+  } else {
+    r.Fail(what + " needs file: (or an assembly: to pick parts from) (line " + std::to_string(Reader::Line(node)) +
+           ")");
+  }
+  if (node["part"]) source.picks = ReadPicks(r, node["part"], what + ".part");
+  if (node["without"]) source.without = ReadPicks(r, node["without"], what + ".without");
+  if (node["units"]) source.scale = ReadEntryUnits(r, node["units"], what + ".units", scene.units, &source.units);
+  if (node["pose"]) source.pose = r.ReadPose(node["pose"], what + ".pose");
+  return source;
+}
+
+MeshSource ReadSourceV2(const Reader& r, const YAML::Node& node, const std::string& what, const fs::path& dir,
+                        const Scene& scene, const std::set<std::string>& allowed) {
+  if (node.IsMap()) return ReadSourceMap(r, node, what, dir, scene, allowed);
+  if (!node.IsScalar()) {
+    r.Fail(what + " must be a file name or a mapping {file: ..., part: ...} (got " + Reader::Show(node) + ", line " +
+           std::to_string(Reader::Line(node)) + ")");
+  }
+  return PlainSource(dir, r.String(node, what));
+}
+
+// Format /2: assembly, static entries with parts, poses and units, dynamic with parts.
+void ReadFilesV2(const Reader& r, const YAML::Node& root, const fs::path& dir, Scene& scene) {
+  CheckSceneUnitsV2(r, root, scene.units);
+  if (root["assembly"]) {
+    const YAML::Node node = root["assembly"];
+    if (node.IsMap() && !node["file"]) r.Fail("missing required key 'assembly.file'");
+    scene.assembly = ReadSourceV2(r, node, "assembly", dir, scene, {"file", "units", "without"});
+  }
+  if (root["static"]) {
+    const YAML::Node stat = root["static"];
+    const std::set<std::string> keys = {"file", "part", "pose", "units"};
+    if (stat.IsSequence()) {
+      if (stat.size() == 0) {
+        r.Fail("static must be a file name, an entry or a non-empty list of them (got [], line " +
+               std::to_string(Reader::Line(stat)) + ")");
+      }
+      for (size_t i = 0; i < stat.size(); ++i) {
+        scene.static_sources.push_back(ReadSourceV2(r, stat[i], "static[" + std::to_string(i) + "]", dir, scene, keys));
+      }
+    } else {
+      scene.static_sources.push_back(ReadSourceV2(r, stat, "static", dir, scene, keys));
+    }
+  } else if (!scene.assembly) {
+    r.Fail("missing required key 'static' (or 'assembly')");
+  }
+  if (!root["dynamic"]) r.Fail("missing required key 'dynamic'");
+  scene.dynamic_source = ReadSourceV2(r, root["dynamic"], "dynamic", dir, scene, {"file", "part", "units"});
+  SetFiles(scene);
+}
+
+// Loads every file once (errors name the key: "assembly: ", "static: ",
+// "dynamic: "), resolves the parts, adds the assembly's rest to S, builds
+// S piece by piece and D, and (in /2) checks that D is not part of S.
+void LoadSceneMeshes(const Reader& r, Scene& scene) {
+  MeshFileCache files;
+  const auto load = [&](const MeshSource& source, const std::string& key) -> const MeshFile& {
+    try {
+      return files.Get(source.file);
+    } catch (const InputError& e) {
+      r.Fail(key + ": " + e.what());
+    }
+  };
+  const auto resolve = [&](MeshSource& source, const std::string& key) {
+    const MeshFile& file = load(source, key);
+    try {
+      if (source.picks.empty()) {
+        source.parts.resize(file.parts.size());
+        std::iota(source.parts.begin(), source.parts.end(), 0);
+      } else {
+        source.parts = PickParts(file, source.picks);
+      }
+    } catch (const InputError& e) {
+      r.Fail(key + ": " + source.written + ": " + e.what());
+    }
+  };
+  if (scene.assembly) resolve(*scene.assembly, "assembly");
+  for (std::size_t i = 0; i < scene.static_sources.size(); ++i) {
+    resolve(scene.static_sources[i], scene.format_version == 1 ? "static" : "static[" + std::to_string(i) + "]");
+  }
+  resolve(scene.dynamic_source, "dynamic");
+  if (scene.assembly) {
+    try {
+      AddAssemblyRest(scene, files);
+    } catch (const InputError& e) {
+      r.Fail(e.what());
+    }
+  }
+
+  for (std::size_t i = 0; i < scene.static_sources.size(); ++i) {
+    AppendStaticEntry(scene, static_cast<int>(i), files.Get(scene.static_sources[i].file));
+  }
+  scene.dynamic_mesh = SourceMesh(scene.dynamic_source, files.Get(scene.dynamic_source.file));
+  if (scene.format_version >= 2) {
+    try {
+      CheckDynamicApartFromStatic(scene, files);
+    } catch (const InputError& e) {
+      r.Fail(e.what());
+    }
+  }
+}
+
 // ---------------------------------------------------------------- writing
 
 std::string Num(double v, const std::string& what, const fs::path& file) {
@@ -220,6 +438,79 @@ std::string PoseYaml(const Pose& pose, const std::string& what, const fs::path& 
   return "{t: " + Vec3(pose.t, what + ".t", file) + ", q: " + Vec(q, 4, what + ".q", file) + "}";
 }
 
+// What SaveSceneYaml writes: the scene's sources where they still describe
+// static_files / dynamic_file, plain files where code replaced a file.
+struct SourcesToWrite {
+  std::optional<MeshSource> assembly;
+  std::vector<MeshSource> statics;  // without the assembly's rest: assembly: implies it
+  MeshSource dynamic;
+  bool v2 = false;
+};
+
+SourcesToWrite ChooseSourcesToWrite(const Scene& scene) {
+  SourcesToWrite out;
+  out.assembly = scene.assembly;
+  out.v2 = scene.assembly.has_value();
+  for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
+    MeshSource source;
+    source.file = scene.static_files[i];
+    if (i < scene.static_sources.size() && scene.static_sources[i].file == scene.static_files[i]) {
+      source = scene.static_sources[i];
+    }
+    if (source.rest_of_assembly && out.assembly) continue;
+    source.rest_of_assembly = false;
+    out.v2 = out.v2 || !source.Plain();
+    out.statics.push_back(source);
+  }
+  out.dynamic.file = scene.dynamic_file;
+  if (scene.dynamic_source.file == scene.dynamic_file) out.dynamic = scene.dynamic_source;
+  out.v2 = out.v2 || !out.dynamic.Plain();
+  return out;
+}
+
+std::string PicksYaml(const std::vector<PartPick>& picks) {
+  std::string text;
+  for (std::size_t i = 0; i < picks.size(); ++i) {
+    text += (i > 0 ? ", " : "") + (picks[i].index >= 0 ? std::to_string(picks[i].index) : Quote(picks[i].name));
+  }
+  return picks.size() == 1 ? text : "[" + text + "]";
+}
+
+// One source of /2: a quoted file, or a flow mapping. A part of the
+// assembly leaves out the file (and units it inherits from it).
+std::string SourceYaml(const MeshSource& source, const std::optional<MeshSource>& assembly, const fs::path& path,
+                       const std::string& what) {
+  const fs::path dir = path.parent_path();
+  const std::string file = Quote(RelativePath(source.file, dir));
+  if (source.Plain()) return file;
+  const bool from_assembly = assembly && source.file == assembly->file && !source.picks.empty();
+  std::vector<std::string> keys;
+  if (!from_assembly) keys.push_back("file: " + file);
+  if (!source.picks.empty()) keys.push_back("part: " + PicksYaml(source.picks));
+  if (!source.without.empty()) keys.push_back("without: " + PicksYaml(source.without));
+  if (source.pose) keys.push_back("pose: " + PoseYaml(*source.pose, what + ".pose", path));
+  if (!source.units.empty() && !(from_assembly && source.units == assembly->units)) {
+    keys.push_back("units: " + Quote(source.units));
+  }
+  if (keys.empty()) return file;  // the whole assembly file: say it as a file
+  std::string text = "{";
+  for (std::size_t i = 0; i < keys.size(); ++i) text += (i > 0 ? ", " : "") + keys[i];
+  return text + "}";
+}
+
+std::string SourcesYamlV2(const SourcesToWrite& sources, const fs::path& path) {
+  std::string y;
+  if (sources.assembly) y += "assembly: " + SourceYaml(*sources.assembly, std::nullopt, path, "assembly") + "\n";
+  if (!sources.statics.empty()) {
+    y += "static:\n";
+    for (std::size_t i = 0; i < sources.statics.size(); ++i) {
+      y += "  - " + SourceYaml(sources.statics[i], sources.assembly, path, "static[" + std::to_string(i) + "]") + "\n";
+    }
+  }
+  y += "dynamic: " + SourceYaml(sources.dynamic, sources.assembly, path, "dynamic") + "\n";
+  return y;
+}
+
 }  // namespace
 
 Scene LoadScene(const fs::path& path) {
@@ -247,35 +538,22 @@ Scene LoadScene(const fs::path& path) {
 
   Scene scene;
   try {
-    r.CheckKeys(root, {"format", "name", "units", "static", "dynamic", "dynamic_origin", "start", "goal", "bounds"},
-                "");
-    if (!root["format"]) r.Fail(std::string("missing required key 'format' (expected ") + kFormat + ")");
-    const YAML::Node format = root["format"];
-    if (!format.IsScalar() || format.Scalar() != kFormat) {
-      r.Fail("unsupported format '" + (format.IsScalar() ? format.Scalar() : Reader::Show(format)) + "' (expected " +
-             kFormat + ")");
-    }
+    scene.format_version = ReadFormatVersion(r, root);
+    std::set<std::string> keys = {"format",         "name",  "units", "static", "dynamic",
+                                  "dynamic_origin", "start", "goal",  "bounds"};
+    if (scene.format_version >= 2) keys.insert("assembly");
+    r.CheckKeys(root, keys, "");
 
     scene.file = path;
     scene.name = root["name"] ? r.String(root["name"], "name") : path.stem().string();
     if (root["units"]) scene.units = r.String(root["units"], "units");
 
     const fs::path dir = path.parent_path();
-    if (!root["static"]) r.Fail("missing required key 'static'");
-    const YAML::Node stat = root["static"];
-    if (stat.IsSequence()) {
-      if (stat.size() == 0) {
-        r.Fail("static must be a file name or a non-empty list of file names (got [], line " +
-               std::to_string(Reader::Line(stat)) + ")");
-      }
-      for (size_t i = 0; i < stat.size(); ++i) {
-        scene.static_files.push_back(Resolve(dir, r.String(stat[i], "static[" + std::to_string(i) + "]")));
-      }
+    if (scene.format_version == 1) {
+      ReadFilesV1(r, root, dir, scene);
     } else {
-      scene.static_files.push_back(Resolve(dir, r.String(stat, "static")));
+      ReadFilesV2(r, root, dir, scene);
     }
-    if (!root["dynamic"]) r.Fail("missing required key 'dynamic'");
-    scene.dynamic_file = Resolve(dir, r.String(root["dynamic"], "dynamic"));
 
     if (root["dynamic_origin"]) {
       scene.dynamic_origin = r.Vector3(root["dynamic_origin"], "dynamic_origin");
@@ -288,45 +566,37 @@ Scene LoadScene(const fs::path& path) {
     // Should not happen after the checks above; keep the one-line contract anyway.
     r.Fail("invalid scene at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
-
-  // Meshes: errors name the scene file, the key and the mesh file.
-  for (size_t i = 0; i < scene.static_files.size(); ++i) {
-    try {
-      scene.static_mesh.Append(LoadMesh(scene.static_files[i]));
-    } catch (const InputError& e) {
-      r.Fail("static: " + std::string(e.what()));
-    }
-  }
-  try {
-    scene.dynamic_mesh = LoadMesh(scene.dynamic_file);
-  } catch (const InputError& e) {
-    r.Fail("dynamic: " + std::string(e.what()));
-  }
+  LoadSceneMeshes(r, scene);
   return scene;
 }
 
 void SaveSceneYaml(const Scene& scene, const fs::path& path) {
   const fs::path dir = path.parent_path();
-  std::string y;
-  y += "# ausbau scene (schemas/scene.md). A pose maps D's mesh coordinates to the world:\n";
-  y += "# x_world = R(q) (x - dynamic_origin) + t, q = [qw, qx, qy, qz].\n";
-  y += std::string("format: ") + kFormat + "\n";
-  const std::string name = scene.name.empty() ? path.stem().string() : scene.name;
-  y += "name: " + Quote(name) + "\n";
-  if (!scene.units.empty()) y += "units: " + Quote(scene.units) + "\n";
-  if (scene.static_files.empty()) {
+  if (scene.static_files.empty() && !scene.assembly) {
     throw std::runtime_error(path.string() + ": cannot write a scene without static files");
   }
-  y += "static: [";
-  for (size_t i = 0; i < scene.static_files.size(); ++i) {
-    if (i > 0) y += ", ";
-    y += Quote(RelativePath(scene.static_files[i], dir));
-  }
-  y += "]\n";
   if (scene.dynamic_file.empty()) {
     throw std::runtime_error(path.string() + ": cannot write a scene without a dynamic file");
   }
-  y += "dynamic: " + Quote(RelativePath(scene.dynamic_file, dir)) + "\n";
+  const SourcesToWrite sources = ChooseSourcesToWrite(scene);
+  std::string y;
+  y += "# ausbau scene (schemas/scene.md). A pose maps D's mesh coordinates to the world:\n";
+  y += "# x_world = R(q) (x - dynamic_origin) + t, q = [qw, qx, qy, qz].\n";
+  y += std::string("format: ") + (sources.v2 ? kFormatV2 : kFormat) + "\n";
+  const std::string name = scene.name.empty() ? path.stem().string() : scene.name;
+  y += "name: " + Quote(name) + "\n";
+  if (!scene.units.empty()) y += "units: " + Quote(scene.units) + "\n";
+  if (sources.v2) {
+    y += SourcesYamlV2(sources, path);
+  } else {
+    y += "static: [";
+    for (size_t i = 0; i < scene.static_files.size(); ++i) {
+      if (i > 0) y += ", ";
+      y += Quote(RelativePath(scene.static_files[i], dir));
+    }
+    y += "]\n";
+    y += "dynamic: " + Quote(RelativePath(scene.dynamic_file, dir)) + "\n";
+  }
   if (scene.dynamic_origin_given) {
     y += "dynamic_origin: " + Vec3(scene.dynamic_origin, "dynamic_origin", path) + "\n";
   }

@@ -1,11 +1,14 @@
 // The scene description read by every stage: scene.yaml plus its meshes.
 //
-// scene.yaml (format ausbau-scene/1, see schemas/scene.md):
-//   format: ausbau-scene/1
-//   name: alpha-1.5
-//   units: mm                      # informative
-//   static: [env.dae]              # one or more mesh files: the environment S
-//   dynamic: robot.dae             # the part D to move
+// scene.yaml (format ausbau-scene/2, see schemas/scene.md; /1 is read too):
+//   format: ausbau-scene/2
+//   name: joint
+//   units: cm                      # the world's unit; mm, cm, m, inch, unitless
+//   assembly: beam.obj             # optional: D picked from it, S = the rest
+//   static:                        # more of S: files, parts, poses, units
+//     - floor.obj
+//     - {file: clamp.obj, part: jaw, pose: {t: [0, 0, 10], q: [1, 0, 0, 0]}, units: mm}
+//   dynamic: {part: peg}           # the part D to move (or a file)
 //   dynamic_origin: [x, y, z]      # optional; the point of D that a pose places
 //   start: {t: [x, y, z], q: [qw, qx, qy, qz]}   # default identity
 //   goal:  {t: [x, y, z], q: [qw, qx, qy, qz]}   # optional; absent = disassembly
@@ -21,17 +24,54 @@
 
 #include "geometry/mesh.h"
 #include "geometry/pose.h"
+#include "scene/mesh_io.h"
 
 namespace ausbau {
+
+// Where one mesh of the scene comes from (format /2): a file, some of its
+// parts, its units and, for a static entry, its pose in the world.
+struct MeshSource {
+  std::filesystem::path file;     // resolved
+  std::string written;            // the file as written in scene.yaml
+  std::vector<PartPick> picks;    // `part:` as written; empty: the whole file
+  std::vector<PartPick> without;  // `assembly: {without: ...}`: parts left out of the rest
+  std::vector<int> parts;         // resolved: indices into the file's parts (MeshFile::parts), ascending
+  std::string units;              // `units:` of the entry; empty: the scene's
+  double scale = 1;               // mesh units -> scene units (1 without `units:`)
+  std::optional<Pose> pose;       // static entries: x_world = R(q) (scale x) + t
+  bool rest_of_assembly = false;  // the static entry the assembly shorthand adds: every part but D's
+  // A whole file in the scene's units at identity: what format /1 can say.
+  bool Plain() const { return picks.empty() && without.empty() && units.empty() && !pose && !rest_of_assembly; }
+};
 
 struct Scene {
   std::filesystem::path file;  // the scene.yaml itself
   std::string name;
-  std::string units;                                // informative only
-  std::vector<std::filesystem::path> static_files;  // resolved paths
+  std::string units;                                // the world's unit; informative in /1
+  std::vector<std::filesystem::path> static_files;  // resolved paths, one per static entry
   std::filesystem::path dynamic_file;               // resolved path
-  TriangleMesh static_mesh;                         // all static files merged
-  TriangleMesh dynamic_mesh;                        // D in its mesh coordinates
+  // Format /2's detail of the same files. Filled by LoadScene (for /1 too:
+  // plain sources); SaveSceneYaml uses a source only while its file is the
+  // one static_files / dynamic_file names (so code that swaps a file gets
+  // the plain file written). static_sources[i] describes static_files[i];
+  // the assembly's rest, when there is one, is the last entry.
+  int format_version = 1;              // as read (1 or 2)
+  std::optional<MeshSource> assembly;  // `assembly:`
+  std::vector<MeshSource> static_sources;
+  MeshSource dynamic_source;
+  TriangleMesh static_mesh;  // all static files merged
+  // Which piece of S each triangle of static_mesh came from, so that a
+  // result can name the part of S that blocks D: static_part_names holds one
+  // label per piece (the static file as written in scene.yaml, and
+  // "file:part" for a part picked from a multi-part file), and
+  // static_part_of_triangle[i] indexes it for triangle i of static_mesh
+  // (same size as static_mesh.triangles).
+  // static_part_entry[k] is the static entry (index into static_files)
+  // piece k came from.
+  std::vector<std::string> static_part_names;
+  std::vector<int> static_part_of_triangle;
+  std::vector<int> static_part_entry;
+  TriangleMesh dynamic_mesh;  // D in its mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   bool dynamic_origin_given = false;
   Pose start;                  // scene convention
@@ -39,17 +79,22 @@ struct Scene {
   std::optional<Aabb> bounds;  // bounds on t as given (scene convention)
 };
 
-// Reads and validates scene.yaml and loads its meshes. Throws InputError with
+// Reads and validates scene.yaml (format /1 or /2) and loads its meshes. Throws InputError with
 // a one-line message naming the file and the problem: missing file, YAML
 // syntax error, unknown key, wrong format string, missing required key,
 // malformed vector, malformed or non-unit quaternion (|q| off 1 by more than
 // 1e-3; smaller deviations are renormalized), min > max in bounds, and every
-// mesh error of LoadMesh. Range checks that need the planner's conventions
+// mesh error of LoadMesh; in /2 also an unknown part (the message lists the
+// file's parts), unknown units, and D taking the same geometry as S (the
+// same part of the same file, or at its start pose D's triangles are S's).
+// Range checks that need the planner's conventions
 // (start outside bounds, goal in collision) are done by the planner set-up.
 Scene LoadScene(const std::filesystem::path& path);
 
 // Writes a scene.yaml for the given meshes (paths written relative to the
 // YAML file's folder). Used by generators and tests.
+// Writes format /1 when every source is plain (a whole file, no pose, no
+// units, no assembly), else /2.
 void SaveSceneYaml(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace ausbau

@@ -1,6 +1,7 @@
 #include "scene/scene_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -98,6 +99,40 @@ bool SameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
   return !error && same;
 }
 
+// Static entry `entry`'s triangles of S (vertices renumbered), by the
+// pieces LoadScene recorded: a part picked, scaled or posed is not the file.
+TriangleMesh StaticEntryMesh(const Scene& scene, std::size_t entry) {
+  TriangleMesh out;
+  std::vector<int> renumbered(scene.static_mesh.vertices.size(), -1);
+  for (std::size_t t = 0; t < scene.static_mesh.triangles.size() && t < scene.static_part_of_triangle.size(); ++t) {
+    if (scene.static_part_entry[scene.static_part_of_triangle[t]] != static_cast<int>(entry)) continue;
+    std::array<int, 3> tri = scene.static_mesh.triangles[t];
+    for (int& v : tri) {
+      if (renumbered[v] < 0) {
+        renumbered[v] = static_cast<int>(out.vertices.size());
+        out.vertices.push_back(scene.static_mesh.vertices[v]);
+      }
+      v = renumbered[v];
+    }
+    out.triangles.push_back(tri);
+  }
+  return out;
+}
+
+// "parts bolt, nut; posed; units mm" for an entry that is not a whole file.
+std::string EntryText(const Scene& scene, std::size_t entry) {
+  const MeshSource& source = scene.static_sources[entry];
+  std::string text = source.rest_of_assembly ? "the assembly's rest: " : "";
+  if (!source.picks.empty() || source.rest_of_assembly) {
+    text += std::to_string(source.parts.size()) + (source.parts.size() == 1 ? " part" : " parts");
+  } else {
+    text += "whole file";
+  }
+  if (source.pose) text += ", posed";
+  if (!source.units.empty()) text += ", units " + source.units;
+  return text;
+}
+
 // ---- text helpers
 
 std::string Vec(const Eigen::Vector3d& v) { return Fmt("[%.6g, %.6g, %.6g]", v.x(), v.y(), v.z()); }
@@ -187,6 +222,13 @@ void CheckMeshes(const Scene& scene, SceneSummary* summary) {
   }
   for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
     if (!SameFile(scene.dynamic_file, scene.static_files[i])) continue;
+    if (scene.format_version >= 2) {
+      // LoadScene has refused a part taken by both; what is left is meant.
+      Add(summary, kInfo, "dynamic-and-static-share-a-file",
+          Fmt("D and static entry %zu come from the same file %s, with different parts or a pose of their own", i + 1,
+              scene.dynamic_file.string().c_str()));
+      continue;
+    }
     Add(summary, kWarning, "same-file-dynamic-and-static",
         Fmt("the dynamic file %s is also static file %zu: at the installed pose D lies inside a copy of itself and "
             "cannot be separated from it",
@@ -321,9 +363,19 @@ SceneSummary CheckScene(const Scene& scene) {
   if (scene.static_files.size() == 1) {
     summary.statics.push_back(summary.static_total);
     summary.statics.back().file = scene.static_files.front().string();
+    if (!scene.static_sources.empty() && !scene.static_sources.front().Plain()) {
+      summary.statics.back().file += " (" + EntryText(scene, 0) + ")";
+    }
   } else {
     // The scene holds S merged; each file's own counts need the file again.
-    for (const auto& file : scene.static_files) summary.statics.push_back(Count(file.string(), LoadMesh(file)));
+    for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
+      const std::string file = scene.static_files[i].string();
+      if (i < scene.static_sources.size() && !scene.static_sources[i].Plain()) {
+        summary.statics.push_back(Count(file + " (" + EntryText(scene, i) + ")", StaticEntryMesh(scene, i)));
+      } else {
+        summary.statics.push_back(Count(file, LoadMesh(scene.static_files[i])));
+      }
+    }
   }
 
   const Aabb mesh_box = scene.dynamic_mesh.Bounds();

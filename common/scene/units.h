@@ -21,4 +21,13 @@ inline std::optional<double> MillimetresPerUnit(const std::string& units) {
   return std::nullopt;
 }
 
+// What format ausbau-scene/2 accepts for a scene's `units:`: a name
+// MillimetresPerUnit converts, or unitless / none (any case).
+inline bool IsSceneUnitsName(const std::string& units) {
+  if (MillimetresPerUnit(units)) return true;
+  std::string u;
+  for (char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return u == "unitless" || u == "none";
+}
+
 }  // namespace ausbau

@@ -1,0 +1,44 @@
+// ausbau-assembly: one assembly file (several parts in one OBJ, glTF,
+// COLLADA, ... file) in, one scene per part out: D = the part, S = the rest.
+// The work is in common/scene/assembly.h; see README.md beside this file.
+#include <cstdio>
+
+#include "cli/stage_main.h"
+#include "core/log.h"
+#include "scene/assembly.h"
+
+int main(int argc, char** argv) {
+  using namespace ausbau;
+  std::string assembly, output = "assembly";
+  AssemblyOptions options;
+  bool list = false;
+  return RunStage(
+      {"ausbau-assembly",
+       "Writes one scene per part of an assembly file (D = the part, S = the rest), or lists its parts."},
+      argc, argv,
+      [&](CLI::App& app) {
+        app.add_option("--assembly", assembly, "the assembly: one mesh file holding several parts")->required();
+        app.add_option("-o,--output-dir", output,
+                       "output folder: one folder per part with scene.yaml, and assembly.json")
+            ->capture_default_str();
+        app.add_option("--units", options.units,
+                       "the scenes' units: mm, cm, m, inch, unitless or none (empty: not written)");
+        app.add_option("--name", options.name, "the scenes' name prefix (default: the assembly file's stem)");
+        app.add_flag("--list", list, "print the parts (index, name, triangles, box) and write nothing");
+      },
+      [&] {
+        if (list) {
+          std::printf("index\tname\ttriangles\tbox_min\tbox_max\n");
+          for (const AssemblyPart& part : ListAssemblyParts(assembly)) {
+            std::printf("%d\t%s\t%lld\t%g %g %g\t%g %g %g\n", part.index, part.name.c_str(), part.triangles,
+                        part.box.min.x(), part.box.min.y(), part.box.min.z(), part.box.max.x(), part.box.max.y(),
+                        part.box.max.z());
+          }
+          return kExitOk;
+        }
+        const std::vector<AssemblyPart> parts = WriteAssemblyScenes(assembly, output, options);
+        for (const AssemblyPart& part : parts) std::printf("%s\n", part.scene.string().c_str());
+        LogInfo("wrote %zu scenes and %s/assembly.json", parts.size(), output.c_str());
+        return kExitOk;
+      });
+}
