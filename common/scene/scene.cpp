@@ -293,6 +293,8 @@ Scene LoadScene(const fs::path& path) {
   for (size_t i = 0; i < scene.static_files.size(); ++i) {
     try {
       scene.static_mesh.Append(LoadMesh(scene.static_files[i]));
+      scene.static_part_of_triangle.resize(scene.static_mesh.triangles.size(), static_cast<int>(i));
+      scene.static_part_names.push_back(scene.static_files[i].filename().string());
     } catch (const InputError& e) {
       r.Fail("static: " + std::string(e.what()));
     }
