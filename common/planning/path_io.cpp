@@ -139,7 +139,8 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.length_rotation =
       reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation") : std::nan("");
   if (reader.Has("partial/waypoints")) path.partial_waypoints = ReadPoseRows(reader, "partial/waypoints");
-  path.stopped_by_budget = reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
+  path.stopped_by_budget =
+      reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
   path.validity = reader.ReadStringAttribute("", "validity");

@@ -96,8 +96,7 @@ void CheckEndpoints(const PlanningProblem& problem, const PoseValidity& validity
 
 double SecondsLeft(double deadline_epoch_s) {
   if (!(deadline_epoch_s > 0)) return std::numeric_limits<double>::infinity();
-  const double now =
-      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   return deadline_epoch_s - now;
 }
 

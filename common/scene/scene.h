@@ -31,17 +31,17 @@ struct Scene {
   std::vector<std::filesystem::path> static_files;  // resolved paths
   std::filesystem::path dynamic_file;               // resolved path
   TriangleMesh static_mesh;                         // all static files merged
-  // The parts of S: per triangle of static_mesh the index of the part it
-  // came from (today one part per static file, in the file's order), and
-  // each part's name (the file's name). Reports name what blocks D by these.
-  std::vector<int> static_part_of_triangle;
-  std::vector<std::string> static_part_names;
   TriangleMesh dynamic_mesh;                        // D in its mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   bool dynamic_origin_given = false;
   Pose start;                  // scene convention
   std::optional<Pose> goal;    // scene convention; none = disassembly
   std::optional<Aabb> bounds;  // bounds on t as given (scene convention)
+  // The parts of S: per triangle of static_mesh the index of the part it
+  // came from (today one part per static file, in the file's order), and
+  // each part's name (the file's name). Reports name what blocks D by these.
+  std::vector<int> static_part_of_triangle;
+  std::vector<std::string> static_part_names;
 };
 
 // Reads and validates scene.yaml and loads its meshes. Throws InputError with

@@ -255,9 +255,9 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   planned.status = result.status;
   if (!result.solved()) {
-    LogError("no path within the budget (%s)", artifact.stopped_by_budget             ? "time budget used up"
-                                                 : result.status == PlanStatus::kTimeLimit ? "time limit"
-                                                                                           : "iteration limit");
+    LogError("no path within the budget (%s)", artifact.stopped_by_budget                ? "time budget used up"
+                                               : result.status == PlanStatus::kTimeLimit ? "time limit"
+                                                                                         : "iteration limit");
   }
   return planned;
 }
