@@ -105,6 +105,23 @@ TEST_F(BudgetOrderTest, ABlockedPartIsAnsweredWithinItsBudgetWithThePartThatBloc
   EXPECT_LT(seconds, 3 * 20.0) << run.output;
 }
 
+// A plan that the budget cut short is planned again by the next run, not
+// reused from the cache (the deadline is not part of the cache key).
+TEST_F(BudgetOrderTest, APlanCutShortByTheBudgetIsPlannedAgain) {
+  const fs::path scene = WritePostUnderCapScene(*root_ / "replan");
+  const std::string plan = "--scene " + scene.string() + " --validity rigid-exact --threads 1 --budget 1 -o " +
+                           (*root_ / "replan" / "path.h5").string();
+  const Outcome first = testing::RunStageCommand("plan", plan);
+  EXPECT_EQ(first.exit_code, 3) << first.output;
+  EXPECT_TRUE(Has(first.output, "time budget used up")) << first.output;
+  const PathArtifact path = ReadPathArtifact(*root_ / "replan" / "path.h5");
+  EXPECT_TRUE(path.stopped_by_budget);
+  EXPECT_FALSE(path.partial_waypoints.empty());
+  const Outcome again = testing::RunStageCommand("plan", plan);
+  EXPECT_EQ(again.exit_code, 3) << again.output;
+  EXPECT_TRUE(Has(again.output, "cut short by its time budget: planning again")) << again.output;
+}
+
 TEST_F(BudgetOrderTest, ABudgetThatIsNotANumberIsRefused) {
   const Outcome run = testing::RunShellCommand(
       "make --no-print-directory -f " + (testing::SourceDir() / "pipelines/inistate.mk").string() +
@@ -172,6 +189,9 @@ TEST_F(BudgetOrderTest, BadPartListsAreRefusedWithOneLine) {
   run = testing::RunStageCommand("order", PartFlags(parts) + " --part missing=/nonexistent/m.obj" + out);
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_TRUE(Has(run.output, "/nonexistent/m.obj")) << run.output;
+  run = testing::RunStageCommand("order", PartFlags(parts) + " --output-dir " + parts[0].second.string());
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_TRUE(Has(run.output, "not a folder")) << run.output;
 }
 
 }  // namespace

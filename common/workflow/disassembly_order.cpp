@@ -110,6 +110,10 @@ void DisassemblyOrderOptions::Check() const {
     throw InputError("--part-budget: must be a positive number of seconds");
   }
   if (out.empty()) throw InputError("--output-dir: required");
+  std::error_code error;
+  if (fs::exists(out, error) && !fs::is_directory(out, error)) {
+    throw InputErrorAt(out.string(), "--output-dir: exists and is not a folder");
+  }
   PlanSceneOptions rigid = plan;
   rigid.validity = "rigid-exact";
   rigid.Check();
