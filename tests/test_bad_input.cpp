@@ -339,7 +339,8 @@ std::vector<Case> CliCases() {
   cases.push_back({"VerdictMissingPathNamesPath", kNothing, "ausbau-verdict --scene scene.yaml", 2, "--path"});
   cases.push_back({"PlanMissingScene", kNothing, "ausbau-plan", 2, "--scene"});
   cases.push_back({"PlanNegativeBudget", kNothing, "ausbau-plan --scene scene.yaml --budget -5", 2, "--budget"});
-  cases.push_back({"SmoothDeadlineNotANumber", kNothing, smooth + " --deadline soon", 2, "--deadline"});
+  cases.push_back(
+      {"SmoothDeadlineNotANumber", kNothing, "ausbau-smooth " + smooth + " --deadline soon", 2, "--deadline"});
   cases.push_back({"BadLogLevel", kNothing, "ausbau-plan --scene scene.yaml --log-level loud", 2, "loud|log"});
   // --threads: 0..1024 (libgomp crashed on -1 and 100000).
   for (const auto& [stage, args] :
