@@ -24,8 +24,28 @@
 # interrupted run resumes where it stopped.
 #
 # Exit status: 0 when the verdict says removable. When no path is found,
-# verdict.json is still written (status "not-removable"), path.csv and the
+# verdict.json is still written (status "not-removable", status_detail
+# "not-removable (no path)" or "(budget)", the best partial path and the
+# parts of S that block D at its end), path.csv and the
 # smoothed files are removed, and make fails (the last step exits 3).
+#
+# Time budget: BUDGET=S (seconds) ends the run when S is used up. The
+# start of the run is taken once, when make reads this file, and every stage
+# that can run long gets an absolute deadline (--deadline, seconds since the
+# epoch) rather than a number of seconds: what the stages before it used is
+# then counted without arithmetic in each recipe, and a stage started late
+# gets only what is left. The shares of S (fractions of it after the start):
+#   tau-estimate  0.40  (volume modes; no further planning round after it)
+#   plan          0.75  (then the best partial path is written, path.h5
+#                        stopped_by_budget; no path: smooth is skipped)
+#   smooth        0.90  (stops early with the path shortened so far)
+# and the rest for the verdict, which, where the budget ended the search,
+# writes status_detail "not-removable (budget)", the partial path and the
+# parts of S that block D at its end (blocked_by). voxelize, medial-spheres,
+# pbd-label and distfield-build have no partial answer and are not cut (only
+# the volume modes run them). The verdict records within_budget as before.
+# A plan output cut short by the budget is never reused from the cache (the
+# next run plans again); the deadline is not part of any cache key.
 #
 # Every stage's executable is a variable (VOXELIZE, MEDIAL_SPHERES, PBD_LABEL,
 # DISTFIELD_BUILD, TAU_ESTIMATE, PLAN, SMOOTH, VERDICT, REPORT), so a stage
@@ -53,7 +73,7 @@ RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's ri
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
 THREADS ?= 0              # --threads of the parallel stages; 0 = all cores
-BUDGET ?=                 # seconds; the verdict then records within_budget
+BUDGET ?=                 # seconds the whole run may take: the work stops when they are used up (see "Time budget" above)
 WITH_REPORT ?= 1          # 0: no report.html
 VOXELIZE_FLAGS ?=
 SPHERES_FLAGS ?=
@@ -80,6 +100,17 @@ SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
 TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
 VALIDITY := $(strip $(VALIDITY))
+BUDGET := $(strip $(BUDGET))
+ifneq ($(BUDGET),)
+ifneq ($(shell awk -v b='$(BUDGET)' 'BEGIN { print (b ~ /^[0-9]*\.?[0-9]+$$/ && b + 0 > 0) ? "ok" : "bad" }'),ok)
+$(error BUDGET=$(BUDGET): must be a positive number of seconds)
+endif
+BUDGET_START := $(shell date +%s.%N)
+budget_deadline = $(shell awk -v s=$(BUDGET_START) -v b=$(BUDGET) -v f=$(1) 'BEGIN { printf "%.3f", s + f * b }')
+TAU_DEADLINE := $(call budget_deadline,0.40)
+PLAN_DEADLINE := $(call budget_deadline,0.75)
+SMOOTH_DEADLINE := $(call budget_deadline,0.90)
+endif
 # auto: rigid-exact, unless D intersects S at the installed pose where the
 # exact check cannot measure the depth (then labeled-mliv; ausbau-plan
 # --choose-validity). A plan stage that cannot answer gets rigid-exact.
@@ -91,7 +122,6 @@ RIGID_TOLERANCE := $(strip $(RIGID_TOLERANCE))
 PLANNER := $(strip $(PLANNER))
 COLLISION := $(strip $(COLLISION))
 THREADS := $(strip $(THREADS))
-BUDGET := $(strip $(BUDGET))
 WITH_REPORT := $(strip $(WITH_REPORT))
 
 TIMES := $(OUT)/times
@@ -139,7 +169,8 @@ distfield-build: start
 # Exit 3 (no round found sigma_1) still writes tau.h5 with the last tau
 # tried; the planner gets its chance with it.
 TAU_CMD = $(TAU_ESTIMATE) --scene $(SCENE) --validity $(VALIDITY) $(VOLUME_INPUTS) --rigid-tolerance $(RIGID_TOLERANCE) --seed $(SEED) \
-  --time-limit $(TAU_TIME_LIMIT) --threads $(THREADS) -o $(OUT)/tau.h5 --csv $(OUT)/tau-trace.csv $(TAU_FLAGS)
+  --time-limit $(TAU_TIME_LIMIT) --threads $(THREADS) $(if $(BUDGET),--deadline $(TAU_DEADLINE)) \
+  -o $(OUT)/tau.h5 --csv $(OUT)/tau-trace.csv $(TAU_FLAGS)
 tau-estimate: start $(if $(VOLUME_MODE),voxelize pbd-label)
 ifneq ($(VOLUME_MODE),)
 	@echo '$(TAU_CMD)'; rc=0; $(TIMED) tau-estimate $(TIMES) $(TAU_CMD) || rc=$$?; \
@@ -153,7 +184,8 @@ endif
 # the smoothed files and path.csv are removed, smoothing is skipped
 # (times/no-path marks it) and the verdict reads path.h5.
 PLAN_CMD = $(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
-  --threads $(THREADS) $(PLAN_COLLISION) $(PLAN_VOLUME) -o $(OUT)/path.h5 $(PLAN_FLAGS)
+  --threads $(THREADS) $(PLAN_COLLISION) $(PLAN_VOLUME) $(if $(BUDGET),--deadline $(PLAN_DEADLINE)) \
+  -o $(OUT)/path.h5 $(PLAN_FLAGS)
 plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	@echo '$(PLAN_CMD)'; rc=0; $(TIMED) plan $(TIMES) $(PLAN_CMD) || rc=$$?; \
 	if [ $$rc -eq 3 ]; then \
@@ -162,7 +194,8 @@ plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	elif [ $$rc -ne 0 ]; then exit $$rc; fi
 
 SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
-  --rigid-tolerance $(RIGID_TOLERANCE) --profile $(OUT)/profile.csv -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+  --rigid-tolerance $(RIGID_TOLERANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(OUT)/profile.csv \
+  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
 smooth: plan
 	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \
 	echo '$(SMOOTH_CMD)'; $(TIMED) smooth $(TIMES) $(SMOOTH_CMD) && \

@@ -332,12 +332,15 @@ std::vector<Case> CliCases() {
   const std::string verdict = "--scene scene.yaml --path path.h5 -o out.json";
   // Unknown flags are named first (verdict had said "--scene is required").
   for (const char* stage : {"voxelize", "medial-spheres", "pbd-label", "distfield-build", "tau-estimate", "plan",
-                            "smooth", "verdict", "report", "scene-check", "scene-gen"}) {
+                            "smooth", "verdict", "report", "scene-check", "scene-gen", "order"}) {
     cases.push_back(
         {std::string("UnknownFlag_") + stage, kNothing, std::string("ausbau-") + stage + " --bogus 1", 2, "--bogus"});
   }
   cases.push_back({"VerdictMissingPathNamesPath", kNothing, "ausbau-verdict --scene scene.yaml", 2, "--path"});
   cases.push_back({"PlanMissingScene", kNothing, "ausbau-plan", 2, "--scene"});
+  cases.push_back({"PlanNegativeBudget", kNothing, "ausbau-plan --scene scene.yaml --budget -5", 2, "--budget"});
+  cases.push_back(
+      {"SmoothDeadlineNotANumber", kNothing, "ausbau-smooth " + smooth + " --deadline soon", 2, "--deadline"});
   cases.push_back({"BadLogLevel", kNothing, "ausbau-plan --scene scene.yaml --log-level loud", 2, "loud|log"});
   // --threads: 0..1024 (libgomp crashed on -1 and 100000).
   for (const auto& [stage, args] :

@@ -1,8 +1,33 @@
 #include "cli/stage_options.h"
 
+#include <chrono>
+
 #include "core/hash.h"
 
 namespace ausbau {
+
+TimeBudgetOptions::TimeBudgetOptions()
+    : started(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count()) {}
+
+double TimeBudgetOptions::Deadline() const {
+  double end = deadline;
+  if (budget_s > 0 && (end <= 0 || started + budget_s < end)) end = started + budget_s;
+  return end;
+}
+
+void AddTimeBudgetOptions(StageDefinition& stage, TimeBudgetOptions* budget) {
+  stage
+      .Option("--budget", &budget->budget_s,
+              "seconds this run may take: the work stops when they are used up (the best result so far is written; "
+              "0 = none)",
+              CacheKey::kNo)
+      ->check(Within(0, 7 * 24 * 3600.0));
+  stage
+      .Option("--deadline", &budget->deadline,
+              "the same as an absolute time, seconds since the Unix epoch (the pipeline's BUDGET; 0 = none)",
+              CacheKey::kNo)
+      ->check(Within(0, 1e11));
+}
 
 void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
   stage.Option("--planner", &planner->planner,

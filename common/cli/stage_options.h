@@ -14,6 +14,21 @@
 
 namespace ausbau {
 
+// The time budget of a stage that can run long (plan, smooth, tau-estimate):
+// --budget S (seconds from the stage's start) or --deadline T (seconds since
+// the Unix epoch; what pipelines/inistate.mk passes, so that all stages of a
+// run share one end). Never in the cache key: the budget changes when the
+// work stops, not what it computes. Deadline(): the earlier of the two, 0
+// for none.
+struct TimeBudgetOptions {
+  double budget_s = 0;
+  double deadline = 0;
+  double started = 0;  // epoch seconds when the options were made
+  TimeBudgetOptions();
+  double Deadline() const;
+};
+void AddTimeBudgetOptions(StageDefinition& stage, TimeBudgetOptions* budget);
+
 // --planner, --sampler, --sigma, --time-limit, --max-iterations, --u,
 // --range-max, --resolution, --threads, --seed.
 void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner);

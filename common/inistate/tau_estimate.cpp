@@ -214,6 +214,7 @@ void TauSearch::PlanRound(Round* round, const std::atomic<bool>* cancel) const {
   const auto round_begin = Clock::now();
   const VolumeValidity validity(volume_, measure_, round->tau);
   PlannerOptions planner = LocalPlannerOptions(problem_, psi_, options_.planner);
+  planner.time_limit_s = LimitByDeadline(planner.time_limit_s, options_.deadline, 0.5, nullptr);
   planner.cancel = cancel;
   round->result = Plan(problem_, validity, planner);
   round->seconds = Seconds(round_begin);
@@ -306,6 +307,10 @@ TauEstimate TauSearch::Run() {
       if (error) std::rethrow_exception(error);
     }
     if (Accept(current) || last) break;
+    if (SecondsLeft(options_.deadline) <= 0) {
+      Say("time budget used up: no more rounds");
+      break;
+    }
     if (lanes == 1) {  // search the next round now
       SearchRound(&next, nullptr);
     } else if (next.planned && next.result.status != PlanStatus::kCancelled) {

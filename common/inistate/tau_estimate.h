@@ -58,6 +58,9 @@ struct TauEstimateOptions {
   PlannerOptions planner;                            // local planner (est), seed, time limit per planning round
   int threads = 0;                                   // parallel probes; 0 = all cores
   std::function<void(const std::string&)> progress;  // one line per step, optional
+  // The run's time budget (planning/planner.h: SecondsLeft; 0: none): each
+  // planning round gets at most what is left, and no round starts after it.
+  double deadline = 0;
   // 10 s per round: successful rounds on the clip scenes take 0.1-5 s;
   // five rounds then stay within the 60 s a scene may take end to end.
   TauEstimateOptions() {

@@ -132,6 +132,7 @@ PlanResult RunEst(const PlanningProblem& problem, const MotionChecker& motion, c
   }
   result.stats.iterations = iteration;
   result.stats.nodes = static_cast<std::int64_t>(tree.size());
+  FillPartialPath(problem, tree, &result);
   scope.Fill(&result.stats);
   return result;
 }

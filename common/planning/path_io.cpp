@@ -74,6 +74,9 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.WriteDoubles("stats/length", {path.length_normalized}, {});
   writer.WriteDoubles("stats/length_translation", {path.length_translation}, {});
   writer.WriteDoubles("stats/length_rotation", {path.length_rotation}, {});
+  // Only where there is something to say, so that solved runs' files stay as they were.
+  if (!path.partial_waypoints.empty()) WritePoseRows(writer, "partial/waypoints", path.partial_waypoints);
+  if (path.stopped_by_budget) writer.WriteInts("stats/stopped_by_budget", {1}, {});
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
   writer.SetAttribute("", "validity", path.validity);
@@ -135,6 +138,9 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
       reader.Has("stats/length_translation") ? ReadScalar(reader, "stats/length_translation") : std::nan("");
   path.length_rotation =
       reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation") : std::nan("");
+  if (reader.Has("partial/waypoints")) path.partial_waypoints = ReadPoseRows(reader, "partial/waypoints");
+  path.stopped_by_budget =
+      reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
   path.validity = reader.ReadStringAttribute("", "validity");

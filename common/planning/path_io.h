@@ -36,6 +36,14 @@ struct PathArtifact {
   std::vector<double> waypoint_volume;
   std::vector<int> waypoint_part;
   std::vector<double> waypoint_deformability;
+
+  // An unsolved run (success = false): the best partial path (scene
+  // convention; from the start to the planner's node with the most progress,
+  // planning/planner.h: PartialProgress), and whether the time budget
+  // (--budget / --deadline) ended the search. Optional datasets `partial/`
+  // and `stats/stopped_by_budget`; absent in older files.
+  std::vector<Pose> partial_waypoints;
+  bool stopped_by_budget = false;
 };
 
 // The validity of a path planned under the exact rigid check

@@ -100,6 +100,30 @@ void CheckEndpoints(const PlanningProblem& problem, const PoseValidity& validity
   if (problem.goal && !validity.IsValid(*problem.goal)) throw InputErrorAt(where, "goal pose is in collision");
 }
 
+double SecondsLeft(double deadline_epoch_s) {
+  if (!(deadline_epoch_s > 0)) return std::numeric_limits<double>::infinity();
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return deadline_epoch_s - now;
+}
+
+double LimitByDeadline(double limit, double deadline_epoch_s, double floor, bool* bound) {
+  const double left = SecondsLeft(deadline_epoch_s);
+  const bool deadline_first = left < limit;
+  if (bound != nullptr) *bound = deadline_first;
+  return deadline_first ? std::max(floor, left) : limit;
+}
+
+double PartialProgress(const PlanningProblem& problem, const Pose& pose) {
+  if (problem.goal) return -problem.metric.Range(pose, *problem.goal);
+  const Aabb robot = problem.RobotBoxAt(pose);
+  const Aabb& environment = problem.environment_box;
+  double gap = -std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    gap = std::max({gap, robot.min[axis] - environment.max[axis], environment.min[axis] - robot.max[axis]});
+  }
+  return gap;
+}
+
 PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
   options.Check();
   const auto begin = std::chrono::steady_clock::now();
@@ -129,6 +153,8 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
   const auto begin = std::chrono::steady_clock::now();
   PlanResult result;
   PlanStats total;
+  std::vector<Pose> best_partial;  // over the rounds
+  double best_progress = -std::numeric_limits<double>::infinity();
   std::int64_t budget = kFirstRestartIterations;
   for (int round = 0;; ++round, budget *= 2) {
     const double left =
@@ -143,10 +169,18 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
     total.nodes += result.stats.nodes;
     total.collision_checks += result.stats.collision_checks;
     total.invalid_checks += result.stats.invalid_checks;
+    if (!result.partial.empty() && (best_partial.empty() || result.partial_progress > best_progress)) {
+      best_partial = result.partial;
+      best_progress = result.partial_progress;
+    }
     if (result.status != PlanStatus::kIterationLimit) break;  // solved, cancelled or out of time
   }
   total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   result.stats = total;
+  if (!result.solved()) {
+    result.partial = std::move(best_partial);
+    result.partial_progress = best_progress;
+  }
   return result;
 }
 

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,9 +50,32 @@ struct PlanStats {
 struct PlanResult {
   PlanStatus status = PlanStatus::kTimeLimit;
   std::vector<Pose> path;  // planning convention; empty unless solved
+  // Unsolved: the best partial path, from the start to the start tree's node
+  // with the most progress (PartialProgress); empty where the planner keeps
+  // no tree (PRM) or when solved.
+  std::vector<Pose> partial;
+  double partial_progress = -std::numeric_limits<double>::infinity();
   PlanStats stats;
   bool solved() const { return status == PlanStatus::kSolved; }
 };
+
+// How far a pose has come, for the best partial path of an unsolved run:
+// with a goal pose, minus the metric range to it; without one (disassembly),
+// how far D's AABB is separated from S's, the largest gap along one world
+// axis (negative while they overlap along every axis: then the least
+// overlap). Larger is better.
+double PartialProgress(const PlanningProblem& problem, const Pose& pose);
+
+// The time budget of a run (--budget / --deadline, pipelines/inistate.mk
+// BUDGET): an absolute deadline in seconds since the Unix epoch (system
+// clock), so that every stage of a pipeline measures against the same end
+// whatever ran before it. 0: none. SecondsLeft: +infinity without a deadline.
+double SecondsLeft(double deadline_epoch_s);
+// The time limit a stage gets under a deadline: `limit` or what is left, the
+// smaller, but at least `floor` (a stage stopped by the budget still answers
+// with what it has: the best partial path). Sets *bound when the deadline is
+// the smaller of the two.
+double LimitByDeadline(double limit, double deadline_epoch_s, double floor, bool* bound);
 
 // The planners Plan() knows.
 const std::vector<std::string>& PlannerNames();

@@ -32,6 +32,7 @@ PlanResult RunRrt(const PlanningProblem& problem, const MotionChecker& motion, c
   }
   result.stats.iterations = iteration;
   result.stats.nodes = static_cast<std::int64_t>(tree.size());
+  FillPartialPath(problem, tree, &result);
   scope.Fill(&result.stats);
   return result;
 }

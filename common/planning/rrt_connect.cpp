@@ -78,6 +78,7 @@ class RrtConnect {
              static_cast<long long>(goal_roots_));
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
+    FillPartialPath(problem_, start_tree_, &result);
     scope.Fill(&result.stats);
     return result;
   }

@@ -38,6 +38,23 @@ struct PoseTree {
   }
 };
 
+// An unsolved run's best partial path: from the root to the node of `tree`
+// with the most PartialProgress (the first of equals).
+inline void FillPartialPath(const PlanningProblem& problem, const PoseTree& tree, PlanResult* result) {
+  if (result->solved() || tree.size() == 0) return;
+  int best = 0;
+  double best_progress = PartialProgress(problem, tree.poses[0]);
+  for (std::size_t i = 1; i < tree.size(); ++i) {
+    const double progress = PartialProgress(problem, tree.poses[i]);
+    if (progress > best_progress) {
+      best_progress = progress;
+      best = static_cast<int>(i);
+    }
+  }
+  result->partial = tree.PathFromRoot(best);
+  result->partial_progress = best_progress;
+}
+
 // The single-tree planners' goalReached (thesis alg. 1, line 9) for the
 // node just added: in the disassembly region, or, with a goal pose, within
 // `connect_range` (eq. 3) of it with a valid straight motion to it. On

@@ -68,6 +68,24 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   return planner;
 }
 
+// The planner's time limit cut to what is left of the run's budget (at
+// least half a second, so that a stage started late still answers with its
+// best partial path); *bound says the budget is the smaller.
+PlannerOptions WithinDeadline(PlannerOptions planner, double deadline, bool* bound) {
+  planner.time_limit_s = LimitByDeadline(planner.time_limit_s, deadline, 0.5, bound);
+  if (*bound) LogInfo("time budget: %.1f s left for planning", planner.time_limit_s);
+  return planner;
+}
+
+// An unsolved run: its best partial path (scene convention) and whether the
+// budget ended it.
+void FillPartial(const PlanningProblem& problem, const PlanResult& result, bool budget_bound, PathArtifact* artifact) {
+  if (result.solved()) return;
+  for (const Pose& pose : result.partial) artifact->partial_waypoints.push_back(problem.PlanningToScene(pose));
+  AlignQuaternionSigns(&artifact->partial_waypoints);
+  artifact->stopped_by_budget = budget_bound && result.status == PlanStatus::kTimeLimit;
+}
+
 void LogResult(const char* what, const PlanStats& stats, bool solved) {
   LogInfo("%s %s after %.3f s: %lld iterations, %lld nodes, %lld validity checks (%.1f%% invalid)", what,
           solved ? "solved" : "no path", stats.time_s, static_cast<long long>(stats.iterations),
@@ -212,7 +230,8 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
   CheckEndpoints(problem, checker, scene.file.string());
-  const PlannerOptions planner = ResolvedPlanner(options, false);
+  bool budget_bound = false;
+  const PlannerOptions planner = WithinDeadline(ResolvedPlanner(options, false), options.deadline, &budget_bound);
   LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
           planner.planner.c_str(), static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
           parts->FastenerCount() > 0 ? "fastened" : "collision-free");
@@ -221,6 +240,7 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   artifact.stats = result.stats;
   artifact.success = result.solved();
   LogResult("planning", result.stats, result.solved());
+  FillPartial(problem, result, budget_bound, &artifact);
   if (result.solved()) {
     FillPath(problem, result.path, &artifact);
     artifact.waypoints = DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point,
@@ -235,8 +255,9 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   planned.status = result.status;
   if (!result.solved()) {
-    LogError("no path within the budget (%s)",
-             result.status == PlanStatus::kTimeLimit ? "time limit" : "iteration limit");
+    LogError("no path within the budget (%s)", artifact.stopped_by_budget                ? "time budget used up"
+                                               : result.status == PlanStatus::kTimeLimit ? "time limit"
+                                                                                         : "iteration limit");
   }
   return planned;
 }
@@ -289,7 +310,8 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   if (options.validity == kRigidExact) return PlanRigidExact(options, scene);
   const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
   const PlanningProblem problem = MakePlanningProblem(scene);
-  const PlannerOptions planner = ResolvedPlanner(options, volume_mode);
+  bool budget_bound = false;
+  const PlannerOptions planner = WithinDeadline(ResolvedPlanner(options, volume_mode), options.deadline, &budget_bound);
   LogInfo("scene %s: S %zu triangles, D %zu triangles, validity %s, planner %s, seed %llu, time limit %.1f s",
           scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
           options.validity.c_str(), planner.planner.c_str(), static_cast<unsigned long long>(planner.seed),
@@ -303,7 +325,12 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   bool solved = false;
   PlanStatus status = PlanStatus::kTimeLimit;
   if (volume_mode) {
-    artifact = PlanVolumeMode(options, scene, problem, checker, &stats, &solved);
+    // Both of its planners within the budget (no partial path: sigma_1 and
+    // sigma_2 keep none yet).
+    PlanSceneOptions within = options;
+    within.planner = WithinDeadline(options.planner, options.deadline, &budget_bound);
+    artifact = PlanVolumeMode(within, scene, problem, checker, &stats, &solved);
+    artifact.stopped_by_budget = !solved && budget_bound;
   } else {
     CheckEndpoints(problem, checker, scene.file.string());
     const PlanResult result = Plan(problem, checker, planner);
@@ -312,6 +339,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     solved = result.solved();
     status = result.status;
     if (solved) FillPath(problem, result.path, &artifact);
+    FillPartial(problem, result, budget_bound, &artifact);
   }
   planned.status = status;
   if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {

@@ -34,6 +34,10 @@ struct PlanSceneOptions {
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
   bool verify = true;  // the independent dense (or exact) re-check of the result
+  // The run's time budget (planning/planner.h: SecondsLeft): the time limits
+  // are cut to what is left before it; an unsolved run it ended is marked
+  // stopped_by_budget in the artifact. 0: none.
+  double deadline = 0;
 
   // Throws InputError naming the flag of a value that does not fit.
   void Check() const;

@@ -93,7 +93,37 @@ void CheckPathIsJudgeable(const std::string& file, const PathArtifact& path) {
   }
 }
 
+std::string PoseJson(const Pose& pose) {
+  return JsonWriter().Add("t", JsonVector(pose.t)).Add("q", JsonQuaternion(pose.q)).Text();
+}
+
 }  // namespace
+
+std::string PartContactJson(const PartContact& c) {
+  JsonWriter json;
+  json.String("part", c.name).Int("index", c.part).Bool("intersects", c.intersects);
+  if (c.intersects) {
+    json.Number("depth", c.depth).Bool("depth_exact", c.depth_exact).Null("distance");
+  } else {
+    json.Null("depth").Bool("depth_exact", false).Number("distance", c.distance);
+  }
+  return json.Add("point", JsonVector(c.point)).Text();
+}
+
+std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose) {
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& vertex : robot.vertices) vertex -= scene.dynamic_origin;
+  const double reach = 0.05 * robot.Bounds().Size().norm();
+  return MeasurePartContacts(robot, pose, scene.static_mesh, scene.static_part_of_triangle, scene.static_part_names,
+                             reach, 8);
+}
+
+std::string VerdictStatusDetail(const Verdict& v) {
+  if (v.removable) return "removable";
+  if (v.stopped_by_budget) return "not-removable (budget)";
+  if (!v.path.success) return "not-removable (no path)";
+  return "not-removable (exact check failed)";
+}
 
 Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   Verdict v;
@@ -140,6 +170,10 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   if (!v.removable) {
     // The exact check classified D's solids the same way: reused.
     v.blocking = ProbeWhatBlocks(scene, v.tolerance, unmeasured, exact ? exact->parts : nullptr);
+    v.stopped_by_budget = !path.success && path.stopped_by_budget;
+    v.blocked_at_partial_end = !path.success && !path.partial_waypoints.empty();
+    v.blocked_at = v.blocked_at_partial_end ? path.partial_waypoints.back() : scene.start;
+    v.blockers = FindBlockingParts(scene, v.blocked_at);
   }
   v.max_volume = FindMaxVolume(path);
   const bool volume_mode = IsVolumeValidity(path.validity);
@@ -173,6 +207,24 @@ std::string VerdictJson(const Verdict& v) {
   json.Add("scene",
            JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
   json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
+  // Not removable: why, and what blocks D where it got to (absent for a
+  // removable part, whose files stay as they were).
+  if (!removable) {
+    json.String("status_detail", VerdictStatusDetail(v)).Bool("stopped_by_budget", v.stopped_by_budget);
+    std::string partial = "[";
+    for (const Pose& pose : v.path.partial_waypoints) partial += (partial.size() > 1 ? ", " : "") + PoseJson(pose);
+    json.Add("partial_path", JsonWriter()
+                                 .Int("waypoints", static_cast<long long>(v.path.partial_waypoints.size()))
+                                 .Add("poses", partial + "]")
+                                 .Text());
+    std::string blockers = "[";
+    for (const PartContact& c : v.blockers) blockers += (blockers.size() > 1 ? ", " : "") + PartContactJson(c);
+    json.Add("blocked_by", JsonWriter()
+                               .String("at", v.blocked_at_partial_end ? "end of the partial path" : "installed pose")
+                               .Add("pose", PoseJson(v.blocked_at))
+                               .Add("parts", blockers + "]")
+                               .Text());
+  }
   json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
   if (tau) {
     const TauEstimate& e = tau->estimate;
@@ -277,7 +329,8 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
   const auto& exact = v.exact;
   const auto& max = v.max_volume;
   const char* units = v.units.c_str();
-  std::fprintf(out, "%s: %s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE");
+  std::fprintf(out, "%s: %s%s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE",
+               v.stopped_by_budget ? " (budget: the time budget ended the search)" : "");
   if (max) {
     std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", path.validity.c_str(), max->value, units, max->index,
                  path.waypoints.size());
@@ -297,6 +350,11 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
                  v.tolerance, exact->max_fastener_depth, units);
   }
   if (v.blocking) std::fprintf(out, "  what blocks: %s\n", v.blocking->summary.c_str());
+  for (const PartContact& c : v.blockers) {
+    std::fprintf(out, "  blocked by (at the %s): %s\n",
+                 v.blocked_at_partial_end ? "end of the best partial path" : "installed pose",
+                 DescribePartContact(c).c_str());
+  }
   std::fprintf(out, "  time: %.2f s%s", v.total_seconds, options.times.empty() ? " (planner only)" : "");
   if (options.budget >= 0)
     std::fprintf(out, " (budget %.6g s: %s)", options.budget,

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "collision/part_contacts.h"
 #include "inistate/tau_estimate.h"
 #include "planning/exact_check.h"
 #include "planning/path_io.h"
@@ -52,7 +53,29 @@ struct Verdict {
   std::optional<MaxVolume> max_volume;
   double tau_value = 0, psi_value = 0;  // NaN where none
   bool removable = false;
+  // Not removable: the time budget ended the search (the path artifact's
+  // stopped_by_budget): "not-removable (budget)".
+  bool stopped_by_budget = false;
+  // Not removable: where D got to (the best partial path's last pose, else
+  // the installed pose; scene convention) and what of S is there: the parts
+  // D intersects or comes within reach of (collision/part_contacts.h).
+  Pose blocked_at;
+  bool blocked_at_partial_end = false;
+  std::vector<PartContact> blockers;
 };
+
+// "removable", "not-removable (budget)", "not-removable (no path)" or
+// "not-removable (exact check failed)": the status with its reason.
+std::string VerdictStatusDetail(const Verdict& verdict);
+
+// The parts of S at `pose` of D (scene convention): those D intersects or
+// comes within 5% of its AABB diagonal of, nearest first, at most 8; at
+// least the nearest part.
+std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose);
+
+// One entry of verdict.json's blocked_by.parts (and order.json's): part,
+// index, intersects, depth or distance, point.
+std::string PartContactJson(const PartContact& contact);
 
 // Reads the inputs and judges. Throws InputError naming the file for inputs
 // that do not fit (another scene's path, a malformed times folder).

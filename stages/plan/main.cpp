@@ -21,6 +21,7 @@ struct PlanStageOptions {
   std::string ompl_path;
   bool choose_validity = false;  // print the validity this scene needs, plan nothing
   PlanSceneOptions plan;
+  TimeBudgetOptions budget;
 };
 
 void WriteExtras(const PlanStageOptions& options, const PathArtifact& artifact) {
@@ -30,7 +31,9 @@ void WriteExtras(const PlanStageOptions& options, const PathArtifact& artifact) 
 }
 
 int Plan(const StageRun& run, const PlanStageOptions& options) {
-  const PlannedPath planned = PlanScene(run.scene, options.plan);
+  PlanSceneOptions plan = options.plan;
+  plan.deadline = options.budget.Deadline();
+  const PlannedPath planned = PlanScene(run.scene, plan);
   WritePathArtifact(run.output, planned.artifact, run.provenance);
   WriteExtras(options, planned.artifact);
   if (!planned.artifact.success) return kExitNoPath;
@@ -41,9 +44,14 @@ int Plan(const StageRun& run, const PlanStageOptions& options) {
 }
 
 // An existing output with the same provenance is the same answer: reused
-// (its CSV and OMPL files written again), and its exit status returned.
+// (its CSV and OMPL files written again), and its exit status returned;
+// unless the time budget ended that search: then this run plans again.
 int Reuse(const StageRun& run, const PlanStageOptions& options) {
   const PathArtifact cached = ReadPathArtifact(run.output);
+  if (cached.stopped_by_budget) {
+    LogInfo("%s was cut short by its time budget: planning again", run.output.c_str());
+    return Plan(run, options);
+  }
   LogInfo("%s is up to date (same inputs and options); use --force to plan again", run.output.c_str());
   WriteExtras(options, cached);
   return cached.success ? kExitOk : kExitNoPath;
@@ -66,6 +74,7 @@ int main(int argc, char** argv) {
   stage.ExtraOutput("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
   stage.ExtraOutput("--ompl-path", &options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
   AddPlanSceneOptions(stage, &options.plan);
+  AddTimeBudgetOptions(stage, &options.budget);
   stage.Flag("--choose-validity", &options.choose_validity,
              "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed interference is "
              "not measured) and exit; the pipeline's VALIDITY=auto",

@@ -23,13 +23,20 @@ struct SmoothStageOptions {
   std::string csv;
   std::string profile;  // intersection and clearance profile (CSV)
   SmoothPlannedPathOptions smooth;
+  TimeBudgetOptions budget;
 };
 
 int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   options.smooth.smooth.Check();
   const PathArtifact input = ReadPathArtifact(options.path);
   const PlanningProblem problem = MakePlanningProblem(run.scene);
-  const SmoothedPath smoothed = SmoothPlannedPath(run.scene, problem, input, options.path, options.smooth);
+  // Within the time budget: smoothing stops early with a shorter path so
+  // far (every shortcut it keeps is checked), never a worse one.
+  SmoothPlannedPathOptions smooth = options.smooth;
+  bool bound = false;
+  smooth.smooth.time_limit_s = LimitByDeadline(smooth.smooth.time_limit_s, options.budget.Deadline(), 0.1, &bound);
+  if (bound) LogInfo("time budget: %.1f s left for smoothing", smooth.smooth.time_limit_s);
+  const SmoothedPath smoothed = SmoothPlannedPath(run.scene, problem, input, options.path, smooth);
   WritePathArtifact(run.output, smoothed.artifact, run.provenance);
   if (!options.csv.empty()) WritePathCsv(options.csv, smoothed.artifact.waypoints);
   if (!options.profile.empty()) WritePathProfile(options.profile, problem, smoothed.result.path, smoothed.model.get());
@@ -68,6 +75,7 @@ int main(int argc, char** argv) {
   stage.ExtraOutput("--profile", &options.profile,
                     "also write the intersection and clearance profile along the path (CSV)");
   AddSmoothOptions(stage, &options.smooth.smooth);
+  AddTimeBudgetOptions(stage, &options.budget);
   AddVolumeInputOptions(stage, &options.smooth.volume);
   return stage.Run(
       argc, argv, [&](const StageRun& run) { return Smooth(run, options); },

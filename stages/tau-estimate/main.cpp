@@ -17,10 +17,13 @@ constexpr StageSpec kTauEstimateStage{
 struct TauStageOptions {
   std::string csv;
   SceneTauOptions tau;
+  TimeBudgetOptions budget;
 };
 
 int EstimateTauStage(const StageRun& run, const TauStageOptions& options) {
-  const TauArtifact artifact = EstimateSceneTau(run.scene, options.tau);
+  SceneTauOptions tau = options.tau;
+  tau.estimate.deadline = options.budget.Deadline();
+  const TauArtifact artifact = EstimateSceneTau(run.scene, tau);
   WriteTauArtifact(run.output, artifact, run.provenance);
   if (!options.csv.empty()) WriteTauTraceCsv(options.csv, artifact.estimate);
   const TauEstimate& e = artifact.estimate;
@@ -54,6 +57,7 @@ int main(int argc, char** argv) {
                CacheKey::kYes);
   AddVolumeInputOptions(stage, &options.tau.volume);
   AddTauEstimateOptions(stage, &options.tau.estimate);
+  AddTimeBudgetOptions(stage, &options.budget);
   return stage.Run(
       argc, argv, [&](const StageRun& run) { return EstimateTauStage(run, options); },
       [&](const StageRun& run) { return ReuseTau(run, options); });

@@ -1,0 +1,132 @@
+#include "collision/part_contacts.h"
+
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "collision/fcl_model.h"
+#include "core/format.h"
+#include "geometry/shells.h"
+
+namespace ausbau {
+namespace {
+
+// The triangles of each part, as separate meshes (vertices copied per part).
+std::vector<TriangleMesh> SplitParts(const TriangleMesh& environment, const std::vector<int>& part_of_triangle) {
+  int count = 1;
+  for (int part : part_of_triangle) count = std::max(count, part + 1);
+  std::vector<TriangleMesh> parts(count);
+  std::vector<std::vector<int>> new_index(count);
+  for (std::size_t t = 0; t < environment.triangles.size(); ++t) {
+    const int part = t < part_of_triangle.size() ? std::max(0, part_of_triangle[t]) : 0;
+    TriangleMesh& mesh = parts[part];
+    std::vector<int>& index = new_index[part];
+    if (index.empty()) index.assign(environment.vertices.size(), -1);
+    std::array<int, 3> triangle{};
+    for (int k = 0; k < 3; ++k) {
+      const int v = environment.triangles[t][k];
+      if (index[v] < 0) {
+        index[v] = static_cast<int>(mesh.vertices.size());
+        mesh.vertices.push_back(environment.vertices[v]);
+      }
+      triangle[k] = index[v];
+    }
+    mesh.triangles.push_back(triangle);
+  }
+  return parts;
+}
+
+// The exact depth where every shell on both sides is convex, else < 0.
+double ExactDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3d& pose,
+                  const TriangleMesh& part_mesh) {
+  const std::vector<Shell> part_shells = SplitIntoShells(part_mesh);
+  double depth = 0;
+  for (const Shell& r : robot_shells) {
+    if (!r.convex) return -1;
+    for (const Shell& p : part_shells) {
+      if (!p.convex) return -1;
+      depth = std::max(depth, ConvexSignedDepth(r, pose, p));
+    }
+  }
+  return depth;
+}
+
+PartContact Measure(const FclModel& robot, const std::vector<Shell>& robot_shells, const fcl::Transform3d& tf,
+                    const TriangleMesh& part_mesh) {
+  PartContact contact;
+  const std::shared_ptr<FclModel> part = BuildFclModel(part_mesh);
+  fcl::CollisionRequestd request(1000, true);  // every crossing pair (up to 1000), with depths
+  fcl::CollisionResultd result;
+  fcl::collide(&robot, tf, part.get(), fcl::Transform3d::Identity(), request, result);
+  if (result.isCollision()) {
+    contact.intersects = true;
+    contact.depth = 0;
+    for (std::size_t i = 0; i < result.numContacts(); ++i) {
+      const fcl::Contactd& c = result.getContact(i);
+      if (i == 0 || c.penetration_depth > contact.depth) {
+        contact.depth = std::max(0.0, c.penetration_depth);
+        contact.point = c.pos;
+      }
+    }
+    const double exact = ExactDepth(robot_shells, tf, part_mesh);
+    if (exact >= 0) {
+      contact.depth = exact;
+      contact.depth_exact = true;
+    }
+    return contact;
+  }
+  fcl::DistanceRequestd distance_request(true);  // with the nearest points (world frame in FCL >= 0.6)
+  fcl::DistanceResultd distance_result;
+  fcl::distance(&robot, tf, part.get(), fcl::Transform3d::Identity(), distance_request, distance_result);
+  contact.distance = std::max(0.0, distance_result.min_distance);
+  contact.point = distance_result.nearest_points[1];
+  return contact;
+}
+
+}  // namespace
+
+std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Pose& pose,
+                                             const TriangleMesh& environment, const std::vector<int>& part_of_triangle,
+                                             const std::vector<std::string>& names, double reach, int max_parts) {
+  std::vector<PartContact> all;
+  if (robot.triangles.empty() || environment.triangles.empty()) return all;
+  const std::shared_ptr<FclModel> robot_model = BuildFclModel(robot);
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.linear() = pose.q.toRotationMatrix();
+  tf.translation() = pose.t;
+  const std::vector<TriangleMesh> parts = SplitParts(environment, part_of_triangle);
+  const std::vector<Shell> robot_shells = SplitIntoShells(robot);
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    if (parts[p].triangles.empty()) continue;
+    PartContact contact = Measure(*robot_model, robot_shells, tf, parts[p]);
+    contact.part = static_cast<int>(p);
+    contact.name = p < names.size() ? names[p] : "part " + std::to_string(p);
+    all.push_back(contact);
+  }
+  // Deepest intersection first, then nearest; ties by part index (deterministic).
+  std::sort(all.begin(), all.end(), [](const PartContact& a, const PartContact& b) {
+    if (a.intersects != b.intersects) return a.intersects;
+    if (a.intersects && a.depth != b.depth) return a.depth > b.depth;
+    if (!a.intersects && a.distance != b.distance) return a.distance < b.distance;
+    return a.part < b.part;
+  });
+  std::vector<PartContact> kept;
+  for (const PartContact& c : all) {
+    if (static_cast<int>(kept.size()) >= max_parts) break;
+    if (c.intersects || c.distance <= reach || kept.empty()) kept.push_back(c);
+  }
+  return kept;
+}
+
+std::string DescribePartContact(const PartContact& c) {
+  if (c.intersects) {
+    return Fmt("%s (intersects, depth %.4g%s at [%.6g, %.6g, %.6g])", c.name.c_str(), c.depth,
+               c.depth_exact ? "" : " (local estimate)", c.point.x(), c.point.y(), c.point.z());
+  }
+  return Fmt("%s (%.4g away, closest at [%.6g, %.6g, %.6g])", c.name.c_str(), c.distance, c.point.x(), c.point.y(),
+             c.point.z());
+}
+
+}  // namespace ausbau

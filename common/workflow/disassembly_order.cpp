@@ -1,0 +1,250 @@
+#include "workflow/disassembly_order.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "core/error.h"
+#include "core/json_writer.h"
+#include "core/log.h"
+#include "planning/exact_check.h"
+#include "scene/scene.h"
+#include "workflow/verdict.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+double Now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
+
+// The scene of one attempt: `part` as D, `others` as S (one static file
+// each, named by part), written to folder/scene.yaml and read back the way
+// every stage reads a scene.
+Scene AttemptScene(const AssemblyPart& part, const std::vector<const AssemblyPart*>& others, int round,
+                   const DisassemblyOrderOptions& options, const fs::path& folder) {
+  Scene description;
+  description.name = part.name + "-round-" + std::to_string(round);
+  description.units = options.units;
+  description.dynamic_file = fs::absolute(part.file);
+  for (const AssemblyPart* other : others) description.static_files.push_back(fs::absolute(other->file));
+  SaveSceneYaml(description, folder / "scene.yaml");
+  Scene scene = LoadScene(folder / "scene.yaml");
+  scene.static_part_names.clear();
+  for (const AssemblyPart* other : others) scene.static_part_names.push_back(other->name);
+  return scene;
+}
+
+// One attempt: plan under rigid-exact within the part's budget, then the
+// verdict's judgement of the result (the exact check of the path as
+// written; where it is not removable, the parts that block D at the end of
+// its best partial path).
+PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPart*>& others, int round,
+                    const DisassemblyOrderOptions& options) {
+  const double begin = Now();
+  PartAttempt attempt;
+  attempt.round = round;
+  attempt.part = part.name;
+  const fs::path folder = options.out / ("round-" + std::to_string(round)) / part.name;
+  fs::create_directories(folder);
+  attempt.folder = folder.string();
+  const Scene scene = AttemptScene(part, others, round, options, folder);
+  PlanSceneOptions plan = options.plan;
+  plan.validity = "rigid-exact";
+  // The verdict's share after planning, as pipelines/inistate.mk leaves it.
+  plan.deadline = begin + 0.75 * options.part_budget_s;
+  const PlannedPath planned = PlanScene(scene, plan);
+  const PathArtifact& path = planned.artifact;
+  Provenance provenance;
+  provenance.producer = "ausbau-order";
+  provenance.producer_version = AUSBAU_VERSION;
+  WritePathArtifact(folder / "path.h5", path, provenance);
+  const std::vector<Pose>& written = path.success ? path.waypoints : path.partial_waypoints;
+  WritePathCsv(folder / "path.csv", written);
+  attempt.waypoints = written.size();
+
+  const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene.units, nullptr);
+  if (path.success && path.waypoints.size() >= 2) {
+    const ExactCheckReport exact = ExactCheckPath(scene, path.waypoints, tolerance);
+    attempt.removable = exact.valid && exact.starts_at_start && exact.ends_separated;
+  }
+  if (attempt.removable) {
+    attempt.status_detail = "removable";
+  } else {
+    attempt.status_detail = path.success             ? "not-removable (exact check failed)"
+                            : path.stopped_by_budget ? "not-removable (budget)"
+                                                     : "not-removable (no path)";
+    const Pose at = path.partial_waypoints.empty() ? scene.start : path.partial_waypoints.back();
+    attempt.blocked_by = FindBlockingParts(scene, at);
+  }
+  attempt.seconds = Now() - begin;
+  LogInfo("round %d: %s %s (%.1f s)%s%s", round, part.name.c_str(), attempt.status_detail.c_str(), attempt.seconds,
+          attempt.blocked_by.empty() ? "" : ", blocked by ",
+          attempt.blocked_by.empty() ? "" : DescribePartContact(attempt.blocked_by.front()).c_str());
+  return attempt;
+}
+
+void CheckParts(const std::vector<AssemblyPart>& parts) {
+  if (parts.size() < 2) throw InputError("--part: an assembly needs at least two parts");
+  std::set<std::string> names;
+  bool any_movable = false;
+  for (const AssemblyPart& part : parts) {
+    if (part.name.empty() || part.name.find_first_of("/\\") != std::string::npos || part.name == "." ||
+        part.name == "..") {
+      throw InputErrorAt(part.file.string(), "part name '" + part.name + "' is empty or not a plain file name");
+    }
+    if (!names.insert(part.name).second) throw InputError("--part: the name '" + part.name + "' is given twice");
+    std::error_code error;
+    if (!fs::is_regular_file(part.file, error)) throw InputErrorAt(part.file.string(), "part file not found");
+    any_movable = any_movable || !part.fixed;
+  }
+  if (!any_movable) throw InputError("--fixed: every part is fixed; nothing to take out");
+}
+
+}  // namespace
+
+void DisassemblyOrderOptions::Check() const {
+  if (!(part_budget_s > 0) || !std::isfinite(part_budget_s)) {
+    throw InputError("--part-budget: must be a positive number of seconds");
+  }
+  if (out.empty()) throw InputError("--output-dir: required");
+  std::error_code error;
+  if (fs::exists(out, error) && !fs::is_directory(out, error)) {
+    throw InputErrorAt(out.string(), "--output-dir: exists and is not a folder");
+  }
+  PlanSceneOptions rigid = plan;
+  rigid.validity = "rigid-exact";
+  rigid.Check();
+}
+
+std::vector<std::string> FindBlockingCycle(const std::vector<std::string>& remaining,
+                                           const std::vector<PartAttempt>& round_attempts) {
+  std::map<std::string, std::string> next;  // part -> its first blocker still in
+  const std::set<std::string> in(remaining.begin(), remaining.end());
+  for (const PartAttempt& attempt : round_attempts) {
+    for (const PartContact& contact : attempt.blocked_by) {
+      if (in.count(contact.name) != 0) {
+        next[attempt.part] = contact.name;
+        break;
+      }
+    }
+  }
+  if (remaining.empty()) return {};
+  std::vector<std::string> walk{remaining.front()};
+  while (true) {
+    const auto it = next.find(walk.back());
+    if (it == next.end()) return {};
+    const auto seen = std::find(walk.begin(), walk.end(), it->second);
+    if (seen != walk.end()) {
+      std::vector<std::string> cycle(seen, walk.end());
+      cycle.push_back(it->second);
+      return cycle;
+    }
+    walk.push_back(it->second);
+  }
+}
+
+DisassemblyOrder PlanDisassemblyOrder(const std::vector<AssemblyPart>& parts, const DisassemblyOrderOptions& options) {
+  options.Check();
+  CheckParts(parts);
+  DisassemblyOrder order;
+  std::vector<const AssemblyPart*> in;
+  for (const AssemblyPart& part : parts) {
+    if (part.fixed) order.fixed.push_back(part.name);
+    in.push_back(&part);
+  }
+  for (int round = 1;; ++round) {
+    std::vector<const AssemblyPart*> movable;
+    for (const AssemblyPart* part : in) {
+      if (!part->fixed) movable.push_back(part);
+    }
+    if (movable.empty()) {
+      order.complete = true;
+      break;
+    }
+    // The last part with nothing left around it is out by itself.
+    if (in.size() == 1) {
+      order.steps.push_back({in.front()->name});
+      order.sequence.push_back(in.front()->name);
+      LogInfo("round %d: %s is the last part: nothing left around it", round, in.front()->name.c_str());
+      order.complete = true;
+      break;
+    }
+    std::vector<PartAttempt> attempts;
+    std::vector<std::string> freed;
+    for (const AssemblyPart* part : movable) {
+      std::vector<const AssemblyPart*> others;
+      for (const AssemblyPart* other : in) {
+        if (other != part) others.push_back(other);
+      }
+      attempts.push_back(TryPart(*part, others, round, options));
+      if (attempts.back().removable) freed.push_back(part->name);
+    }
+    order.attempts.insert(order.attempts.end(), attempts.begin(), attempts.end());
+    if (freed.empty()) {
+      for (const AssemblyPart* part : movable) order.remaining.push_back(part->name);
+      order.cycle = FindBlockingCycle(order.remaining, attempts);
+      break;
+    }
+    order.steps.push_back(freed);
+    order.sequence.insert(order.sequence.end(), freed.begin(), freed.end());
+    in.erase(std::remove_if(in.begin(), in.end(),
+                            [&](const AssemblyPart* part) {
+                              return std::find(freed.begin(), freed.end(), part->name) != freed.end();
+                            }),
+             in.end());
+  }
+  return order;
+}
+
+std::string DisassemblyOrderJson(const DisassemblyOrder& order, const DisassemblyOrderOptions& options) {
+  const auto names = [](const std::vector<std::string>& list) {
+    std::string text = "[";
+    for (const std::string& name : list) text += (text.size() > 1 ? ", " : "") + JsonString(name);
+    return text + "]";
+  };
+  std::string steps = "[";
+  for (const auto& step : order.steps) steps += (steps.size() > 1 ? ", " : "") + names(step);
+  std::string attempts = "[";
+  for (const PartAttempt& a : order.attempts) {
+    std::string blocked = "[";
+    for (const PartContact& c : a.blocked_by) blocked += (blocked.size() > 1 ? ", " : "") + PartContactJson(c);
+    attempts += (attempts.size() > 1 ? ",\n    " : "") + JsonWriter()
+                                                             .Int("round", a.round)
+                                                             .String("part", a.part)
+                                                             .Bool("removable", a.removable)
+                                                             .String("status_detail", a.status_detail)
+                                                             .String("folder", a.folder)
+                                                             .Int("waypoints", static_cast<long long>(a.waypoints))
+                                                             .Number("seconds", a.seconds)
+                                                             .Add("blocked_by", blocked + "]")
+                                                             .Text();
+  }
+  std::string message;
+  if (order.complete) {
+    message = "every part comes out: " + std::to_string(order.steps.size()) + " step(s)";
+  } else if (!order.cycle.empty()) {
+    message = "no order exists: the parts left block each other in a cycle: ";
+    for (std::size_t i = 0; i < order.cycle.size(); ++i) message += (i > 0 ? " -> " : "") + order.cycle[i];
+  } else {
+    message = "no order exists for the parts left (no part of them comes out within its budget)";
+  }
+  JsonWriter json;
+  json.String("schema", "ausbau-order").Int("version", 1);
+  json.String("producer", "ausbau-order").String("producer_version", AUSBAU_VERSION);
+  json.Bool("complete", order.complete).Bool("order_exists", order.complete).String("message", message);
+  json.Add("sequence", names(order.sequence)).Add("steps", steps + "]");
+  json.Add("remaining", names(order.remaining)).Add("fixed", names(order.fixed));
+  if (order.cycle.empty()) {
+    json.Null("cycle");
+  } else {
+    json.Add("cycle", names(order.cycle));
+  }
+  json.Number("part_budget_seconds", options.part_budget_s).String("validity", "rigid-exact");
+  json.Add("attempts", attempts + "]");
+  return json.Text() + "\n";
+}
+
+}  // namespace ausbau
