@@ -306,6 +306,10 @@ Scene LoadScene(const fs::path& path) {
 }
 
 void SaveSceneYaml(const Scene& scene, const fs::path& path) {
+  WriteTextFileAtomically(path, SceneYamlText(scene, path));
+}
+
+std::string SceneYamlText(const Scene& scene, const fs::path& path) {
   const fs::path dir = path.parent_path();
   std::string y;
   y += "# ausbau scene (schemas/scene.md). A pose maps D's mesh coordinates to the world:\n";
@@ -336,8 +340,7 @@ void SaveSceneYaml(const Scene& scene, const fs::path& path) {
     y += "bounds: {min: " + Vec3(scene.bounds->min, "bounds.min", path) +
          ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
   }
-
-  WriteTextFileAtomically(path, y);
+  return y;
 }
 
 }  // namespace ausbau

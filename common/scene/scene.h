@@ -51,5 +51,7 @@ Scene LoadScene(const std::filesystem::path& path);
 // Writes a scene.yaml for the given meshes (paths written relative to the
 // YAML file's folder). Used by generators and tests.
 void SaveSceneYaml(const Scene& scene, const std::filesystem::path& path);
+// The text SaveSceneYaml writes at `path` (paths relative to its folder).
+std::string SceneYamlText(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace ausbau
