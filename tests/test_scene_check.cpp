@@ -122,10 +122,23 @@ TEST(SceneCheck, StartFarFromS) {
   EXPECT_NEAR(far.installed_box_gap, 450.0, 1e-9);
   ExpectFinding(far, "start-far-from-s", Severity::kWarning, "450 mm");
   EXPECT_NE(Find(far, "start-far-from-s")->message.find("dynamic_origin"), std::string::npos);
-  // With a goal the scene is a motion task: starting away from S is normal.
-  const SceneSummary task = Check(WriteScene("units: mm\nstart: {t: [500, 0, 0]}\ngoal: {t: [0, 0, 0]}\n"));
+  // With a goal the scene is a motion task: starting away from S is normal (150 mm: less than twice S's
+  // diagonal of 141.5 mm)...
+  const SceneSummary task = Check(WriteScene("units: mm\nstart: {t: [200, 0, 0]}\ngoal: {t: [0, 0, 0]}\n"));
   ExpectFinding(task, "start-outside-s", Severity::kInfo);
   EXPECT_EQ(task.WarningCount(), 0) << Codes(task);
+  EXPECT_EQ(FarStartWarning(LoadScene(WriteScene("units: mm\nstart: {t: [200, 0, 0]}\n").yaml)), "");
+  // ... but not 450 mm away, more than kFarStartFactor (2) times the larger diagonal (S's, 141.5 mm).
+  const SceneFiles far_task = WriteScene("units: mm\nstart: {t: [500, 0, 0]}\ngoal: {t: [0, 0, 0]}\n");
+  const SceneSummary lost = Check(far_task);
+  ExpectFinding(lost, "start-far-outside-s", Severity::kWarning, "450 mm");
+  EXPECT_NE(Find(lost, "start-far-outside-s")->message.find("dynamic_origin"), std::string::npos);
+  EXPECT_EQ(lost.WarningCount(), 1) << Codes(lost);
+  EXPECT_NE(FarStartWarning(LoadScene(far_task.yaml)).find("450 mm outside S's box"), std::string::npos);
+  // ausbau-plan says so before it plans (a tenth of a second is enough to see the line).
+  const auto plan = testing::RunStageCommand(
+      "plan", "--scene " + far_task.yaml.string() + " --time-limit 0.1 -o " + (far_task.dir / "p.h5").string());
+  EXPECT_NE(plan.output.find("D at the start pose lies 450 mm outside S's box"), std::string::npos) << plan.output;
   // Beside S, less than D's diagonal (17 mm) away: no finding.
   const SceneSummary near = Check(WriteScene("units: mm\nstart: {t: [55, 0, 0]}\n"));
   EXPECT_NEAR(near.installed_box_gap, 5.0, 1e-9);

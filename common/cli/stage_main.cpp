@@ -102,8 +102,8 @@ void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::stri
     const std::string name = option->get_single_name();
     const bool output =
         IsOneOf(name, {"output", "csv", "ply", "profile", "ompl-path", "json", "static-out", "dynamic-out"});
-    const bool input = IsOneOf(
-        name, {"scene", "path", "smoothed", "spheres", "voxels", "labels", "tau-file", "csv-name", "distfield"});
+    const bool input = IsOneOf(name, {"scene", "path", "smoothed", "spheres", "voxels", "labels", "tau-file",
+                                      "csv-name", "distfield", "ompl-cfg"});
     if (!output && !input) continue;
     // A folder output (ausbau-scene-gen -o, "output folder") is no file,
     // but must not be one either.

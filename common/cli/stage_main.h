@@ -91,7 +91,7 @@ void BoundSharedFlags(CLI::App& app);
 //   outputs: -o/--output, --csv, --ply, --profile, --ompl-path, --json,
 //            --static-out, --dynamic-out
 //   inputs:  --scene, --path, --smoothed, --spheres, --voxels, --labels,
-//            --tau-file, --csv-name, --distfield (comma-separated)
+//            --tau-file, --csv-name, --distfield (comma-separated), --ompl-cfg
 // plus `more_inputs` (name, file), e.g. the scene's mesh files once loaded.
 void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs = {});
 

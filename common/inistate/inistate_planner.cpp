@@ -64,6 +64,7 @@ PlannerOptions LocalPlannerOptions(const PlanningProblem& problem, double psi, P
 PlanningProblem FastenerProblem(const PlanningProblem& problem, const FclCollisionChecker& fcl, double psi) {
   PlanningProblem local = problem;
   local.goal.reset();
+  local.goal_region.reset();  // sigma_1's goal is clear of the fasteners, anywhere
   // Captures `problem`, not the copy, which the caller may move.
   local.goal_test = ClearOfFasteners(
       problem, [&fcl](const Pose& pose) { return fcl.InCollision(pose); },
@@ -91,6 +92,7 @@ InIStateResult PlanInIState(const PlanningProblem& problem, const PoseValidity& 
   // sigma_1: out of the clips.
   PlanningProblem local_problem = problem;
   local_problem.goal.reset();
+  local_problem.goal_region.reset();  // sigma_1's goal is clear of the fasteners, anywhere
   local_problem.goal_test = ClearOfFasteners(local_problem, colliding, distance, options.psi);
   std::string planner = options.local.planner;
   if (!options.known_local_path.empty()) {

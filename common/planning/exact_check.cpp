@@ -6,6 +6,7 @@
 
 #include "core/format.h"
 #include "geometry/principal_axes.h"
+#include "planning/scene_goal.h"
 #include "scene/scene.h"
 #include "scene/units.h"
 
@@ -172,6 +173,10 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   Aabb last_box;
   for (const auto& v : robot.vertices) last_box.Extend(waypoints.back().Apply(v));
   report.ends_separated = last_box.SeparatedFrom(scene.static_mesh.Bounds());
+  const SceneGoal goal(scene);
+  const GoalOutcome end = goal.Check(waypoints.back());
+  report.ends_in_goal = end.met;
+  report.goal = goal.Describe();
 
   auto judge = [&](const Pose& pose, int segment, double fraction) {
     ++report.poses_checked;
@@ -212,7 +217,8 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   }
   std::vector<std::string> problems;
   if (!report.starts_at_start) problems.push_back("the first waypoint is not the start (installed) pose");
-  if (!report.ends_separated) problems.push_back("at the last waypoint D's AABB still overlaps S's");
+  if (!report.ends_in_goal)
+    problems.push_back("the last waypoint misses the goal (" + report.goal + "): " + end.why_not);
   if (!report.parts->rigid_interference.empty())
     problems.push_back(
         "a rigid part of D penetrates S at the installed pose (or intersects it where the depth is "

@@ -4,7 +4,9 @@
 // which is how any other tool reads path.csv, not about the planner's
 // reference point. A path passes when
 //  1. its first waypoint is the scene's start (the installed pose);
-//  2. at its last waypoint D's world AABB is separated from S's;
+//  2. its last waypoint meets the scene's goal (planning/scene_goal.h): by
+//     default D's world AABB separated from S's; the goal pose; or the
+//     goal condition (clearance from S, region of dynamic_origin);
 //  3. along the whole interpolated motion, no rigid shell of D penetrates S
 //     deeper than `tolerance` (exact separating-axis depth per shell pair,
 //     collision/rigid_depth.h); fasteners are measured, not judged. Poses
@@ -42,7 +44,9 @@ struct ExactCheckReport {
   double max_fastener_depth = 0;  // deepest fastener penetration (reported)
   int first_bad_segment = -1;     // first segment that breaks the limits
   bool starts_at_start = false;
-  bool ends_separated = false;
+  bool ends_separated = false;  // D's exact AABB at the last waypoint clear of S's
+  bool ends_in_goal = false;    // the last waypoint meets the scene's goal (SceneGoal)
+  std::string goal;             // the goal, in words (SceneGoal::Describe)
   std::shared_ptr<const PartModel> parts;
 };
 

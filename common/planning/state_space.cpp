@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "planning/scene_goal.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -86,6 +87,10 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
 
   problem.start = problem.SceneToPlanning(scene.start);
   if (scene.goal) problem.goal = problem.SceneToPlanning(*scene.goal);
+  if (scene.goal_condition) {
+    problem.goal_test = ConditionGoalTest(scene, problem.robot, problem.reference_point - problem.dynamic_origin);
+    problem.goal_region = scene.goal_condition->region;
+  }
 
   const std::string where = scene.file.string();
   if (scene.bounds) {
@@ -104,11 +109,17 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
     Aabb box = problem.environment_box;
     box.Extend(problem.start.t);
     if (problem.goal) box.Extend(problem.goal->t);
-    const double margin = 1.5 * problem.robot_diagonal;
+    const double margin = 1.5 * problem.robot_diagonal + (scene.goal_condition ? scene.goal_condition->clearance : 0.0);
     box.min.array() -= margin;
     box.max.array() += margin;
     problem.bounds = box;
     problem.bounded_point.setZero();
+  }
+  if (problem.goal_region && ((problem.goal_region->max.array() < problem.bounds.min.array()).any() ||
+                              (problem.goal_region->min.array() > problem.bounds.max.array()).any())) {
+    throw InputErrorAt(where, "goal.region " + Format(problem.goal_region->min) + " .. " +
+                                  Format(problem.goal_region->max) + " lies outside the bounds " +
+                                  Format(problem.bounds.min) + " .. " + Format(problem.bounds.max));
   }
   problem.metric.nu = problem.bounds.Diagonal();
   if (!(problem.metric.nu > 0) || !std::isfinite(problem.metric.nu)) {
@@ -120,7 +131,13 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
 
 bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose) {
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const Pose candidate = problem.SampleUniform(random);
+    Pose candidate = problem.SampleUniform(random);
+    if (problem.goal_region) {
+      // dynamic_origin uniformly in the region (scene convention t), the rotation as drawn.
+      Eigen::Vector3d origin;
+      for (int i = 0; i < 3; ++i) origin[i] = random.Uniform(problem.goal_region->min[i], problem.goal_region->max[i]);
+      candidate.t = origin + candidate.q * (problem.reference_point - problem.dynamic_origin);
+    }
     if (problem.InGoalRegion(candidate) && problem.InBounds(candidate)) {
       *pose = candidate;
       return true;

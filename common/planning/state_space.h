@@ -75,6 +75,9 @@ struct PlanningProblem {
   // thread-safe. Planners that sample the goal region (RRT-Connect's goal
   // tree, PRM) draw AABB-separated poses and keep those it accepts.
   std::function<bool(const Pose&)> goal_test;
+  // The scene's goal region (goal: {region}) for dynamic_origin's world
+  // position: SampleGoalRegion draws there instead of in all the bounds.
+  std::optional<Aabb> goal_region;
   // Disassembly goal: D's AABB (conservative) separated from S's, or
   // goal_test when set.
   bool InGoalRegion(const Pose& pose) const {
@@ -84,7 +87,10 @@ struct PlanningProblem {
   Pose SampleUniform(Random& random) const;
 };
 
-// Builds the planning problem: the reference point is the scene's
+// Builds the planning problem: a goal condition of the scene (goal:
+// {clearance, region}) becomes goal_test (planning/scene_goal.h) and, with a
+// region, goal_region; a clearance widens the derived bounds by itself so
+// that D can get that far. The reference point is the scene's
 // dynamic_origin when given (the OMPL.app scenes give D's centroid), else the
 // centre of D's AABB. Derived bounds: S's AABB together with the start (and
 // goal) positions, grown by 1.5x D's AABB diagonal on every side, which leaves
@@ -92,8 +98,10 @@ struct PlanningProblem {
 // start or goal lie outside the bounds.
 PlanningProblem MakePlanningProblem(const Scene& scene);
 
-// A pose in the disassembly goal region and in bounds (collision-free by
-// construction: D's AABB is separated from S's). False after 100 misses.
+// A pose in the goal region (InGoalRegion) and in bounds, drawn uniformly in
+// the bounds, or with goal_region set, with dynamic_origin uniformly in that
+// box (and in the bounds). Collision-free: by construction for the AABB
+// separation, by the goal test for conditions. False after 100 misses.
 bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose);
 
 // Checks straight motions (linear t, slerp q about the reference point)

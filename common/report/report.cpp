@@ -18,6 +18,7 @@
 #include "core/log.h"
 #include "labeling/pbd_label.h"
 #include "planning/path_io.h"
+#include "planning/scene_goal.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
 
@@ -355,7 +356,9 @@ std::string SceneTable(const Scene& scene, const PlanningProblem& problem) {
   row("dynamic_origin", VectorText(scene.dynamic_origin) + (scene.dynamic_origin_given ? "" : " (default)"));
   row("reference point", VectorText(problem.reference_point));
   row("start", PoseText(scene.start));
-  row("goal", scene.goal ? PoseText(*scene.goal) : std::string("none (disassembly: out of S's bounding box)"));
+  row("goal", scene.goal             ? PoseText(*scene.goal)
+              : scene.goal_condition ? HtmlEscape(SceneGoal(scene).Describe())
+                                     : std::string("none (disassembly: out of S's bounding box)"));
   row("bounds on t", VectorText(problem.bounds.min) + " .. " + VectorText(problem.bounds.max) +
                          (problem.bounds_given ? "" : " (derived)"));
   return TableHtml(t, "scene");

@@ -140,6 +140,53 @@ class Reader {
     return pose;
   }
 
+  // `goal:` is a pose {t, q} (ReadPose) or a condition {clearance, region}
+  // (schemas/scene.md "Goals"); the two forms do not mix.
+  void ReadGoal(const YAML::Node& node, Scene* scene) const {
+    const bool condition = node.IsMap() && (node["clearance"] || node["region"]);
+    if (!condition) {
+      scene->goal = ReadPose(node, "goal");
+      return;
+    }
+    if (node["t"] || node["q"]) {
+      Fail("goal is either a pose {t, q} or a condition {clearance, region}, not both (line " +
+           std::to_string(Line(node)) + ")");
+    }
+    CheckKeys(node, {"clearance", "region"}, "goal.");
+    GoalCondition goal;
+    if (node["clearance"]) {
+      const YAML::Node c = node["clearance"];
+      if (!ToNumber(c, goal.clearance) || !(goal.clearance > 0) || goal.clearance > kMaxMeshCoordinate) {
+        Fail("goal.clearance must be a number > 0 and <= 1e9 (got " + Show(c) + ", line " + std::to_string(Line(c)) +
+             ")");
+      }
+    }
+    if (node["region"]) {
+      const YAML::Node region = node["region"];
+      if (!region.IsMap()) {
+        Fail("goal.region must be a mapping {min: [x, y, z], max: [x, y, z]} (got " + Show(region) + ", line " +
+             std::to_string(Line(region)) + ")");
+      }
+      CheckKeys(region, {"min", "max"}, "goal.region.");
+      if (!region["min"]) Fail("missing required key 'goal.region.min'");
+      if (!region["max"]) Fail("missing required key 'goal.region.max'");
+      Aabb box;
+      box.min = Vector3(region["min"], "goal.region.min");
+      box.max = Vector3(region["max"], "goal.region.max");
+      static const char* kAxis = "xyz";
+      for (int a = 0; a < 3; ++a) {
+        if (!(box.min[a] < box.max[a])) {  // a region without volume is never sampled
+          char buf[160];
+          std::snprintf(buf, sizeof(buf), "goal.region.min >= goal.region.max on axis %c (%.17g >= %.17g)", kAxis[a],
+                        box.min[a], box.max[a]);
+          Fail(buf);
+        }
+      }
+      goal.region = box;
+    }
+    scene->goal_condition = goal;
+  }
+
   Aabb ReadBounds(const YAML::Node& node) const {
     if (!node.IsMap()) {
       Fail("bounds must be a mapping {min: [x, y, z], max: [x, y, z]} (got " + Show(node) + ", line " +
@@ -511,6 +558,16 @@ std::string SourcesYamlV2(const SourcesToWrite& sources, const fs::path& path) {
   return y;
 }
 
+std::string GoalConditionYaml(const GoalCondition& goal, const fs::path& file) {
+  std::string y;
+  if (goal.clearance > 0) y += "clearance: " + Num(goal.clearance, "goal.clearance", file);
+  if (goal.region) {
+    y += std::string(y.empty() ? "" : ", ") + "region: {min: " + Vec3(goal.region->min, "goal.region.min", file) +
+         ", max: " + Vec3(goal.region->max, "goal.region.max", file) + "}";
+  }
+  return "{" + y + "}";
+}
+
 }  // namespace
 
 Scene LoadScene(const fs::path& path) {
@@ -560,7 +617,7 @@ Scene LoadScene(const fs::path& path) {
       scene.dynamic_origin_given = true;
     }
     if (root["start"]) scene.start = r.ReadPose(root["start"], "start");
-    if (root["goal"]) scene.goal = r.ReadPose(root["goal"], "goal");
+    if (root["goal"]) r.ReadGoal(root["goal"], &scene);
     if (root["bounds"]) scene.bounds = r.ReadBounds(root["bounds"]);
   } catch (const YAML::Exception& e) {
     // Should not happen after the checks above; keep the one-line contract anyway.
@@ -571,6 +628,10 @@ Scene LoadScene(const fs::path& path) {
 }
 
 void SaveSceneYaml(const Scene& scene, const fs::path& path) {
+  WriteTextFileAtomically(path, SceneYamlText(scene, path));
+}
+
+std::string SceneYamlText(const Scene& scene, const fs::path& path) {
   const fs::path dir = path.parent_path();
   if (scene.static_files.empty() && !scene.assembly) {
     throw std::runtime_error(path.string() + ": cannot write a scene without static files");
@@ -602,12 +663,12 @@ void SaveSceneYaml(const Scene& scene, const fs::path& path) {
   }
   y += "start: " + PoseYaml(scene.start, "start", path) + "\n";
   if (scene.goal) y += "goal: " + PoseYaml(*scene.goal, "goal", path) + "\n";
+  if (!scene.goal && scene.goal_condition) y += "goal: " + GoalConditionYaml(*scene.goal_condition, path) + "\n";
   if (scene.bounds) {
     y += "bounds: {min: " + Vec3(scene.bounds->min, "bounds.min", path) +
          ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
   }
-
-  WriteTextFileAtomically(path, y);
+  return y;
 }
 
 }  // namespace ausbau

@@ -12,6 +12,7 @@
 //   dynamic_origin: [x, y, z]      # optional; the point of D that a pose places
 //   start: {t: [x, y, z], q: [qw, qx, qy, qz]}   # default identity
 //   goal:  {t: [x, y, z], q: [qw, qx, qy, qz]}   # optional; absent = disassembly
+//   goal:  {clearance: 50, region: {min: [..], max: [..]}}  # or a condition (either key or both)
 //   bounds: {min: [x, y, z], max: [x, y, z]}     # optional bounds on t
 // Paths are relative to the YAML file. A pose maps D's mesh coordinates to
 // the world: x_world = R(q) (x - dynamic_origin) + t.
@@ -44,6 +45,14 @@ struct MeshSource {
   bool Plain() const { return picks.empty() && without.empty() && units.empty() && !pose && !rest_of_assembly; }
 };
 
+// A goal that is a condition on where D ends instead of a pose (`goal:
+// {clearance: c}`, `goal: {region: {min, max}}` or both, schemas/scene.md
+// "Goals"); every part given must hold. planning/scene_goal.h tests it.
+struct GoalCondition {
+  double clearance = 0;        // > 0: the exact distance between D and S at least this (scene units)
+  std::optional<Aabb> region;  // dynamic_origin's world position (t) inside this box, D not touching S
+};
+
 struct Scene {
   std::filesystem::path file;  // the scene.yaml itself
   std::string name;
@@ -74,9 +83,10 @@ struct Scene {
   TriangleMesh dynamic_mesh;  // D in its mesh coordinates
   Eigen::Vector3d dynamic_origin = Eigen::Vector3d::Zero();
   bool dynamic_origin_given = false;
-  Pose start;                  // scene convention
-  std::optional<Pose> goal;    // scene convention; none = disassembly
-  std::optional<Aabb> bounds;  // bounds on t as given (scene convention)
+  Pose start;                                   // scene convention
+  std::optional<Pose> goal;                     // scene convention; none = disassembly
+  std::optional<GoalCondition> goal_condition;  // set only when `goal` (the pose) is not
+  std::optional<Aabb> bounds;                   // bounds on t as given (scene convention)
 };
 
 // Reads and validates scene.yaml (format /1 or /2) and loads its meshes. Throws InputError with
@@ -96,5 +106,7 @@ Scene LoadScene(const std::filesystem::path& path);
 // Writes format /1 when every source is plain (a whole file, no pose, no
 // units, no assembly), else /2.
 void SaveSceneYaml(const Scene& scene, const std::filesystem::path& path);
+// The text SaveSceneYaml writes at `path` (paths relative to its folder).
+std::string SceneYamlText(const Scene& scene, const std::filesystem::path& path);
 
 }  // namespace ausbau

@@ -249,7 +249,13 @@ void CheckStart(const Scene& scene, const Aabb& installed_box, const Aabb& stati
   const std::string where = Fmt("D at the start pose is %s from S's box, more than D's diagonal (%s)",
                                 Length(*summary, gap).c_str(), Length(*summary, dynamic_diagonal).c_str());
   if (scene.goal) {
-    // With a goal the scene is a motion task (the OMPL.app scenes), not a removal: starting away from S is normal.
+    // With a goal the scene is a motion task (the OMPL.app scenes), not a removal: starting away from S is normal,
+    // unless it is farther than any region around S (FarStartWarning).
+    const std::string far = FarStartWarning(scene);
+    if (!far.empty()) {
+      Add(summary, kWarning, "start-far-outside-s", far);
+      return;
+    }
     Add(summary, kInfo, "start-outside-s", where + "; the scene has a goal, so it is a motion task, not a removal");
     return;
   }
@@ -348,6 +354,22 @@ long long CountDegenerateTriangles(const TriangleMesh& mesh) {
     if ((b - a).cross(c - a).norm() <= smallest_double_area) ++count;
   }
   return count;
+}
+
+std::string FarStartWarning(const Scene& scene) {
+  const Aabb installed = PlacedBox(scene.dynamic_mesh, scene.dynamic_origin, scene.start);
+  const Aabb static_box = scene.static_mesh.Bounds();
+  const double gap = BoxGap(installed, static_box);
+  const double larger = std::max(scene.dynamic_mesh.Bounds().Diagonal(), static_box.Diagonal());
+  if (!(gap > kFarStartFactor * larger)) return "";
+  const std::string reference = scene.dynamic_origin_given ? "dynamic_origin " + Vec(scene.dynamic_origin)
+                                                           : std::string("D's mesh origin (no dynamic_origin given)");
+  const char* units = scene.units.empty() ? "scene units" : scene.units.c_str();
+  return Fmt(
+      "D at the start pose lies %.6g %s outside S's box, more than %g times the larger diagonal of D and S "
+      "(%.6g %s): start.t places %s, so check that dynamic_origin is the point of D the start pose was "
+      "written for (an OMPL.app scene needs OMPL.app's robot centre: ausbau-scene-import)",
+      gap, units, kFarStartFactor, larger, units, reference.c_str());
 }
 
 SceneSummary CheckScene(const Scene& scene) {

@@ -70,6 +70,23 @@ struct SceneSummary {
   int WarningCount() const;
 };
 
+// A start pose that puts D far outside S's region: the gap between D's box
+// at the start pose and S's box is more than kFarStartFactor times the
+// larger of the two boxes' diagonals. Factor 2: any region a task around S
+// is posed in hugs S's box (OMPL.app's volumes are S's box; the planner's
+// derived bounds grow it by 1.5 of D's diagonals), so a D that starts two
+// whole diagonals of the larger body away is in no such region; what puts
+// it there is nearly always a pose written for another reference point
+// (start.t places dynamic_origin: a dynamic_origin missing or given in
+// other coordinates moves D by the offset between the two, metres in car
+// coordinates). Used with and without a goal (a motion task may start away
+// from S, but not that far).
+inline constexpr double kFarStartFactor = 2.0;
+
+// The one-line warning for such a start (it names dynamic_origin and the
+// numbers), or "" when the start is not that far.
+std::string FarStartWarning(const Scene& scene);
+
 // Summarizes the scene and lists its findings (codes in
 // stages/scene-check/README.md). Reads the static files again, one by one,
 // only when there are several (for their own counts; LoadMesh's InputError

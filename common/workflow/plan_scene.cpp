@@ -15,6 +15,7 @@
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
 #include "planning/smoother.h"
+#include "scene/scene_check.h"
 #include "workflow/made_from.h"
 
 namespace ausbau {
@@ -307,6 +308,9 @@ void PlanSceneOptions::Check() const {
 
 PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   options.Check();
+  // A hand-written scene whose start is far off S plans a task nobody meant (scene/scene_check.h).
+  const std::string far_start = FarStartWarning(scene);
+  if (!far_start.empty()) LogWarn("%s: %s", scene.file.string().c_str(), far_start.c_str());
   if (options.validity == kRigidExact) return PlanRigidExact(options, scene);
   const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
   const PlanningProblem problem = MakePlanningProblem(scene);

@@ -64,8 +64,8 @@ std::optional<MaxVolume> FindMaxVolume(const PathArtifact& path) {
 // A path the verdict can judge at all: finite numbers throughout (a NaN
 // volume or length must not reach a "removable" line), and a claimed success
 // that is a motion (at least two waypoints). Where it starts and ends is the
-// exact check's part (planning/exact_check.h: the start pose, separated at
-// the end), which a removable verdict requires.
+// exact check's part (planning/exact_check.h: the start pose, the scene's
+// goal at the end), which a removable verdict requires.
 void CheckPathIsJudgeable(const std::string& file, const PathArtifact& path) {
   for (std::size_t i = 0; i < path.waypoints.size(); ++i) {
     const Pose& pose = path.waypoints[i];
@@ -163,9 +163,10 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   // Removable only when the path as written starts at the installed pose and
-  // ends separated (both part of exact->valid) without breaking the limits.
+  // ends in the scene's goal (default: separated; planning/scene_goal.h),
+  // both part of exact->valid, without breaking the limits.
   v.removable = path.success && path.waypoints.size() >= 2 && exact && exact->valid && exact->starts_at_start &&
-                exact->ends_separated;
+                exact->ends_in_goal;
   // Not removable: what holds D (straight pulls from the installed pose).
   if (!v.removable) {
     // The exact check classified D's solids the same way: reused.
