@@ -106,8 +106,16 @@ void CheckRawScene(const aiScene& scene, const std::string& name) {
 }
 
 // Emits the triangles of every mesh of `node` and its descendants.
+// A name as a file gave it: assimp's placeholders ("<STL_BINARY>",
+// "<OBJRoot>", "$$$DUMMY") and "defaultobject" are no name.
+std::string GivenName(const aiString& name) {
+  const std::string text(name.C_Str());
+  if (text.empty() || text.front() == '<' || text.front() == '$' || text == "defaultobject") return "";
+  return text;
+}
+
 void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d& parent, TriangleMesh& out,
-                 BadVertex& bad) {
+                 BadVertex& bad, std::vector<MeshPart>* parts) {
   const Eigen::Matrix4d transform = parent * ToEigen(node.mTransformation);
   for (unsigned k = 0; k < node.mNumMeshes; ++k) {
     const unsigned mesh_index = node.mMeshes[k];
@@ -119,6 +127,7 @@ void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d
       throw InputError("more than 2^31 vertices once every node's meshes are placed");
     }
     const int offset = static_cast<int>(out.vertices.size());
+    const int first_triangle = static_cast<int>(out.triangles.size());
     out.vertices.reserve(out.vertices.size() + mesh.mNumVertices);
     for (unsigned i = 0; i < mesh.mNumVertices; ++i) {
       const aiVector3D& p = mesh.mVertices[i];
@@ -136,9 +145,15 @@ void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d
       out.triangles.push_back({offset + static_cast<int>(face.mIndices[0]), offset + static_cast<int>(face.mIndices[1]),
                                offset + static_cast<int>(face.mIndices[2])});
     }
+    if (parts != nullptr && static_cast<int>(out.triangles.size()) > first_triangle) {
+      const std::string node_name = GivenName(node.mName), mesh_name = GivenName(mesh.mName);
+      std::string name = node_name;
+      if (!mesh_name.empty() && mesh_name != node_name) name += (name.empty() ? "" : "/") + mesh_name;
+      parts->push_back({name, first_triangle, static_cast<int>(out.triangles.size()) - first_triangle});
+    }
   }
   for (unsigned c = 0; c < node.mNumChildren; ++c) {
-    if (node.mChildren[c] != nullptr) CollectNode(scene, *node.mChildren[c], transform, out, bad);
+    if (node.mChildren[c] != nullptr) CollectNode(scene, *node.mChildren[c], transform, out, bad, parts);
   }
 }
 
@@ -218,7 +233,10 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
 
 }  // namespace
 
-TriangleMesh LoadMesh(const fs::path& path) {
+TriangleMesh LoadMesh(const fs::path& path) { return LoadMesh(path, nullptr); }
+
+TriangleMesh LoadMesh(const fs::path& path, std::vector<MeshPart>* parts) {
+  if (parts != nullptr) parts->clear();
   const std::string name = path.string();
   // Missing, a folder, a FIFO or a device, absurdly large: refused before
   // assimp opens it (a FIFO would block it forever).
@@ -260,7 +278,7 @@ TriangleMesh LoadMesh(const fs::path& path) {
   BadVertex bad;
   if (scene->mRootNode != nullptr) {
     try {
-      CollectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), mesh, bad);
+      CollectNode(*scene, *scene->mRootNode, Eigen::Matrix4d::Identity(), mesh, bad, parts);
     } catch (const InputError& e) {
       throw InputErrorAt(name, e.what());
     }

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "geometry/mesh.h"
 
@@ -20,6 +22,20 @@ inline constexpr double kMaxMeshCoordinate = 1e9;
 // a face refers to a vertex out of range, when it holds no triangle, or when
 // a vertex is NaN, infinite or beyond kMaxMeshCoordinate.
 TriangleMesh LoadMesh(const std::filesystem::path& path);
+
+// A named piece of a loaded mesh: the triangles [first_triangle,
+// first_triangle + triangle_count) came from one mesh of one assimp node.
+// `name` is the node's name, with the mesh's name after a '/' where it has
+// another one; empty where the file names neither (assimp's placeholders
+// such as "<STL_BINARY>" count as no name).
+struct MeshPart {
+  std::string name;
+  int first_triangle = 0;
+  int triangle_count = 0;
+};
+
+// LoadMesh, also listing the parts in triangle order (`parts` may be null).
+TriangleMesh LoadMesh(const std::filesystem::path& path, std::vector<MeshPart>* parts);
 
 // Writes a mesh as Wavefront OBJ (used by generators and tests).
 void SaveObj(const TriangleMesh& mesh, const std::filesystem::path& path);
