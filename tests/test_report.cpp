@@ -92,8 +92,10 @@ TEST(ReportHeadline, NoVerdictSaysSo) {
   const Headline h = MakeHeadline(nullptr, "no verdict.json", nullptr, "mm");
   EXPECT_EQ(h.verdict, "NO VERDICT");
   EXPECT_EQ(h.sentence, "no verdict.json; no path is shown.");
-  const JsonValue odd = Parse(R"({"status": "removable"})");
+  const JsonValue odd = Parse(R"({"status": "maybe"})");
   EXPECT_EQ(MakeHeadline(&odd, "", nullptr, "").verdict, "NO VERDICT");
+  const JsonValue status = Parse(R"({"status": "not-removable"})");
+  EXPECT_EQ(MakeHeadline(&status, "", nullptr, "").verdict, "NOT REMOVABLE");
 }
 
 TEST(ReportProfile, FindsColumnsByNamePrefixAndSkipsComments) {

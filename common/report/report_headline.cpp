@@ -87,7 +87,16 @@ std::string NotRemovableWhy(const JsonValue& v) {
 Headline MakeHeadline(const JsonValue* verdict, const std::string& verdict_problem, const PathEntry* shown,
                       const std::string& units) {
   Headline h;
+  // ausbau-verdict writes both "removable" (bool) and "status"; either says it.
   const JsonValue* removable = verdict != nullptr ? verdict->Find("removable") : nullptr;
+  const JsonValue* status = verdict != nullptr ? verdict->Find("status") : nullptr;
+  JsonValue from_status;
+  if ((removable == nullptr || !removable->IsBool()) && status != nullptr && status->IsString() &&
+      (status->string == "removable" || status->string == "not-removable")) {
+    from_status.type = JsonValue::Type::kBool;
+    from_status.boolean = status->string == "removable";
+    removable = &from_status;
+  }
   if (removable == nullptr || !removable->IsBool()) {
     h.verdict = "NO VERDICT";
     h.css = "none";

@@ -56,7 +56,7 @@ node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --s
 mkdir -p "$run/labeled"
 cp "$run/path.h5" "$run/path-smooth.h5" "$run/labeled/"
 "$helper" labels "$scene" "$run/labeled/labels.h5"
-echo '{"verdict": "removable", "checks": {"collision_free": true, "min_clearance": 0.0035}, "notes": ["test"]}' \
+echo '{"status": "removable", "checks": {"collision_free": true, "min_clearance": 0.0035}, "notes": ["test"]}' \
   > "$run/labeled/verdict.json"
 "$bin/ausbau-report" --scene "$scene" --run-dir "$run/labeled" -o "$run/report-labels.html" --log-level warn
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report-labels.html" \
