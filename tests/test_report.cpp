@@ -88,6 +88,23 @@ TEST(ReportHeadline, NotRemovableSaysWhatBlocks) {
   EXPECT_EQ(MakeHeadline(&failed, "", nullptr, "").sentence, "the path found fails the exact check: ends inside S.");
 }
 
+TEST(ReportHeadline, NamesTheVerdictsShells) {
+  const ShellNamer names = [](int shell, bool robot) {
+    return std::string(robot ? "panel.obj \u203a clip_" : "frame.obj \u203a rail_") + std::to_string(shell);
+  };
+  EXPECT_EQ(NameShells("rigid shell 11 (convex, 12 triangles, centre [2500.21, -691.886, 2118.78], size 35.9 x 31.4 x "
+                       "10.5) of D against shell 7 (convex, 12 triangles, centre [1, 2, 3], size 1 x 2 x 3) of S, 0.5 "
+                       "deep",
+                       names),
+            "rigid panel.obj \u203a clip_11 of D against frame.obj \u203a rail_7 of S, 0.5 deep");
+  const JsonValue v = Parse(R"json({"removable": true, "exact_check": {"rigid_tolerance": 0.05,
+    "max_rigid_penetration": 0.02, "rigid_part": "shell 3 (convex, 12 triangles, centre [0, 0, 0], size 1 x 1 x 1)",
+    "static_part": "shell 4 (open, 2 triangles, centre [0, 0, 0], size 1 x 1 x 0)"}})json");
+  EXPECT_EQ(MakeHeadline(&v, "", nullptr, "mm", names).sentence,
+            "D comes out of S along a path; its rigid part penetrates S at most 0.02 mm, panel.obj \u203a clip_3 into "
+            "frame.obj \u203a rail_4 (tolerance 0.05 mm).");
+}
+
 TEST(ReportHeadline, NoVerdictSaysSo) {
   const Headline h = MakeHeadline(nullptr, "no verdict.json", nullptr, "mm");
   EXPECT_EQ(h.verdict, "NO VERDICT");

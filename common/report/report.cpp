@@ -426,7 +426,9 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
   for (const PathEntry& e : paths) {
     if (!e.artifact.waypoints.empty() && (shown == nullptr || e.key == "smoothed")) shown = &e;
   }
-  const Headline headline = MakeHeadline(verdict ? &*verdict : nullptr, verdict_problem, shown, scene.units);
+  const ShellNamer shell_names = [&namer](int shell, bool robot) { return namer.Shell(shell, robot); };
+  const Headline headline = MakeHeadline(verdict ? &*verdict : nullptr, verdict_problem, shown, scene.units,
+                                         parts ? shell_names : ShellNamer());
 
   // Geometry: S in world coordinates; D relative to the reference point, so
   // that float32 keeps D's detail however far its mesh origin is.

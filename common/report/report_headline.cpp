@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
+#include <regex>
 
 #include "core/format.h"
 #include "report/report.h"
@@ -33,7 +35,8 @@ double VerdictClearance(const JsonValue& v) {
   return std::nan("");
 }
 
-std::string RemovableWhy(const JsonValue& v, const PathEntry* shown, const std::string& units) {
+std::string RemovableWhy(const JsonValue& v, const PathEntry* shown, const std::string& units,
+                         const ShellNamer& names) {
   const double waypoints = NumberAt(v, "path.waypoints");
   std::string why = "D comes out of S along a path";
   if (std::isfinite(waypoints)) why += " of " + Int(static_cast<std::int64_t>(waypoints)) + " waypoints";
@@ -41,8 +44,13 @@ std::string RemovableWhy(const JsonValue& v, const PathEntry* shown, const std::
   if (std::isfinite(translation)) why += " (" + Length(translation, units) + " of travel, " + Num(rotation) + " rad)";
   const JsonValue* exact = v.Find("exact_check");
   if (exact != nullptr && exact->type == JsonValue::Type::kObject) {
-    why += "; its rigid part penetrates S at most " + Length(NumberAt(*exact, "max_rigid_penetration"), units) +
-           " (tolerance " + Length(NumberAt(*exact, "rigid_tolerance"), units) + ")";
+    const double depth = NumberAt(*exact, "max_rigid_penetration");
+    why += "; its rigid part penetrates S at most " + Length(depth, units);
+    const std::string d = StringAt(*exact, "rigid_part"), sp = StringAt(*exact, "static_part");
+    if (names && depth > 0 && d.rfind("shell ", 0) == 0 && sp.rfind("shell ", 0) == 0) {
+      why += ", " + names(std::atoi(d.c_str() + 6), true) + " into " + names(std::atoi(sp.c_str() + 6), false);
+    }
+    why += " (tolerance " + Length(NumberAt(*exact, "rigid_tolerance"), units) + ")";
     const double clips = NumberAt(*exact, "max_fastener_penetration");
     if (std::isfinite(clips) && clips > 0) why += " while its clips bend through up to " + Length(clips, units);
   }
@@ -66,26 +74,43 @@ std::string RemovableWhy(const JsonValue& v, const PathEntry* shown, const std::
   return why + ".";
 }
 
-std::string NotRemovableWhy(const JsonValue& v) {
+std::string NotRemovableWhy(const JsonValue& v, const ShellNamer& names) {
   const JsonValue* exact = v.Find("exact_check");
   const JsonValue* blocks = v.Find("what_blocks");
   const std::string reason = exact != nullptr ? StringAt(*exact, "reason") : "";
   const JsonValue* valid = exact != nullptr ? exact->Find("valid") : nullptr;
   if (valid != nullptr && valid->IsBool() && !valid->boolean && !reason.empty()) {
-    return "the path found fails the exact check: " + reason + ".";
+    return "the path found fails the exact check: " + (names ? NameShells(reason, names) : reason) + ".";
   }
   std::string why = "no path out of S was found";
   const double seconds = NumberAt(v, "planner.seconds");
   if (std::isfinite(seconds)) why += " in " + Num(seconds) + " s of planning";
   const std::string summary = blocks != nullptr ? StringAt(*blocks, "summary") : "";
-  if (!summary.empty()) why += "; " + summary;
+  if (!summary.empty()) why += "; " + (names ? NameShells(summary, names) : summary);
   return why + ".";
 }
 
 }  // namespace
 
+std::string NameShells(const std::string& text, const ShellNamer& names) {
+  // "shell 7 (convex, 12 triangles, centre [x, y, z], size a x b x c)":
+  // the parentheses hold one level of brackets.
+  static const std::regex kShell(R"(shell (\d+) \([^()\[\]]*(\[[^\]]*\][^()\[\]]*)*\))");
+  std::string out;
+  auto from = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), kShell), end; it != end; ++it) {
+    const auto& m = *it;
+    const std::string after = text.substr(m.position() + m.length(), 5);
+    out.append(from, m[0].first);
+    out += names(std::stoi(m[1].str()), after != " of S");
+    from = m[0].second;
+  }
+  out.append(from, text.cend());
+  return out;
+}
+
 Headline MakeHeadline(const JsonValue* verdict, const std::string& verdict_problem, const PathEntry* shown,
-                      const std::string& units) {
+                      const std::string& units, const ShellNamer& names) {
   Headline h;
   // ausbau-verdict writes both "removable" (bool) and "status"; either says it.
   const JsonValue* removable = verdict != nullptr ? verdict->Find("removable") : nullptr;
@@ -109,7 +134,7 @@ Headline MakeHeadline(const JsonValue* verdict, const std::string& verdict_probl
   }
   h.verdict = removable->boolean ? "REMOVABLE" : "NOT REMOVABLE";
   h.css = removable->boolean ? "ok" : "bad";
-  h.sentence = removable->boolean ? RemovableWhy(*verdict, shown, units) : NotRemovableWhy(*verdict);
+  h.sentence = removable->boolean ? RemovableWhy(*verdict, shown, units, names) : NotRemovableWhy(*verdict, names);
   return h;
 }
 
