@@ -73,7 +73,7 @@ TEST(ReportHeadline, RemovableSaysHowFarTheRigidPartGoes) {
   EXPECT_EQ(h.css, "ok");
   EXPECT_EQ(h.sentence,
             "D comes out of S along a path of 12 waypoints (31.5 mm of travel, 0.25 rad); its rigid part penetrates "
-            "S at most 0.024 mm (tolerance 0.05 mm) while its clips bend through up to 1.45 mm.");
+            "S at most 0.024 mm of the 0.05 mm allowed, while its clips bend through up to 1.45 mm.");
 }
 
 TEST(ReportHeadline, NotRemovableSaysWhatBlocks) {
@@ -101,8 +101,8 @@ TEST(ReportHeadline, NamesTheVerdictsShells) {
     "max_rigid_penetration": 0.02, "rigid_part": "shell 3 (convex, 12 triangles, centre [0, 0, 0], size 1 x 1 x 1)",
     "static_part": "shell 4 (open, 2 triangles, centre [0, 0, 0], size 1 x 1 x 0)"}})json");
   EXPECT_EQ(MakeHeadline(&v, "", nullptr, "mm", names).sentence,
-            "D comes out of S along a path; its rigid part penetrates S at most 0.02 mm, panel.obj \u203a clip_3 into "
-            "frame.obj \u203a rail_4 (tolerance 0.05 mm).");
+            "D comes out of S along a path; its rigid part penetrates S at most 0.02 mm of the 0.05 mm allowed, "
+            "deepest where panel.obj \u203a clip_3 meets frame.obj \u203a rail_4.");
 }
 
 TEST(ReportHeadline, NoVerdictSaysSo) {

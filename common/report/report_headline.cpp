@@ -45,14 +45,15 @@ std::string RemovableWhy(const JsonValue& v, const PathEntry* shown, const std::
   const JsonValue* exact = v.Find("exact_check");
   if (exact != nullptr && exact->type == JsonValue::Type::kObject) {
     const double depth = NumberAt(*exact, "max_rigid_penetration");
-    why += "; its rigid part penetrates S at most " + Length(depth, units);
+    why += "; its rigid part penetrates S at most " + Length(depth, units) + " of the " +
+           Length(NumberAt(*exact, "rigid_tolerance"), units) + " allowed";
     const std::string d = StringAt(*exact, "rigid_part"), sp = StringAt(*exact, "static_part");
     if (names && depth > 0 && d.rfind("shell ", 0) == 0 && sp.rfind("shell ", 0) == 0) {
-      why += ", " + names(std::atoi(d.c_str() + 6), true) + " into " + names(std::atoi(sp.c_str() + 6), false);
+      why += ", deepest where " + names(std::atoi(d.c_str() + 6), true) + " meets " +
+             names(std::atoi(sp.c_str() + 6), false);
     }
-    why += " (tolerance " + Length(NumberAt(*exact, "rigid_tolerance"), units) + ")";
     const double clips = NumberAt(*exact, "max_fastener_penetration");
-    if (std::isfinite(clips) && clips > 0) why += " while its clips bend through up to " + Length(clips, units);
+    if (std::isfinite(clips) && clips > 0) why += ", while its clips bend through up to " + Length(clips, units);
   }
   const JsonValue* mliv = v.Find("max_labeled_mliv");
   if (mliv != nullptr && mliv->type == JsonValue::Type::kObject) {

@@ -81,7 +81,7 @@ std::string PartNamer::Triangle(int triangle, bool robot) const {
       shells_ ? (robot ? &shells_->robot_shells : &shells_->static_shells) : nullptr;
   if (shells != nullptr && shells->size() > 1 && static_cast<std::size_t>(triangle) < shell_of.size() &&
       shell_of[triangle] >= 0) {
-    name += Fmt(", shell %d", shell_of[triangle]);
+    name += Fmt(" (shell %d)", shell_of[triangle]);
   }
   return name;
 }

@@ -1,7 +1,7 @@
 // Names for the parts of D and S in a report: the mesh file, the assimp
 // node (and mesh) the triangles came from, and the shell (connected solid,
 // geometry/shells.h) where the rigid-depth model split the mesh, e.g.
-// "static.obj › bracket/Mesh_2, shell 3". Replaces bare component numbers.
+// "static.obj › bracket/Mesh_2 (shell 3)". Replaces bare component numbers.
 #pragma once
 
 #include <memory>
@@ -22,7 +22,7 @@ class PartNamer {
   // triangles (it changed since) is named by its file name only.
   PartNamer(const Scene& scene, std::shared_ptr<const PartModel> shells);
 
-  // A triangle of D (robot = true) or S, as "file › node, shell k"; "–"
+  // A triangle of D (robot = true) or S, as "file › node (shell k)"; "–"
   // for -1.
   std::string Triangle(int triangle, bool robot) const;
   // A shell of the rigid-depth model, by the name of its first triangle.

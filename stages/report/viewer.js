@@ -485,7 +485,7 @@ function buildWaypointTable() {
   const note = document.createElement('p');
   note.className = 'explain';
   note.textContent = 'Parts: where D\'s rigid part penetrates S (rows marked), the deepest pair; elsewhere the ' +
-    'nearest pair of triangles (FCL). Names: mesh file › node/mesh as in the file; "shell k": its k-th ' +
+    'nearest pair of triangles (FCL). Names: mesh file › node/mesh as in the file; "(shell k)": its k-th ' +
     'connected solid.';
   box.append(table, note);
 }
