@@ -48,4 +48,32 @@ double FclCollisionChecker::Distance(const Pose& pose) const {
   return std::max(0.0, result.min_distance);
 }
 
+FclCollisionChecker::Nearest FclCollisionChecker::NearestTriangles(const Pose& pose) const {
+  Nearest out;
+  const std::size_t environment_triangles = static_cast<std::size_t>(models_->environment->num_tris);
+  const std::size_t robot_triangles = static_cast<std::size_t>(models_->robot->num_tris);
+  auto valid = [](intptr_t index, std::size_t n) { return index >= 0 && static_cast<std::size_t>(index) < n; };
+  if (InCollision(pose)) {
+    // In contact FCL's distance names no pair reliably: the first contact's.
+    fcl::CollisionRequestd request(1, true);
+    fcl::CollisionResultd result;
+    fcl::collide(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
+                 result);
+    if (result.numContacts() > 0) {
+      const fcl::Contactd& contact = result.getContact(0);
+      if (valid(contact.b1, robot_triangles)) out.robot_triangle = static_cast<int>(contact.b1);
+      if (valid(contact.b2, environment_triangles)) out.environment_triangle = static_cast<int>(contact.b2);
+    }
+    return out;
+  }
+  fcl::DistanceRequestd request;
+  fcl::DistanceResultd result;
+  fcl::distance(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
+                result);
+  out.distance = std::max(0.0, result.min_distance);
+  if (valid(result.b1, robot_triangles)) out.robot_triangle = static_cast<int>(result.b1);
+  if (valid(result.b2, environment_triangles)) out.environment_triangle = static_cast<int>(result.b2);
+  return out;
+}
+
 }  // namespace ausbau

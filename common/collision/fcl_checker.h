@@ -23,6 +23,15 @@ class FclCollisionChecker : public PoseValidity {
   // Minimum distance between D at `pose` and S (0 when in collision).
   double Distance(const Pose& pose) const;
 
+  // The distance (0 in contact) and the pair of triangles it is attained at
+  // (indices into the meshes given to the constructor; -1 where FCL names
+  // none).
+  struct Nearest {
+    double distance = 0;
+    int robot_triangle = -1, environment_triangle = -1;
+  };
+  Nearest NearestTriangles(const Pose& pose) const;
+
  protected:
   bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }
 

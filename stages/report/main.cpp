@@ -1,4 +1,4 @@
-// ausbau-report: one self-contained HTML file with S and D in 3D, D animated
+// ausbau-report: one self-contained HTML file with the verdict first, S and D in 3D, D animated
 // along the path, the clearance along it, the stats and the verdict; or, with
 // --bench-dir, a page of ausbau-bench's tables and pictures. See README.md.
 #include <cstdio>
@@ -62,8 +62,9 @@ int main(int argc, char** argv) {
   std::string scene, path, smoothed, run_dir;
   return RunStage(
       {"ausbau-report",
-       "Writes a self-contained HTML report: S and D in 3D, D animated along the path, "
-       "clearance along it, stats and verdict (or a benchmark page with --bench-dir)."},
+       "Writes a self-contained HTML report: the verdict in one sentence, S and D in 3D, D animated "
+       "along the path, clearance and penetration along it, a table per waypoint, stats and verdict "
+       "(or a benchmark page with --bench-dir)."},
       argc, argv,
       [&](CLI::App& app) {
         app.add_option("--scene", scene, "scene.yaml");
@@ -73,7 +74,7 @@ int main(int argc, char** argv) {
                        "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json, stats.json "
                        "when present (explicit --path/--smoothed win)");
         app.add_option("--clearance-samples", options.report.clearance_samples,
-                       "poses along the path at which the clearance is computed, besides the waypoints")
+                       "poses along the path at which clearance and penetration are measured, besides the waypoints")
             ->capture_default_str()
             ->check(CLI::Range(0, 100000));
         app.add_option("--bench-dir", options.bench_dir,

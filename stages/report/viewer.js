@@ -12,7 +12,9 @@
 //
 // Test hooks: window.ausbau = {ready, error, loadMs, frames, setTime(u), time(),
 // poseOfD(), selectPath(key), paths(), play(), pause(), pixelStats(),
-// labelsShown()}.
+// labelsShown(), plots(), waypointRows(), setSection(axis, fraction),
+// section(), setMeasuring(on), pickAt(clientX, clientY), measurement(),
+// project([x, y, z]) (world point to client pixel coordinates)}.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -191,6 +193,7 @@ function frame(now) {
 function setupScene() {
   const canvas = $('canvas3d');
   renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  renderer.localClippingEnabled = true;
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   scene3d = new THREE.Scene();
   scene3d.background = new THREE.Color(0xeef1f5);
@@ -251,17 +254,26 @@ function setupScene() {
   new ResizeObserver(resize).observe(canvas);
 }
 
-// A box around S and D's swept reference positions: the camera's first view.
+// Grows `box` by D's reach (radius r) about its reference point along `path`
+// (the world position of the reference point, not the pose's t: D's mesh
+// may lie far from its origin).
+function expandByPath(box, path, r) {
+  const offset = sub(path.reference_point, path.dynamic_origin);
+  for (let k = 0; k <= 50; ++k) {
+    const pose = poseAt(path, k / 50);
+    const p = new THREE.Vector3(...add(pose.t, rotate(pose.q, offset)));
+    box.expandByPoint(p.clone().addScalar(r));
+    box.expandByPoint(p.clone().addScalar(-r));
+  }
+}
+
+// A box around S and D's swept reference positions on the path shown: the
+// camera's first view.
 function fitCamera() {
   const box = staticMesh.geometry.boundingBox.clone();
   const r = dynamicGeometry.boundingSphere.radius;
-  for (const path of data.paths) {
-    for (let k = 0; k <= 50; ++k) {
-      const pose = poseAt(path, k / 50);
-      box.expandByPoint(new THREE.Vector3(...pose.t).addScalar(r));
-      box.expandByPoint(new THREE.Vector3(...pose.t).addScalar(-r));
-    }
-  }
+  // The path shown (a planned path may wander far before smoothing).
+  for (const path of state.path ? [state.path] : data.paths) expandByPath(box, path, r);
   const centre = box.getCenter(new THREE.Vector3());
   const size = box.getSize(new THREE.Vector3()).length() || 1;
   camera.near = size / 1000;
@@ -306,14 +318,47 @@ function rebuildPathObjects() {
   }
 }
 
-// ----------------------------------------------------------------- plot
+// ----------------------------------------------------------------- plots
+// One panel per series (clearance, rigid penetration, clip intersection,
+// and the volume model's intersection where profile.csv has it), one above
+// the other on the same x: the path parameter u (animation time, 0 at the
+// installed pose, 1 at the end; each segment in proportion to how far D's
+// points move). Click or drag in a panel to seek.
+
+const PLOT = { left: 70, right: 16, top: 20, bottom: 22, height: 132 };
+const SERIES_COLOURS = { clearance: '#2f6db5', rigid: '#c8302b', clip: '#8a4fb0', volume: '#2f8f5b' };
 
 function currentSeries() {
   return state.path && state.path.series.length ? state.path.series[0] : null;
 }
 
-function drawPlot() {
-  const canvas = $('plot');
+let plotDragging = null;
+
+function buildPlots() {
+  const box = $('plots');
+  box.innerHTML = '';
+  const list = state.path ? state.path.series : [];
+  if (!list.length) {
+    const p = document.createElement('p');
+    p.className = 'note';
+    p.textContent = 'no per-pose values (no path)';
+    box.appendChild(p);
+    return;
+  }
+  for (const series of list) {
+    const canvas = document.createElement('canvas');
+    canvas.className = 'plot';
+    canvas.dataset.series = series.name;
+    canvas.style.height = PLOT.height + 'px';
+    canvas.addEventListener('pointerdown', (e) => { plotDragging = canvas; setPlaying(false); plotSeek(canvas, e); });
+    canvas.addEventListener('pointermove', (e) => { if (plotDragging === canvas) plotSeek(canvas, e); });
+    box.appendChild(canvas);
+  }
+}
+
+function finiteValues(values) { return values.filter((v) => v !== null && Number.isFinite(v)); }
+
+function drawSeries(canvas, series, path) {
   const dpr = window.devicePixelRatio || 1;
   const w = canvas.clientWidth, h = canvas.clientHeight;
   if (canvas.width !== Math.round(w * dpr) || canvas.height !== Math.round(h * dpr)) {
@@ -324,58 +369,125 @@ function drawPlot() {
   ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
   ctx.clearRect(0, 0, w, h);
   ctx.font = '12px system-ui, sans-serif';
-  const series = currentSeries();
-  const left = 64, right = 16, top = 22, bottom = 26;
+  const { left, right, top, bottom } = PLOT;
   const pw = w - left - right, ph = h - top - bottom;
+  const dense = series.x.length > 0;
+  const xs = dense ? series.x : path.times, ys = dense ? series.y : series.waypoints;
+  const wx = path.times.slice(0, series.waypoints.length);
+  const limit = series.name === 'rigid' && Number.isFinite(data.rigid_tolerance) ? data.rigid_tolerance : null;
+  const all = finiteValues(ys.concat(series.waypoints)).concat(limit !== null ? [limit] : []);
+  const ymin = Math.min(0, ...all);
+  const ymax = (Math.max(...all, 0) - ymin) * 1.08 + ymin || 1;
+  const X = (u) => left + u * pw, Y = (v) => top + ph - ((v - ymin) / (ymax - ymin)) * ph;
   ctx.fillStyle = '#1d232b';
-  if (!series) {
-    ctx.fillText('no per-pose values (no path)', left, top + 20);
-    return;
-  }
-  const path = state.path;
-  const xs = series.x.length ? series.x : path.times;
-  const ys = series.x.length ? series.y : series.waypoints;
-  const all = ys.concat(series.waypoints).filter((v) => v !== null);
-  const ymax = Math.max(...all, 0) * 1.08 || 1;
-  const X = (u) => left + u * pw, Y = (v) => top + ph - (v / ymax) * ph;
-  ctx.fillText(series.label + (data.scene.units ? ' [' + data.scene.units + ']' : ''), left, 14);
-  // Axes and grid.
+  const unit = series.unit ? ' [' + series.unit + ']' : '';
+  ctx.fillText(series.label + unit + (all.length ? '' : ': no values'), left, 14);
   ctx.strokeStyle = '#d5dbe3';
   ctx.lineWidth = 1;
   ctx.textAlign = 'right';
-  for (let k = 0; k <= 4; ++k) {
-    const v = ymax * k / 4, y = Y(v);
+  for (let k = 0; k <= 3; ++k) {
+    const v = ymin + (ymax - ymin) * k / 3, y = Y(v);
     ctx.beginPath(); ctx.moveTo(left, y); ctx.lineTo(left + pw, y); ctx.stroke();
-    ctx.fillText(v.toPrecision(3), left - 6, y + 4);
+    ctx.fillText(Number(v.toPrecision(3)).toString(), left - 6, y + 4);
   }
   ctx.textAlign = 'center';
-  for (let k = 0; k <= 10; ++k) ctx.fillText((k / 10).toFixed(1), X(k / 10), top + ph + 16);
+  for (let k = 0; k <= 10; ++k) ctx.fillText((k / 10).toFixed(1), X(k / 10), top + ph + 15);
   ctx.textAlign = 'left';
-  // Waypoint positions.
   ctx.strokeStyle = '#eceff3';
   for (const t of path.times) { ctx.beginPath(); ctx.moveTo(X(t), top); ctx.lineTo(X(t), top + ph); ctx.stroke(); }
-  // The curve.
-  ctx.strokeStyle = '#2f6db5';
+  if (limit !== null) {
+    ctx.strokeStyle = '#c8302b';
+    ctx.setLineDash([5, 4]);
+    ctx.beginPath(); ctx.moveTo(left, Y(limit)); ctx.lineTo(left + pw, Y(limit)); ctx.stroke();
+    ctx.setLineDash([]);
+    ctx.fillStyle = '#c8302b';
+    ctx.fillText('tolerance', left + pw - 60, Y(limit) - 3);
+  }
+  // The curve, with gaps where a value is missing; an unmeasured
+  // intersection (null) is marked at the top in red.
+  ctx.strokeStyle = SERIES_COLOURS[series.name] || '#2f6db5';
   ctx.lineWidth = 1.6;
   ctx.beginPath();
-  xs.forEach((u, k) => (k ? ctx.lineTo(X(u), Y(ys[k])) : ctx.moveTo(X(u), Y(ys[k]))));
-  ctx.stroke();
-  ctx.fillStyle = '#e8771e';
-  path.times.forEach((u, k) => {
-    ctx.beginPath(); ctx.arc(X(u), Y(series.waypoints[k]), 3.2, 0, 2 * Math.PI); ctx.fill();
+  let pen = false;
+  xs.forEach((u, k) => {
+    const v = ys[k];
+    if (v === null || !Number.isFinite(v)) { pen = false; return; }
+    if (pen) ctx.lineTo(X(u), Y(v)); else ctx.moveTo(X(u), Y(v));
+    pen = true;
   });
-  // Cursor.
+  ctx.stroke();
+  ctx.fillStyle = '#c8302b';
+  xs.forEach((u, k) => { if (ys[k] === null) ctx.fillRect(X(u) - 1, top, 2, 6); });
+  ctx.fillStyle = '#e8771e';
+  wx.forEach((u, k) => {
+    const v = series.waypoints[k];
+    if (v === null || !Number.isFinite(v)) return;
+    ctx.beginPath(); ctx.arc(X(u), Y(v), 2.6, 0, 2 * Math.PI); ctx.fill();
+  });
   ctx.strokeStyle = '#c8302b';
   ctx.lineWidth = 1.5;
   ctx.beginPath(); ctx.moveTo(X(state.u), top); ctx.lineTo(X(state.u), top + ph); ctx.stroke();
 }
 
-function plotSeek(event) {
-  const canvas = $('plot');
+function drawPlot() {
+  if (!state.path) return;
+  const canvases = $('plots').querySelectorAll('canvas.plot');
+  canvases.forEach((canvas) => {
+    const series = state.path.series.find((s) => s.name === canvas.dataset.series);
+    if (series) drawSeries(canvas, series, state.path);
+  });
+}
+
+function plotSeek(canvas, event) {
   const rect = canvas.getBoundingClientRect();
-  const left = 64, right = 16;
-  const u = (event.clientX - rect.left - left) / (rect.width - left - right);
+  const u = (event.clientX - rect.left - PLOT.left) / (rect.width - PLOT.left - PLOT.right);
   setTime(Math.min(1, Math.max(0, u)));
+}
+
+// -------------------------------------------------------- waypoint table
+
+function fmt(v, digits = 4) {
+  if (v === null || v === undefined) return '–';
+  if (!Number.isFinite(v)) return String(v);
+  return Number(v.toPrecision(digits)).toString();
+}
+
+function buildWaypointTable() {
+  const box = $('waypointbox');
+  box.innerHTML = '';
+  const path = state.path;
+  if (!path || !path.table || !path.waypoints.length) return;
+  const table = document.createElement('table');
+  table.id = 'waypoints';
+  const units = data.scene.units ? ' [' + data.scene.units + ']' : '';
+  const hasVolume = path.table.rows.some((r) => r[3] !== null);
+  const hasRigid = path.table.rows.some((r) => r[1] !== null);
+  const header = ['#', 'u', 't = (x, y, z)' + units, 'q = (w, x, y, z)', 'clearance' + units]
+    .concat(hasRigid ? ['rigid penetration' + units, 'clip intersection' + units] : [])
+    .concat(hasVolume ? ['clip volume'] : [])
+    .concat(['part of D', 'part of S']);
+  const head = table.createTHead().insertRow();
+  for (const h of header) { const th = document.createElement('th'); th.textContent = h; head.appendChild(th); }
+  const body = table.createTBody();
+  path.table.rows.forEach((r, i) => {
+    const wp = path.waypoints[i];
+    const tr = body.insertRow();
+    tr.dataset.index = String(i);
+    const cells = [String(i), fmt(path.times[i], 3), wp.t.map((c) => fmt(c, 6)).join(', '),
+      wp.q.map((c) => fmt(c, 4)).join(', '), fmt(r[0])]
+      .concat(hasRigid ? [r[1] === null ? 'intersects (unmeasured)' : fmt(r[1]), fmt(r[2])] : [])
+      .concat(hasVolume ? [fmt(r[3])] : [])
+      .concat([path.table.names[r[4]], path.table.names[r[5]]]);
+    for (const c of cells) tr.insertCell().textContent = c;
+    if (r[6]) tr.className = 'contact';
+    tr.addEventListener('click', () => { setPlaying(false); setTime(path.times[i]); });
+  });
+  const note = document.createElement('p');
+  note.className = 'explain';
+  note.textContent = 'Parts: where D\'s rigid part penetrates S (rows marked), the deepest pair; elsewhere the ' +
+    'nearest pair of triangles (FCL). Names: mesh file › node/mesh as in the file; "(shell k)": its k-th ' +
+    'connected solid.';
+  box.append(table, note);
 }
 
 // ------------------------------------------------------------- animation
@@ -416,10 +528,15 @@ function selectPath(key) {
   if (state.path) $('pathselect').value = key;
   const series = currentSeries();
   $('plotnote').textContent = series
-    ? 'Curve: ' + series.label + ' at ' + series.x.length + ' poses evenly spaced in animation time; dots: waypoints;' +
-      ' x: animation time (each segment takes time in proportion to how far D moves). Click or drag to seek.'
+    ? 'Curves at ' + series.x.length + ' poses evenly spaced along the path and at the waypoints (dots); ' +
+      'x: the path parameter u (0: installed, 1: out; each segment in proportion to how far D\'s points move). ' +
+      'Click or drag to seek.'
     : '';
+  buildPlots();
+  buildWaypointTable();
   rebuildPathObjects();
+  section.box = null;
+  applySection();
   applyTime();
 }
 
@@ -447,11 +564,18 @@ function setupControls() {
   });
   $('showtrace').addEventListener('change', (e) => { if (trace) trace.visible = e.target.checked; requestRender(); });
   $('showghosts').addEventListener('change', (e) => { ghosts.visible = e.target.checked; requestRender(); });
-  const plot = $('plot');
-  let dragging = false;
-  plot.addEventListener('pointerdown', (e) => { dragging = true; setPlaying(false); plotSeek(e); });
-  plot.addEventListener('pointermove', (e) => { if (dragging) plotSeek(e); });
-  window.addEventListener('pointerup', () => { dragging = false; });
+  window.addEventListener('pointerup', () => { plotDragging = null; });
+  $('section-axis').addEventListener('change', () => applySection());
+  $('section-pos').addEventListener('input', () => applySection());
+  $('measure').addEventListener('click', () => setMeasuring(!measure.on));
+  // A click (no drag) on the 3D view picks a point while measuring.
+  const canvas = $('canvas3d');
+  let down = null;
+  canvas.addEventListener('pointerdown', (e) => { down = { x: e.clientX, y: e.clientY }; });
+  canvas.addEventListener('pointerup', (e) => {
+    if (measure.on && down && Math.hypot(e.clientX - down.x, e.clientY - down.y) < 4) pickAt(e.clientX, e.clientY);
+    down = null;
+  });
   window.addEventListener('keydown', (e) => {
     if (e.code === 'Space' && e.target.tagName !== 'INPUT' && e.target.tagName !== 'SELECT') {
       e.preventDefault();
@@ -459,6 +583,137 @@ function setupControls() {
     }
   });
   window.addEventListener('resize', drawPlot);
+}
+
+// --------------------------------------------------------- section plane
+// A clipping plane across one axis: what lies beyond it (larger coordinate)
+// is cut away from S, D and the ghosts, so that the inside shows. The
+// slider runs over the box of S and the path.
+
+const section = { axis: '', position: 0, plane: new THREE.Plane(new THREE.Vector3(-1, 0, 0), 0), box: null };
+
+function sectionBox() {
+  if (!section.box) {
+    section.box = staticMesh.geometry.boundingBox.clone();
+    if (state.path && state.path.waypoints.length) {
+      expandByPath(section.box, state.path, dynamicGeometry.boundingSphere.radius);
+    }
+  }
+  return section.box;
+}
+
+function clippedMaterials() {
+  const list = [staticMesh.material, dynamicMesh.material];
+  ghosts.children.forEach((g) => list.push(g.material));
+  return list;
+}
+
+function applySection() {
+  const axis = $('section-axis').value;
+  const fraction = Number($('section-pos').value) / 1000;
+  const k = { x: 0, y: 1, z: 2 }[axis];
+  const planes = axis ? [section.plane] : [];
+  section.axis = axis;
+  if (axis) {
+    const box = sectionBox();
+    const lo = box.min.getComponent(k), hi = box.max.getComponent(k);
+    section.position = lo + fraction * (hi - lo);
+    const normal = new THREE.Vector3();
+    normal.setComponent(k, -1);
+    section.plane.set(normal, section.position);  // keeps points with coordinate <= position
+    $('section-info').textContent = ` ${axis} ≤ ${fmt(section.position, 5)}${data.scene.units ? ' ' + data.scene.units : ''}`;
+  } else {
+    $('section-info').textContent = '';
+  }
+  for (const m of clippedMaterials()) { m.clippingPlanes = planes; m.clipShadows = false; m.needsUpdate = true; }
+  requestRender();
+}
+
+function setSection(axis, fraction) {
+  $('section-axis').value = axis || '';
+  $('section-pos').value = String(Math.round(Math.min(1, Math.max(0, fraction)) * 1000));
+  applySection();
+  return sectionState();
+}
+
+function sectionState() {
+  return { axis: section.axis, position: section.axis ? section.position : null,
+    clippedMaterials: clippedMaterials().filter((m) => m.clippingPlanes && m.clippingPlanes.length).length,
+    normal: section.plane.normal.toArray(), constant: section.plane.constant };
+}
+
+// ------------------------------------------------------------ measurement
+// Measure mode: two clicks on S or D (the first surface hit, not in the
+// part the section plane cuts away) give the straight distance between the
+// two points, in scene units, drawn as a line.
+
+const measure = { on: false, points: [], group: null };
+
+function setMeasuring(on) {
+  measure.on = !!on;
+  $('measure').setAttribute('aria-pressed', String(measure.on));
+  $('measure').textContent = measure.on ? 'Measuring: click two points' : 'Measure';
+  if (measure.on) { measure.points = []; drawMeasurement(); }
+}
+
+function pickAt(clientX, clientY) {
+  const rect = renderer.domElement.getBoundingClientRect();
+  const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
+  const raycaster = new THREE.Raycaster();
+  raycaster.setFromCamera(ndc, camera);
+  const targets = [dynamicMesh, staticMesh].filter((o) => o.visible);
+  const hits = raycaster.intersectObjects(targets, false)
+    .filter((h) => !section.axis || section.plane.distanceToPoint(h.point) >= 0);
+  if (!hits.length) return null;
+  const hit = hits[0];
+  if (measure.points.length >= 2) measure.points = [];
+  measure.points.push({ point: hit.point.clone(), on: hit.object === dynamicMesh ? 'D' : 'S' });
+  drawMeasurement();
+  return { point: hit.point.toArray(), on: hit.object === dynamicMesh ? 'D' : 'S' };
+}
+
+function drawMeasurement() {
+  if (measure.group) { scene3d.remove(measure.group); measure.group.traverse((o) => o.geometry && o.geometry.dispose()); }
+  measure.group = new THREE.Group();
+  const size = sectionBox().getSize(new THREE.Vector3()).length() || 1;
+  const dot = new THREE.SphereGeometry(size * 0.004, 12, 8);
+  const dotMaterial = new THREE.MeshBasicMaterial({ color: 0xd01f6b, depthTest: false });
+  for (const p of measure.points) {
+    const m = new THREE.Mesh(dot, dotMaterial);
+    m.position.copy(p.point);
+    m.renderOrder = 5;
+    measure.group.add(m);
+  }
+  let text = measure.on ? 'Measure: click a point on S or D' : '';
+  if (measure.points.length === 2) {
+    const [a, b] = measure.points;
+    const line = new THREE.Line(new THREE.BufferGeometry().setFromPoints([a.point, b.point]),
+      new THREE.LineBasicMaterial({ color: 0xd01f6b, depthTest: false }));
+    line.renderOrder = 5;
+    measure.group.add(line);
+    text = `distance ${fmt(a.point.distanceTo(b.point), 6)}${data.scene.units ? ' ' + data.scene.units : ''}` +
+      ` (${a.on} [${a.point.toArray().map((c) => fmt(c, 5)).join(', ')}] to ${b.on}` +
+      ` [${b.point.toArray().map((c) => fmt(c, 5)).join(', ')}])`;
+  } else if (measure.points.length === 1) {
+    text = 'Measure: click the second point';
+  }
+  $('measureinfo').textContent = text;
+  $('measureinfo').style.display = text ? 'block' : 'none';
+  scene3d.add(measure.group);
+  requestRender();
+}
+
+function measurement() {
+  const pts = measure.points.map((p) => p.point.toArray());
+  return { points: pts, on: measure.points.map((p) => p.on),
+    distance: pts.length === 2 ? measure.points[0].point.distanceTo(measure.points[1].point) : null,
+    text: $('measureinfo').textContent };
+}
+
+function project(p) {
+  const v = new THREE.Vector3(...p).project(camera);
+  const rect = renderer.domElement.getBoundingClientRect();
+  return { x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height, depth: v.z };
 }
 
 // Reads the 3D view's pixels: how many differ from the background, how many
@@ -476,18 +731,30 @@ function readPixels() {
 
 function pixelStats() {
   const shown = readPixels();
+  // How many pixels change when `object` is hidden, and the middle one of
+  // them (in reading order) as client coordinates: a pixel that shows it.
+  const at = [];
   const differing = (object) => {
     const visible = object.visible;
     object.visible = false;
     const hidden = readPixels();
     object.visible = visible;
     let n = 0;
+    const found = [];
     for (let i = 0; i < shown.length; i += 4) {
-      if (Math.abs(shown[i] - hidden[i]) + Math.abs(shown[i + 1] - hidden[i + 1]) + Math.abs(shown[i + 2] - hidden[i + 2]) > 6) ++n;
+      if (Math.abs(shown[i] - hidden[i]) + Math.abs(shown[i + 1] - hidden[i + 1]) + Math.abs(shown[i + 2] - hidden[i + 2]) > 6) {
+        ++n;
+        found.push(i / 4);
+      }
     }
+    at.push(found.length ? found[Math.floor(found.length / 2)] : -1);
     return n;
   };
   const dPixels = differing(dynamicMesh), sPixels = differing(staticMesh);
+  const rect = renderer.domElement.getBoundingClientRect(), width = renderer.domElement.width;
+  const scale = rect.width / width;
+  const client = (i) => (i < 0 ? null
+    : { x: rect.left + ((i % width) + 0.5) * scale, y: rect.top + (Math.floor(i / width) + 0.5) * scale });
   renderer.render(scene3d, camera);
   const bgHex = scene3d.background.getHex();  // sRGB, as drawn
   const br = (bgHex >> 16) & 255, bgG = (bgHex >> 8) & 255, bb = bgHex & 255;
@@ -498,7 +765,7 @@ function pixelStats() {
     if (Math.abs(r - br) + Math.abs(g - bgG) + Math.abs(b - bb) > 12) ++nonBackground;
   }
   return { width: renderer.domElement.width, height: renderer.domElement.height, pixels: shown.length / 4,
-    nonBackground, dPixels, sPixels, hash };
+    nonBackground, dPixels, sPixels, hash, dPixel: client(at[0]), sPixel: client(at[1]) };
 }
 
 // ------------------------------------------------------------------ start
@@ -526,6 +793,20 @@ try {
     pixelStats,
     labelsShown: () => !!data.labels && dynamicMesh.material.vertexColors === true &&
       $('legend').style.display === 'block',
+    plots: () => Array.from($('plots').querySelectorAll('canvas.plot')).map((c) => {
+      const series = state.path.series.find((s) => s.name === c.dataset.series);
+      const values = series.y.concat(series.waypoints);
+      return { name: series.name, label: series.label, width: c.width, height: c.height, points: values.length,
+        finite: values.filter((v) => v !== null && Number.isFinite(v)).length,
+        max: Math.max(...values.filter((v) => v !== null && Number.isFinite(v))) };
+    }),
+    waypointRows: () => { const t = $('waypoints'); return t ? t.tBodies[0].rows.length : 0; },
+    setSection,
+    section: sectionState,
+    setMeasuring,
+    pickAt,
+    measurement,
+    project,
   });
   hooks.loadMs = performance.now();
   hooks.ready = true;

@@ -43,6 +43,20 @@ grep -q 'window.ausbau' "$html" || fail "the viewer module is not inlined"
 grep -q 'id="ausbau-buf-0"' "$html" || fail "no binary mesh buffers"
 [ "$(grep -c '</html>' "$html")" -eq 1 ] || fail "not one HTML document"
 
+# The answer first: a headline (no verdict.json here), before the 3D view.
+grep -q '<section id="headline" class="headline none"><span id="verdict-word">NO VERDICT</span>' "$html" ||
+  fail "no headline 'NO VERDICT' (no verdict.json given)"
+[ "$(grep -bo 'id="headline"' "$html" | head -1 | cut -d: -f1)" -lt "$(grep -bo 'id="view"' "$html" | head -1 | cut -d: -f1)" ] ||
+  fail "the headline does not come before the 3D view"
+# The download: the path as CSV, one row per waypoint, in a data: URL.
+csv_b64=$(grep -o 'id="download-planned" class="download" download="path.csv" href="data:text/csv;base64,[A-Za-z0-9+/=]*' "$html" |
+  sed 's/.*base64,//')
+[ -n "$csv_b64" ] || fail "no download link for the planned path"
+waypoints=$(h5dump -d /waypoints -H "$work/path.h5" | grep -o 'DATASPACE  SIMPLE { ( [0-9]*' | grep -o '[0-9]*$')
+rows=$(printf '%s' "$csv_b64" | base64 -d | tail -n +2 | wc -l)
+[ "$(printf '%s' "$csv_b64" | base64 -d | head -1)" = "x,y,z,qw,qx,qy,qz" ] || fail "the downloaded CSV has another header"
+[ "$rows" = "$waypoints" ] || fail "the downloaded CSV has $rows rows, the path $waypoints waypoints"
+
 # Deterministic: the same inputs give the same bytes.
 "$report" --scene "$scene" --path "$work/path.h5" -o "$work/report2.html" --log-level warn
 cmp -s "$html" "$work/report2.html" || fail "two runs gave different HTML"

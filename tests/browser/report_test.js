@@ -7,11 +7,22 @@
 //     segment it is the schemas/path.md interpolation about reference_point,
 //   - moving the scrubber (mouse clicks on it) moves D and changes the picture,
 //   - Play advances the time,
+//   - the headline says the verdict (--expect-headline WORD: REMOVABLE,
+//     NOT REMOVABLE or NO VERDICT) in one sentence,
+//   - the plots of clearance, rigid penetration and clip intersection are
+//     there, aligned, with values; the waypoint table has one row per
+//     waypoint, with named parts,
+//   - the section plane clips S and D and changes the picture, and off again
+//     restores it,
+//   - Measure: two mouse clicks on the 3D view give two points on the
+//     surfaces under the clicks and their distance, shown,
+//   - the path's CSV download has the bytes of the CSV file (--csv),
 // and saves a screenshot. Prints one JSON line of measurements.
 //
 //   node report_test.js --chromium /usr/bin/chromium --html report.html \
 //     --screenshot out.png [--csv path-smooth.csv --ref x,y,z --origin x,y,z] [--path-key smoothed]
-//     [--load-only] [--expect-labels] [--expect-table ID] [--timeout-ms 60000]
+//     [--load-only] [--expect-labels] [--expect-table ID] [--expect-headline WORD]
+//     [--expect-part NAME] [--timeout-ms 60000]
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -90,6 +101,126 @@ function poseError(p, e) {
   return { dt, dq: 2 * Math.min(minus, plus) };
 }
 
+
+// ---- the report's answers: headline, plots, table, section, measurement, download ----
+
+async function checkHeadline(page, args, result) {
+  const headline = await page.evaluate(() => {
+    const word = document.getElementById('verdict-word'), why = document.getElementById('verdict-why');
+    const section = document.getElementById('headline');
+    const main = document.querySelector('main');
+    return word && why ? { word: word.textContent, why: why.textContent, first: main.firstElementChild === section }
+      : null;
+  });
+  result.headline = headline;
+  if (!check(headline, 'no headline (#verdict-word, #verdict-why)')) return;
+  check(headline.first, 'the headline is not the first thing in the page');
+  if (args.expectHeadline) {
+    check(headline.word === args.expectHeadline, `headline says '${headline.word}', expected '${args.expectHeadline}'`);
+  } else {
+    check(['REMOVABLE', 'NOT REMOVABLE', 'NO VERDICT'].includes(headline.word), `headline word '${headline.word}'`);
+  }
+  // One sentence: ends with a full stop, and no full stop followed by a capital inside.
+  check(/\.$/.test(headline.why) && headline.why.length > 20 && !/\. [A-Z]/.test(headline.why),
+    `the headline's reason is not one sentence: '${headline.why}'`);
+}
+
+async function checkPlotsAndTable(page, entry, args, result) {
+  const plots = await page.evaluate(() => window.ausbau.plots());
+  result.plots = plots;
+  for (const name of ['clearance', 'rigid', 'clip']) {
+    const plot = plots.find((p) => p.name === name);
+    if (!check(plot, `no '${name}' plot (has: ${plots.map((p) => p.name).join(', ')})`)) continue;
+    check(plot.width > 100 && plot.height > 50, `the '${name}' plot is not drawn (${plot.width} x ${plot.height})`);
+    check(plot.finite >= entry.waypoints && plot.finite > 0.5 * plot.points,
+      `the '${name}' plot has ${plot.finite} values of ${plot.points}`);
+  }
+  // Aligned: the panels are stacked, one width, one x range.
+  const boxes = await page.evaluate(() => Array.from(document.querySelectorAll('#plots canvas.plot'))
+    .map((c) => { const r = c.getBoundingClientRect(); return { left: r.left, width: r.width, top: r.top }; }));
+  check(boxes.every((b) => Math.abs(b.left - boxes[0].left) < 0.5 && Math.abs(b.width - boxes[0].width) < 0.5),
+    'the plots are not aligned (different left edges or widths)');
+  const clearance = plots.find((p) => p.name === 'clearance');
+  check(clearance && clearance.max > 0, 'the clearance plot is zero everywhere');
+  const table = await page.evaluate(() => {
+    const t = document.getElementById('waypoints');
+    if (!t) return null;
+    const head = Array.from(t.tHead.rows[0].cells).map((c) => c.textContent);
+    const rows = Array.from(t.tBodies[0].rows);
+    const col = (name) => head.findIndex((h) => h.startsWith(name));
+    const d = col('part of D'), s = col('part of S');
+    return { head, rows: rows.length, hook: window.ausbau.waypointRows(),
+      dParts: [...new Set(rows.map((r) => r.cells[d].textContent))],
+      sParts: [...new Set(rows.map((r) => r.cells[s].textContent))],
+      firstPose: rows.length ? rows[0].cells[2].textContent : '' };
+  });
+  result.table = table && { rows: table.rows, head: table.head, dParts: table.dParts.slice(0, 5),
+    sParts: table.sParts.slice(0, 5) };
+  if (!check(table, 'no waypoint table (#waypoints)')) return;
+  check(table.rows === entry.waypoints && table.hook === entry.waypoints,
+    `the waypoint table has ${table.rows} rows, the path ${entry.waypoints} waypoints`);
+  for (const h of ['t = ', 'q = ', 'clearance', 'rigid penetration', 'clip intersection', 'part of D', 'part of S']) {
+    check(table.head.some((x) => x.startsWith(h)), `the waypoint table has no '${h}' column (${table.head.join(' | ')})`);
+  }
+  check(table.dParts.every((n) => n && n !== '–' && !/^triangle \d+$/.test(n)) &&
+        table.sParts.every((n) => n && n !== '–' && !/^triangle \d+$/.test(n)),
+    `parts without names: D ${table.dParts.join('; ')} / S ${table.sParts.join('; ')}`);
+  if (args.expectPart) {
+    check(table.dParts.concat(table.sParts).some((n) => n.includes(args.expectPart)),
+      `no part named '${args.expectPart}' (D: ${table.dParts.join('; ')}; S: ${table.sParts.join('; ')})`);
+  }
+}
+
+async function checkSection(page, result) {
+  const before = await page.evaluate(() => window.ausbau.pixelStats());
+  const on = await page.evaluate(() => window.ausbau.setSection('x', 0.5));
+  const cut = await page.evaluate(() => window.ausbau.pixelStats());
+  const off = await page.evaluate(() => window.ausbau.setSection('', 0.5));
+  const after = await page.evaluate(() => window.ausbau.pixelStats());
+  result.section = { on, drawnBefore: before.nonBackground, drawnCut: cut.nonBackground };
+  check(on.axis === 'x' && Number.isFinite(on.position) && on.clippedMaterials >= 2,
+    `the section plane is not applied to S and D: ${JSON.stringify(on)}`);
+  check(cut.hash !== before.hash && cut.nonBackground < before.nonBackground,
+    `the section plane did not cut the picture (${before.nonBackground} -> ${cut.nonBackground} pixels drawn)`);
+  check(off.clippedMaterials === 0 && after.hash === before.hash, 'switching the section plane off does not restore the view');
+}
+
+async function checkMeasurement(page, result) {
+  const px = await page.evaluate(() => window.ausbau.pixelStats());
+  if (!check(px.dPixel && px.sPixel, 'no pixel of D or of S to click')) return;
+  await page.evaluate(() => window.ausbau.setMeasuring(true));
+  await page.mouse.click(px.dPixel.x, px.dPixel.y);
+  await page.mouse.click(px.sPixel.x, px.sPixel.y);
+  const m = await page.evaluate(() => {
+    const r = window.ausbau.measurement();
+    return Object.assign(r, { projected: r.points.map((p) => window.ausbau.project(p)) });
+  });
+  await page.evaluate(() => window.ausbau.setMeasuring(false));
+  result.measurement = { distance: m.distance, on: m.on, text: m.text };
+  if (!check(m.points.length === 2, `two clicks gave ${m.points.length} measured points`)) return;
+  const expected = Math.hypot(...m.points[0].map((c, k) => c - m.points[1][k]));
+  check(m.distance > 0 && Math.abs(m.distance - expected) <= 1e-9 * (1 + expected),
+    `measured distance ${m.distance}, the points are ${expected} apart`);
+  [px.dPixel, px.sPixel].forEach((click, k) => {
+    const p = m.projected[k];
+    check(Math.hypot(p.x - click.x, p.y - click.y) < 2,
+      `measured point ${k + 1} projects to (${p.x}, ${p.y}), not to the click (${click.x}, ${click.y})`);
+  });
+  const shown = /distance ([0-9.e+-]+)/.exec(m.text);
+  check(shown && Math.abs(Number(shown[1]) - expected) <= 1e-5 * expected,
+    `the page does not show the distance ${expected}: '${m.text}'`);
+}
+
+async function checkDownload(page, entry, args, result) {
+  const link = page.locator('#download-' + entry.key);
+  if (!check(await link.count() === 1, `no download link #download-${entry.key}`)) return;
+  const [download] = await Promise.all([page.waitForEvent('download'), link.click()]);
+  const file = await download.path();
+  const got = fs.readFileSync(file, 'utf8'), want = fs.readFileSync(args.csv, 'utf8');
+  result.download = { name: download.suggestedFilename(), bytes: got.length };
+  check(got === want, `the downloaded CSV (${got.length} bytes) differs from ${args.csv} (${want.length} bytes)`);
+}
+
 async function main() {
   const args = parseArgs(process.argv);
   const html = path.resolve(args.html);
@@ -102,7 +233,7 @@ async function main() {
   });
   const result = { html, sizeBytes };
   try {
-    const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+    const page = await browser.newPage({ viewport: { width: 1280, height: 900 }, acceptDownloads: true });
     const consoleErrors = [];
     const external = [];
     page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
@@ -130,6 +261,7 @@ async function main() {
     if (args.expectLabels) {
       check(await page.evaluate(() => window.ausbau.labelsShown()), 'D is not coloured by its labels (or no legend)');
     }
+    await checkHeadline(page, args, result);
     if (args.expectTable) {
       const rows = await page.evaluate((id) => { const t = document.getElementById(id); return t ? t.rows.length : -1; },
         args.expectTable);
@@ -169,6 +301,11 @@ async function main() {
           check(worstMid.dt < 1e-9 && worstMid.dq < 1e-9,
             `mid-segment poses differ from the path.md interpolation (dt ${worstMid.dt}, dq ${worstMid.dq})`);
         }
+        await checkPlotsAndTable(page, entry, args, result);
+        await page.evaluate(() => window.ausbau.setTime(0.5));
+        await checkSection(page, result);
+        await checkMeasurement(page, result);
+        if (args.csv) await checkDownload(page, entry, args, result);
         // The scrubber, with the mouse: D moves and the picture changes.
         const scrubber = page.locator('#scrubber');
         const box = await scrubber.boundingBox();

@@ -9,7 +9,12 @@
 # outside the file, S and D drawn, D at the waypoints and on the path.md
 # interpolation between them, the scrubber moves D, Play advances; then a
 # second report with labels.h5 and verdict.json in the run folder: D coloured,
-# verdict table. Leaves screenshots WORK_DIR/report.png, report-labels.png.
+# verdict table; then the demo's run (pipelines/inistate.mk on
+# scenes/panel-tilt-slide-1, as `make demo`): its headline against its
+# verdict.json, the three plots, the waypoint table with parts named after
+# the mesh files, the section plane, the measurement and the download of
+# path.csv. Leaves screenshots WORK_DIR/report.png, report-labels.png,
+# report-demo.png.
 # Exit 77 (CTest's SKIP_RETURN_CODE) when no Chromium is installed and none
 # can be installed (`scripts/install-deps.sh browser`, which `make test` runs).
 set -euo pipefail
@@ -42,7 +47,7 @@ echo "report_in_browser: reference point $ref, dynamic_origin $origin"
 [ "$ref" != "$origin" ] || { echo "report_in_browser: error: the test scene should have reference point != dynamic_origin" >&2; exit 1; }
 
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --screenshot "$work/report.png" \
-  --csv "$run/path-smooth.csv" --ref "$ref" --origin "$origin" --path-key smoothed
+  --csv "$run/path-smooth.csv" --ref "$ref" --origin "$origin" --path-key smoothed --expect-headline "NO VERDICT"
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --screenshot "$work/report-planned.png" \
   --csv "$run/path.csv" --ref "$(vector reference_point "$run/path.h5")" \
   --origin "$(vector dynamic_origin "$run/path.h5")" --path-key planned
@@ -51,9 +56,24 @@ node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --s
 mkdir -p "$run/labeled"
 cp "$run/path.h5" "$run/path-smooth.h5" "$run/labeled/"
 "$helper" labels "$scene" "$run/labeled/labels.h5"
-echo '{"verdict": "removable", "checks": {"collision_free": true, "min_clearance": 0.0035}, "notes": ["test"]}' \
+echo '{"status": "removable", "checks": {"collision_free": true, "min_clearance": 0.0035}, "notes": ["test"]}' \
   > "$run/labeled/verdict.json"
 "$bin/ausbau-report" --scene "$scene" --run-dir "$run/labeled" -o "$run/report-labels.html" --log-level warn
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report-labels.html" \
-  --screenshot "$work/report-labels.png" --load-only --expect-labels --expect-table json-verdict
-echo "report_in_browser: passed; screenshots $work/report.png, $work/report-labels.png"
+  --screenshot "$work/report-labels.png" --load-only --expect-labels --expect-table json-verdict \
+  --expect-headline REMOVABLE
+
+# The demo's run, as `make demo` makes it.
+repo=$(cd "$here/../.." && pwd)
+demo=$run/demo
+if ! make --no-print-directory -f "$repo/pipelines/inistate.mk" SCENE="$repo/scenes/panel-tilt-slide-1/scene.yaml" \
+     OUT="$demo" BIN="$bin" SEED=1 > "$work/demo.log" 2>&1; then
+  grep -q '"removable"' "$demo/verdict.json" 2>/dev/null || { cat "$work/demo.log" >&2; exit 1; }
+fi
+# The verdict, read independently of ausbau-report.
+if grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' "$demo/verdict.json"; then word=REMOVABLE; else word="NOT REMOVABLE"; fi
+node "$here/report_test.js" --chromium "$chromium" --html "$demo/report.html" --screenshot "$work/report-demo.png" \
+  --csv "$demo/path.csv" --ref "$(vector reference_point "$demo/path-smooth.h5")" \
+  --origin "$(vector dynamic_origin "$demo/path-smooth.h5")" --path-key smoothed --expect-headline "$word" \
+  --expect-part static.stl
+echo "report_in_browser: passed; screenshots $work/report.png, $work/report-labels.png, $work/report-demo.png"
