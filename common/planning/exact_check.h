@@ -4,7 +4,9 @@
 // which is how any other tool reads path.csv, not about the planner's
 // reference point. A path passes when
 //  1. its first waypoint is the scene's start (the installed pose);
-//  2. at its last waypoint D's world AABB is separated from S's;
+//  2. at its last waypoint D's world AABB is separated from S's (for a
+//     scene cropped to D's reach, planning/reach_crop.h: D's AABB is clear
+//     of S by the crop's clearance and inside its box);
 //  3. along the whole interpolated motion, no rigid shell of D penetrates S
 //     deeper than `tolerance` (exact separating-axis depth per shell pair,
 //     collision/rigid_depth.h); fasteners are measured, not judged. Poses
@@ -15,6 +17,11 @@
 //     most that floor.
 // The same shells and roles as the planners (ClassifyParts at the start;
 // `unmeasured` as there).
+// A large S is checked within the smallest crop box (planning/reach_crop.h)
+// that holds D along the whole path, which the check itself ensures (D's
+// bounding ball is kept inside the box, the steps bounded by its distance to
+// the box); S's triangles outside the box cannot touch D, so the answer is
+// the one for the whole S.
 #pragma once
 
 #include <Eigen/Core>
@@ -42,7 +49,9 @@ struct ExactCheckReport {
   double max_fastener_depth = 0;  // deepest fastener penetration (reported)
   int first_bad_segment = -1;     // first segment that breaks the limits
   bool starts_at_start = false;
-  bool ends_separated = false;
+  bool ends_separated = false;         // with a crop: D ends clear of S by the crop's clearance, inside its box
+  int crop_level = -1;                 // the crop the check used (planning/reach_crop.h); -1: the whole S
+  std::int64_t checked_triangles = 0;  // S's triangles the check measured against
   std::shared_ptr<const PartModel> parts;
 };
 

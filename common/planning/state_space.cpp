@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -69,7 +70,37 @@ void CheckHasArea(const TriangleMesh& mesh, const std::filesystem::path& file, c
 
 }  // namespace
 
-PlanningProblem MakePlanningProblem(const Scene& scene) {
+namespace {
+
+// Applies a crop (planning/reach_crop.h) when D's bounding ball fits in its
+// box at the start; otherwise the problem stays uncropped.
+void ApplyCrop(std::optional<ReachCrop> crop, PlanningProblem* problem) {
+  if (!crop) return;
+  Aabb bounds = crop->box;
+  bounds.min.array() += problem->robot_radius;
+  bounds.max.array() -= problem->robot_radius;
+  if (bounds.Empty() || !bounds.Contains(problem->start.t)) return;
+  auto shared = std::make_shared<const ReachCrop>(std::move(*crop));
+  problem->environment = shared->environment;
+  problem->environment_box = problem->environment.Bounds();
+  problem->bounds = bounds;
+  problem->bounded_point.setZero();
+  problem->crop = shared;
+  const Aabb local = problem->robot_local_box;
+  problem->goal_test = [shared, local](const Pose& pose) {
+    const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
+    const Eigen::Vector3d center = rotation * local.Center() + pose.t;
+    const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * local.Size());
+    Aabb box;
+    box.min = center - half;
+    box.max = center + half;
+    return shared->InGoal(box);
+  };
+}
+
+}  // namespace
+
+PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level) {
   CheckHasArea(scene.dynamic_mesh, scene.dynamic_file, "the part D");
   PlanningProblem problem;
   const Aabb mesh_box = scene.dynamic_mesh.Bounds();
@@ -88,6 +119,7 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
   if (scene.goal) problem.goal = problem.SceneToPlanning(*scene.goal);
 
   const std::string where = scene.file.string();
+  if (!scene.bounds && !scene.goal) ApplyCrop(ChooseReachCrop(scene, crop_level), &problem);
   if (scene.bounds) {
     problem.bounds = *scene.bounds;
     problem.bounds_given = true;
@@ -100,6 +132,11 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
       throw InputErrorAt(where, "goal position " + Format(scene.goal->t) + " lies outside bounds " +
                                     Format(problem.bounds.min) + " .. " + Format(problem.bounds.max));
     }
+  } else if (problem.crop) {
+    LogInfo("S cropped to D's reach (level %d): %lld of %lld triangles, box %s .. %s, goal clearance %.4g",
+            problem.crop->level, static_cast<long long>(problem.crop->kept_triangles),
+            static_cast<long long>(problem.crop->full_triangles), Format(problem.crop->box.min).c_str(),
+            Format(problem.crop->box.max).c_str(), problem.crop->clearance);
   } else {
     Aabb box = problem.environment_box;
     box.Extend(problem.start.t);

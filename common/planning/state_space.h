@@ -16,6 +16,7 @@
 #include "core/random.h"
 #include "geometry/mesh.h"
 #include "geometry/pose.h"
+#include "planning/reach_crop.h"
 
 namespace ausbau {
 
@@ -60,7 +61,11 @@ struct PlanningProblem {
   Aabb robot_local_box;       // AABB of `robot`
   double robot_radius = 0;    // max distance of a vertex of D from the reference point
   double robot_diagonal = 0;  // diagonal of D's AABB
-  Aabb environment_box;       // AABB of S
+  Aabb environment_box;       // AABB of S (of the cropped S when `crop` is set)
+  // Set when S is cropped to D's reach (planning/reach_crop.h): then
+  // `environment` is the cropped S, `bounds` keep D inside crop->box and
+  // `goal_test` is crop->InGoal.
+  std::shared_ptr<const ReachCrop> crop;
   Metric metric;
 
   Pose SceneToPlanning(const Pose& scene_pose) const;
@@ -90,7 +95,11 @@ struct PlanningProblem {
 // goal) positions, grown by 1.5x D's AABB diagonal on every side, which leaves
 // room for D to leave S's AABB in any direction. Throws InputError when
 // start or goal lie outside the bounds.
-PlanningProblem MakePlanningProblem(const Scene& scene);
+// A large S is cropped to D's reach at `crop_level` (planning/reach_crop.h:
+// the rule, the bounds, the goal); at a level whose box holds all of S, or
+// for a scene the rule does not crop, `crop` stays empty and the problem is
+// the uncropped one.
+PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level = 0);
 
 // A pose in the disassembly goal region and in bounds (collision-free by
 // construction: D's AABB is separated from S's). False after 100 misses.

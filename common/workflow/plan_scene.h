@@ -34,6 +34,9 @@ struct PlanSceneOptions {
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
   bool verify = true;  // the independent dense (or exact) re-check of the result
+  // rigid-exact: how often the crop of a large S around D may grow when no
+  // path is found (planning/reach_crop.h); -1: until it holds all of S.
+  int max_crop_level = -1;
 
   // Throws InputError naming the flag of a value that does not fit.
   void Check() const;
