@@ -1,5 +1,6 @@
 #include "planning/state_space.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <sstream>
@@ -153,6 +154,16 @@ PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level) {
   }
   if (!(problem.robot_diagonal > 0)) throw InputErrorAt(where, "the dynamic part D has zero extent");
   return problem;
+}
+
+PlanningProblem MakePlanningProblemHolding(const Scene& scene, const std::vector<Pose>& scene_waypoints) {
+  for (int level = 0;; ++level) {
+    PlanningProblem problem = MakePlanningProblem(scene, level);
+    if (!problem.crop) return problem;
+    const bool holds = std::all_of(scene_waypoints.begin(), scene_waypoints.end(),
+                                   [&](const Pose& pose) { return problem.InBounds(problem.SceneToPlanning(pose)); });
+    if (holds) return problem;
+  }
 }
 
 bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose) {

@@ -11,6 +11,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "collision/validity.h"
 #include "core/random.h"
@@ -100,6 +101,11 @@ struct PlanningProblem {
 // for a scene the rule does not crop, `crop` stays empty and the problem is
 // the uncropped one.
 PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level = 0);
+
+// The problem at the smallest crop level whose bounds hold every waypoint
+// (scene convention) of a path planned before (the smoother's and the
+// report's problem for a path that may have been found at a grown crop).
+PlanningProblem MakePlanningProblemHolding(const Scene& scene, const std::vector<Pose>& scene_waypoints);
 
 // A pose in the disassembly goal region and in bounds (collision-free by
 // construction: D's AABB is separated from S's). False after 100 misses.

@@ -28,7 +28,7 @@ struct SmoothStageOptions {
 int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   options.smooth.smooth.Check();
   const PathArtifact input = ReadPathArtifact(options.path);
-  const PlanningProblem problem = MakePlanningProblem(run.scene);
+  const PlanningProblem problem = MakePlanningProblemHolding(run.scene, input.waypoints);
   const SmoothedPath smoothed = SmoothPlannedPath(run.scene, problem, input, options.path, options.smooth);
   WritePathArtifact(run.output, smoothed.artifact, run.provenance);
   if (!options.csv.empty()) WritePathCsv(options.csv, smoothed.artifact.waypoints);
@@ -44,7 +44,7 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
   const PathArtifact cached = ReadPathArtifact(run.output);
   if (!options.csv.empty()) WritePathCsv(options.csv, cached.waypoints);
   if (!options.profile.empty() && !std::filesystem::exists(options.profile)) {
-    const PlanningProblem problem = MakePlanningProblem(run.scene);
+    const PlanningProblem problem = MakePlanningProblemHolding(run.scene, cached.waypoints);
     std::unique_ptr<VolumeModel> model;
     if (IsVolumeValidity(cached.validity)) {
       model = LoadVolumeModel(run.scene, problem, ParseValidityMode(cached.validity), options.smooth.volume);
