@@ -180,6 +180,21 @@ TEST(ReachCrop, ExactCheckRejectsAnEndThatIsNotClear) {
   EXPECT_NE(report.reason.find("clear of S"), std::string::npos) << report.reason;
 }
 
+TEST(ReachCrop, SmootherTakesTheLevelThatHoldsThePath) {
+  const Scene scene = VehicleScene(0);
+  const PlanningProblem level0 = MakePlanningProblem(scene, 0);
+  ASSERT_NE(level0.crop, nullptr);
+  // A waypoint just beyond level 0's bounds (along the axis of the largest
+  // room) lies inside level 1's.
+  Pose far = scene.start;
+  far.t.x() += level0.bounds.max.x() - level0.start.t.x() + 1.0;
+  EXPECT_FALSE(level0.InBounds(level0.SceneToPlanning(far)));
+  const PlanningProblem holding = MakePlanningProblemHolding(scene, {scene.start, far});
+  ASSERT_NE(holding.crop, nullptr);
+  EXPECT_EQ(holding.crop->level, 1);
+  EXPECT_EQ(MakePlanningProblemHolding(scene, {scene.start}).crop->level, 0);
+}
+
 TEST(ReachCrop, SmallScenesAndScenesWithBoundsAreNotCropped) {
   const auto dir = std::filesystem::temp_directory_path() / "ausbau-test-reach-crop";
   std::filesystem::remove_all(dir);
