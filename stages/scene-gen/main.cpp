@@ -82,7 +82,8 @@ int main(int argc, char** argv) {
             std::string all;
             for (const auto& f : known) all += f + ", ";
             for (const auto& f : ClipSceneFamilies()) all += f + ", ";
-            for (const auto& f : BoxSceneFamilies()) all += f + (f == BoxSceneFamilies().back() ? "" : ", ");
+            for (const auto& f : BoxSceneFamilies()) all += f + ", ";
+            all += "vehicle";
             throw InputError("--family: unknown family '" + family + "' (expected one of " + all + ")");
           }
           if (triangles != 0) throw InputError("--triangles: applies only to the clips-ds* families");
