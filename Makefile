@@ -209,6 +209,20 @@ bench-end-to-end: build
 	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --output-dir $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
 	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"
 
+# The vehicle benchmark (issue 18, item 4; scripts/vehicle-bench.sh): a
+# generated body shell of ~1.2M triangles with VEHICLE_PARTS fastened parts,
+# every part's pipeline with a budget, a table in VEHICLE_OUT/vehicle-bench.md
+# (verdict, time, peak memory per part). About 1-2 min per part on 2 busy
+# cores; VEHICLE_RUN=10 runs the first ten only.
+VEHICLE_OUT ?= out/bench-vehicle
+VEHICLE_PARTS ?= 50
+VEHICLE_RUN ?= $(VEHICLE_PARTS)
+VEHICLE_BUDGET ?= 120
+
+.PHONY: bench-vehicle
+bench-vehicle: build
+	@scripts/vehicle-bench.sh $(BUILD)/bin $(VEHICLE_OUT) $(VEHICLE_PARTS) $(VEHICLE_RUN) $(VEHICLE_BUDGET)
+
 # libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints

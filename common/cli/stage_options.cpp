@@ -75,6 +75,12 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
   stage.InputFile("--tau-file", &plan->tau_file, "tau", "tau and psi from ausbau-tau-estimate (HDF5)");
   stage.app().add_option("--psi", plan->psi,
                          "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+  stage
+      .Option("--max-crop-level", &plan->max_crop_level,
+              "rigid-exact on a large S: how often the crop around D may double when no path is found "
+              "(README: cropping S to D's reach); -1: until it holds all of S",
+              CacheKey::kYes)
+      ->check(CLI::Range(-1, 1000));
   stage.Option("--rigid-planner", &plan->rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
                CacheKey::kYes);
   stage.Option("--distfield", &plan->distfield,

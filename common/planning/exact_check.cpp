@@ -7,6 +7,7 @@
 #include "core/format.h"
 #include "geometry/principal_axes.h"
 #include "planning/scene_goal.h"
+#include "planning/reach_crop.h"
 #include "scene/scene.h"
 #include "scene/units.h"
 
@@ -57,8 +58,11 @@ namespace {
 // `largest_step`) until a rigid shell goes deeper than the tolerance (then
 // bisected between the last free pose and that one, so that the distance
 // does not depend on where the steps fell) or D's box clears S's.
+// With a crop (planning/reach_crop.h), "clears" means the crop's goal, and
+// the pull stops unfinished where D would leave the crop's box.
 BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const RigidDepthChecker& checker,
-                   const Aabb& robot_box, const Aabb& static_box, double tolerance, double reach, double largest_step) {
+                   const Aabb& robot_box, const Aabb& static_box, const ReachCrop* crop, double tolerance, double reach,
+                   double largest_step) {
   BlockingProbe probe;
   probe.direction = direction;
   const auto at = [&](double distance) {
@@ -91,10 +95,11 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
     Aabb moved = robot_box;
     moved.min += s * direction;
     moved.max += s * direction;
-    if (moved.SeparatedFrom(static_box)) {
+    if (crop ? crop->InGoal(moved) : moved.SeparatedFrom(static_box)) {
       probe.separated = true;
       return probe;
     }
+    if (crop && !(crop->box.Contains(moved.min) && crop->box.Contains(moved.max))) return probe;
     s += std::min(largest_step, std::max(depth.slack, tolerance / 10));
   }
   return probe;
@@ -105,6 +110,14 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
 BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured,
                                std::shared_ptr<const PartModel> parts) {
   BlockingReport report;
+  // A large S: the pulls stay within D's reach (level 0), against the
+  // cropped S unless the caller's parts were classified already.
+  const std::optional<ReachCrop> crop = ChooseReachCrop(scene, 0);
+  if (!parts && crop) {
+    Scene cropped = scene;
+    cropped.static_mesh = crop->environment;
+    parts = ClassifySceneParts(cropped, tolerance, unmeasured);
+  }
   report.parts = parts ? std::move(parts) : ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   const Aabb static_box = scene.static_mesh.Bounds();
@@ -118,8 +131,8 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {1.0, -1.0}) {
-      report.probes.push_back(
-          Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box, tolerance, reach, largest_step));
+      report.probes.push_back(Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box,
+                                   crop ? &*crop : nullptr, tolerance, reach, largest_step));
     }
   }
   for (std::size_t i = 0; i < report.probes.size(); ++i) {
@@ -150,13 +163,16 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   return report;
 }
 
-ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
-                                UnmeasuredInterference unmeasured) {
+namespace {
+
+// The exact check against `scene` (whose S is the cropped S when `crop` is
+// set). With a crop, D's bounding ball must stay inside crop->box at every
+// checked pose, and the advancement steps are bounded by how far it is from
+// the box's faces, so D stays inside between checked poses too; when it
+// does not, *left_crop is set and the check stops.
+ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const std::vector<Pose>& waypoints,
+                             double tolerance, UnmeasuredInterference unmeasured, bool* left_crop) {
   ExactCheckReport report;
-  if (waypoints.empty()) {
-    report.reason = "the path has no waypoint";
-    return report;
-  }
   report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   TriangleMesh robot = scene.dynamic_mesh;
@@ -172,11 +188,22 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
   // Exact world AABB of D at the last waypoint against S's.
   Aabb last_box;
   for (const auto& v : robot.vertices) last_box.Extend(waypoints.back().Apply(v));
-  report.ends_separated = last_box.SeparatedFrom(scene.static_mesh.Bounds());
-  const SceneGoal goal(scene);
-  const GoalOutcome end = goal.Check(waypoints.back());
+  // A cropped scene (planning/reach_crop.h; only for the default goal) has
+  // the crop's goal: clear of S by its clearance and inside its box, which
+  // holds for the whole S. Otherwise the scene's goal (SceneGoal).
+  GoalOutcome end;
+  if (crop) {
+    end.met = crop->InGoal(last_box) && crop->box.Contains(last_box.min) && crop->box.Contains(last_box.max);
+    if (!end.met) end.why_not = "D is not clear of S by the crop's clearance inside the crop's box";
+    report.ends_separated = end.met;
+    report.goal = "D clear of S (S cropped to D's reach, planning/reach_crop.h)";
+  } else {
+    report.ends_separated = last_box.SeparatedFrom(scene.static_mesh.Bounds());
+    const SceneGoal goal(scene);
+    end = goal.Check(waypoints.back());
+    report.goal = goal.Describe();
+  }
   report.ends_in_goal = end.met;
-  report.goal = goal.Describe();
 
   auto judge = [&](const Pose& pose, int segment, double fraction) {
     ++report.poses_checked;
@@ -191,6 +218,11 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     }
     report.max_fastener_depth = std::max(report.max_fastener_depth, depth.fastener_depth);
     if (depth.slack < 0 && report.first_bad_segment < 0) report.first_bad_segment = segment;
+    if (crop) {
+      const double inside = crop->BallSlack(pose.Apply(c), radius_c);
+      if (inside < tolerance / 10) *left_crop = true;
+      return std::clamp(inside, 0.0, std::max(depth.slack, 0.0));
+    }
     return std::max(depth.slack, 0.0);
   };
 
@@ -211,8 +243,12 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     const double per_unit = (v + omega.cross(a.q * c)).norm() + angle * angle * c.norm() + angle * radius_c + 1e-300;
     double s = 0;
     while (s < 1.0) {
+      // Inside a crop `slack` is at most the ball's distance to the box's
+      // faces, which judge() keeps >= tolerance / 10, so D stays inside the
+      // box between checked poses.
       s = std::min(1.0, s + std::max(slack, tolerance / 10) / per_unit);
       slack = judge(Interpolate(a, b, s), static_cast<int>(i), s);
+      if (left_crop && *left_crop) return report;
     }
   }
   std::vector<std::string> problems;
@@ -231,6 +267,44 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
                            report.parts->Describe(report.static_shell, false).c_str()));
   report.valid = problems.empty();
   for (const auto& p : problems) report.reason += (report.reason.empty() ? "" : "; ") + p;
+  return report;
+}
+
+}  // namespace
+
+ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
+                                UnmeasuredInterference unmeasured) {
+  if (waypoints.empty()) {
+    ExactCheckReport report;
+    report.reason = "the path has no waypoint";
+    return report;
+  }
+  // The smallest crop level (planning/reach_crop.h) whose box holds D along
+  // the path; none (the whole S) when no level does or the scene is not
+  // cropped.
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& v : robot.vertices) v -= scene.dynamic_origin;
+  const Eigen::Vector3d c = robot.Bounds().Center();
+  double radius_c = 0;
+  for (const auto& v : robot.vertices) radius_c = std::max(radius_c, (v - c).norm());
+  for (int level = 0;; ++level) {
+    std::optional<ReachCrop> crop = ChooseReachCrop(scene, level);
+    if (!crop) break;
+    const bool holds = std::all_of(waypoints.begin(), waypoints.end(), [&](const Pose& pose) {
+      return crop->BallSlack(pose.Apply(c), radius_c) >= tolerance / 10;
+    });
+    if (!holds) continue;
+    Scene cropped = scene;
+    cropped.static_mesh = crop->environment;
+    bool left = false;
+    ExactCheckReport report = CheckPathIn(cropped, &*crop, waypoints, tolerance, unmeasured, &left);
+    if (left) continue;
+    report.crop_level = level;
+    report.checked_triangles = crop->kept_triangles;
+    return report;
+  }
+  ExactCheckReport report = CheckPathIn(scene, nullptr, waypoints, tolerance, unmeasured, nullptr);
+  report.checked_triangles = static_cast<std::int64_t>(scene.static_mesh.triangles.size());
   return report;
 }
 

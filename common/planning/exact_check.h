@@ -7,6 +7,8 @@
 //  2. its last waypoint meets the scene's goal (planning/scene_goal.h): by
 //     default D's world AABB separated from S's; the goal pose; or the
 //     goal condition (clearance from S, region of dynamic_origin);
+//     (for a scene cropped to D's reach, planning/reach_crop.h: D's AABB is
+//     clear of S by the crop's clearance and inside its box);
 //  3. along the whole interpolated motion, no rigid shell of D penetrates S
 //     deeper than `tolerance` (exact separating-axis depth per shell pair,
 //     collision/rigid_depth.h); fasteners are measured, not judged. Poses
@@ -17,6 +19,11 @@
 //     most that floor.
 // The same shells and roles as the planners (ClassifyParts at the start;
 // `unmeasured` as there).
+// A large S is checked within the smallest crop box (planning/reach_crop.h)
+// that holds D along the whole path, which the check itself ensures (D's
+// bounding ball is kept inside the box, the steps bounded by its distance to
+// the box); S's triangles outside the box cannot touch D, so the answer is
+// the one for the whole S.
 #pragma once
 
 #include <Eigen/Core>
@@ -47,6 +54,8 @@ struct ExactCheckReport {
   bool ends_separated = false;  // D's exact AABB at the last waypoint clear of S's
   bool ends_in_goal = false;    // the last waypoint meets the scene's goal (SceneGoal)
   std::string goal;             // the goal, in words (SceneGoal::Describe)
+  int crop_level = -1;                 // the crop the check used (planning/reach_crop.h); -1: the whole S
+  std::int64_t checked_triangles = 0;  // S's triangles the check measured against
   std::shared_ptr<const PartModel> parts;
 };
 

@@ -1,11 +1,13 @@
 #include "planning/state_space.h"
 
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <sstream>
 
 #include "core/error.h"
 #include "planning/scene_goal.h"
+#include "core/log.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -70,7 +72,37 @@ void CheckHasArea(const TriangleMesh& mesh, const std::filesystem::path& file, c
 
 }  // namespace
 
-PlanningProblem MakePlanningProblem(const Scene& scene) {
+namespace {
+
+// Applies a crop (planning/reach_crop.h) when D's bounding ball fits in its
+// box at the start; otherwise the problem stays uncropped.
+void ApplyCrop(std::optional<ReachCrop> crop, PlanningProblem* problem) {
+  if (!crop) return;
+  Aabb bounds = crop->box;
+  bounds.min.array() += problem->robot_radius;
+  bounds.max.array() -= problem->robot_radius;
+  if (bounds.Empty() || !bounds.Contains(problem->start.t)) return;
+  auto shared = std::make_shared<const ReachCrop>(std::move(*crop));
+  problem->environment = shared->environment;
+  problem->environment_box = problem->environment.Bounds();
+  problem->bounds = bounds;
+  problem->bounded_point.setZero();
+  problem->crop = shared;
+  const Aabb local = problem->robot_local_box;
+  problem->goal_test = [shared, local](const Pose& pose) {
+    const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
+    const Eigen::Vector3d center = rotation * local.Center() + pose.t;
+    const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * local.Size());
+    Aabb box;
+    box.min = center - half;
+    box.max = center + half;
+    return shared->InGoal(box);
+  };
+}
+
+}  // namespace
+
+PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level) {
   CheckHasArea(scene.dynamic_mesh, scene.dynamic_file, "the part D");
   PlanningProblem problem;
   const Aabb mesh_box = scene.dynamic_mesh.Bounds();
@@ -93,6 +125,7 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
   }
 
   const std::string where = scene.file.string();
+  if (!scene.bounds && !scene.goal) ApplyCrop(ChooseReachCrop(scene, crop_level), &problem);
   if (scene.bounds) {
     problem.bounds = *scene.bounds;
     problem.bounds_given = true;
@@ -105,6 +138,11 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
       throw InputErrorAt(where, "goal position " + Format(scene.goal->t) + " lies outside bounds " +
                                     Format(problem.bounds.min) + " .. " + Format(problem.bounds.max));
     }
+  } else if (problem.crop) {
+    LogInfo("S cropped to D's reach (level %d): %lld of %lld triangles, box %s .. %s, goal clearance %.4g",
+            problem.crop->level, static_cast<long long>(problem.crop->kept_triangles),
+            static_cast<long long>(problem.crop->full_triangles), Format(problem.crop->box.min).c_str(),
+            Format(problem.crop->box.max).c_str(), problem.crop->clearance);
   } else {
     Aabb box = problem.environment_box;
     box.Extend(problem.start.t);
@@ -127,6 +165,16 @@ PlanningProblem MakePlanningProblem(const Scene& scene) {
   }
   if (!(problem.robot_diagonal > 0)) throw InputErrorAt(where, "the dynamic part D has zero extent");
   return problem;
+}
+
+PlanningProblem MakePlanningProblemHolding(const Scene& scene, const std::vector<Pose>& scene_waypoints) {
+  for (int level = 0;; ++level) {
+    PlanningProblem problem = MakePlanningProblem(scene, level);
+    if (!problem.crop) return problem;
+    const bool holds = std::all_of(scene_waypoints.begin(), scene_waypoints.end(),
+                                   [&](const Pose& pose) { return problem.InBounds(problem.SceneToPlanning(pose)); });
+    if (holds) return problem;
+  }
 }
 
 bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose) {

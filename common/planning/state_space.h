@@ -11,11 +11,13 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "collision/validity.h"
 #include "core/random.h"
 #include "geometry/mesh.h"
 #include "geometry/pose.h"
+#include "planning/reach_crop.h"
 
 namespace ausbau {
 
@@ -60,7 +62,11 @@ struct PlanningProblem {
   Aabb robot_local_box;       // AABB of `robot`
   double robot_radius = 0;    // max distance of a vertex of D from the reference point
   double robot_diagonal = 0;  // diagonal of D's AABB
-  Aabb environment_box;       // AABB of S
+  Aabb environment_box;       // AABB of S (of the cropped S when `crop` is set)
+  // Set when S is cropped to D's reach (planning/reach_crop.h): then
+  // `environment` is the cropped S, `bounds` keep D inside crop->box and
+  // `goal_test` is crop->InGoal.
+  std::shared_ptr<const ReachCrop> crop;
   Metric metric;
 
   Pose SceneToPlanning(const Pose& scene_pose) const;
@@ -96,7 +102,16 @@ struct PlanningProblem {
 // goal) positions, grown by 1.5x D's AABB diagonal on every side, which leaves
 // room for D to leave S's AABB in any direction. Throws InputError when
 // start or goal lie outside the bounds.
-PlanningProblem MakePlanningProblem(const Scene& scene);
+// A large S is cropped to D's reach at `crop_level` (planning/reach_crop.h:
+// the rule, the bounds, the goal); at a level whose box holds all of S, or
+// for a scene the rule does not crop, `crop` stays empty and the problem is
+// the uncropped one.
+PlanningProblem MakePlanningProblem(const Scene& scene, int crop_level = 0);
+
+// The problem at the smallest crop level whose bounds hold every waypoint
+// (scene convention) of a path planned before (the smoother's and the
+// report's problem for a path that may have been found at a grown crop).
+PlanningProblem MakePlanningProblemHolding(const Scene& scene, const std::vector<Pose>& scene_waypoints);
 
 // A pose in the goal region (InGoalRegion) and in bounds, drawn uniformly in
 // the bounds, or with goal_region set, with dynamic_origin uniformly in that

@@ -195,14 +195,13 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
 // densified file passes the full tolerance), its fasteners free
 // (collision/rigid_depth.h). A collision-free start is the same problem
 // without fasteners: plain rigid planning with a tolerance.
-PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
-  bool assumed = false;
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
-  if (assumed) {
-    LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
-            options.volume.rigid_tolerance_mm);
-  }
-  const PlanningProblem problem = MakePlanningProblem(scene);
+// One crop level (planning/reach_crop.h) with `time_limit_s`; *cropped
+// says whether the level cropped S.
+PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene, int crop_level, double time_limit_s,
+                             bool* cropped) {
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const PlanningProblem problem = MakePlanningProblem(scene, crop_level);
+  *cropped = problem.crop != nullptr;
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
   LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s", scene.name.c_str(),
           parts->robot_shells.size(), parts->FastenerCount(), parts->Describe(parts->anchor, true).c_str(),
@@ -231,8 +230,10 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   }
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
   CheckEndpoints(problem, checker, scene.file.string());
+  PlannerOptions planner = ResolvedPlanner(options, false);
+  planner.time_limit_s = time_limit_s;
   bool budget_bound = false;
-  const PlannerOptions planner = WithinDeadline(ResolvedPlanner(options, false), options.deadline, &budget_bound);
+  planner = WithinDeadline(planner, options.deadline, &budget_bound);
   LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
           planner.planner.c_str(), static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
           parts->FastenerCount() > 0 ? "fastened" : "collision-free");
@@ -263,6 +264,35 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   return planned;
 }
 
+// Rigid-exact planning within D's reach, grown as needed: crop level 0,
+// then each level doubles the margin (planning/reach_crop.h) while no path
+// is found, up to the uncropped scene or --max-crop-level. The time limit
+// is shared evenly among the levels that may be tried.
+PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
+  bool assumed = false;
+  RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
+  if (assumed) {
+    LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
+            options.volume.rigid_tolerance_mm);
+  }
+  int levels = 1;  // the levels that crop, then one uncropped (unless capped)
+  while (ChooseReachCrop(scene, levels - 1) && (options.max_crop_level < 0 || levels - 1 < options.max_crop_level)) {
+    ++levels;
+  }
+  const double share = options.planner.time_limit_s / levels;
+  for (int level = 0;; ++level) {
+    bool cropped = false;
+    PlannedPath planned = PlanRigidExactAt(options, scene, level, share, &cropped);
+    if (planned.artifact.success || !cropped || planned.artifact.planner == "none") return planned;
+    if (planned.artifact.stopped_by_budget) return planned;  // the time budget is used up: no larger crop
+    if (options.max_crop_level >= 0 && level >= options.max_crop_level) {
+      LogError("no path within D's reach up to crop level %d (--max-crop-level)", level);
+      return planned;
+    }
+    LogInfo("no path within the crop of level %d: growing it (margin x2)", level);
+  }
+}
+
 }  // namespace
 
 std::vector<std::string> PlanValidityNames() {
@@ -286,6 +316,7 @@ void PlanSceneOptions::Check() const {
     if (tau >= 0 || !tau_file.empty() || psi > 0) {
       throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
     }
+    if (max_crop_level < -1) throw InputError("--max-crop-level: must be >= -1");
     if (!(volume.rigid_tolerance_mm > 0) || !std::isfinite(volume.rigid_tolerance_mm)) {
       throw InputError("--rigid-tolerance: must be a positive number (mm)");
     }
@@ -300,6 +331,7 @@ void PlanSceneOptions::Check() const {
   }
   if (!(tau < 0 || std::isfinite(tau))) throw InputError("--tau: must be a finite number");
   if (!(psi >= 0) || !std::isfinite(psi)) throw InputError("--psi: must be >= 0");
+  if (max_crop_level < -1) throw InputError("--max-crop-level: must be >= -1");
   ResolvedPlanner(*this, volume_mode).Check();
   PlannerOptions rigid = planner;
   rigid.planner = rigid_planner;

@@ -38,6 +38,9 @@ struct PlanSceneOptions {
   // are cut to what is left before it; an unsolved run it ended is marked
   // stopped_by_budget in the artifact. 0: none.
   double deadline = 0;
+  // rigid-exact: how often the crop of a large S around D may grow when no
+  // path is found (planning/reach_crop.h); -1: until it holds all of S.
+  int max_crop_level = -1;
 
   // Throws InputError naming the flag of a value that does not fit.
   void Check() const;

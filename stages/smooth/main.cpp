@@ -29,7 +29,7 @@ struct SmoothStageOptions {
 int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   options.smooth.smooth.Check();
   const PathArtifact input = ReadPathArtifact(options.path);
-  const PlanningProblem problem = MakePlanningProblem(run.scene);
+  const PlanningProblem problem = MakePlanningProblemHolding(run.scene, input.waypoints);
   // Within the time budget: smoothing stops early with a shorter path so
   // far (every shortcut it keeps is checked), never a worse one.
   SmoothPlannedPathOptions smooth = options.smooth;
@@ -51,7 +51,7 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
   const PathArtifact cached = ReadPathArtifact(run.output);
   if (!options.csv.empty()) WritePathCsv(options.csv, cached.waypoints);
   if (!options.profile.empty() && !std::filesystem::exists(options.profile)) {
-    const PlanningProblem problem = MakePlanningProblem(run.scene);
+    const PlanningProblem problem = MakePlanningProblemHolding(run.scene, cached.waypoints);
     std::unique_ptr<VolumeModel> model;
     if (IsVolumeValidity(cached.validity)) {
       model = LoadVolumeModel(run.scene, problem, ParseValidityMode(cached.validity), options.smooth.volume);

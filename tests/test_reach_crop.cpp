@@ -1,0 +1,217 @@
+// Cropping S to D's reach (planning/reach_crop.h) on a small generated
+// vehicle (fixtures/vehicle.h): the cropped S is small, the planned path is
+// valid against the whole S, a riveted part stays blocked, small scenes are
+// not cropped.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "fixtures/generators.h"
+#include "fixtures/vehicle.h"
+#include "geometry/triangle_box.h"
+#include "planning/exact_check.h"
+#include "planning/reach_crop.h"
+#include "planning/state_space.h"
+#include "scene/scene.h"
+#include "workflow/plan_scene.h"
+
+namespace ausbau {
+namespace {
+
+// A shell of ~234k triangles (over kCropMinTriangles), 5 parts: part 4 is
+// riveted, the others clipped.
+const VehicleModel& SmallVehicle() {
+  static const VehicleModel model = [] {
+    VehicleOptions options;
+    options.parts = 5;
+    options.cell = 8.0;
+    options.scale = 0.35;
+    return MakeVehicle(options);
+  }();
+  return model;
+}
+
+Scene VehicleScene(int part) {
+  const VehicleModel& model = SmallVehicle();
+  Scene scene;
+  scene.file = "vehicle-test/scene.yaml";
+  scene.name = "vehicle-test-" + std::to_string(part);
+  scene.units = "mm";
+  scene.static_mesh = model.shell;
+  for (size_t q = 0; q < model.parts.size(); ++q) {
+    if (static_cast<int>(q) != part) scene.static_mesh.Append(model.parts[q]);
+  }
+  scene.dynamic_mesh = model.parts[part];
+  return scene;
+}
+
+// D's AABB at `pose` (scene convention) grown by `clearance` overlaps no
+// triangle of `mesh`: a brute-force pass over the whole S.
+bool ClearOfAll(const Scene& scene, const TriangleMesh& mesh, const Pose& pose, double clearance) {
+  Aabb box;
+  for (const auto& v : scene.dynamic_mesh.vertices) box.Extend(pose.Apply(v - scene.dynamic_origin));
+  box.min.array() -= clearance;
+  box.max.array() += clearance;
+  for (const auto& t : mesh.triangles) {
+    if (TriangleOverlapsBox(box.Center(), 0.5 * box.Size(), mesh.vertices[t[0]], mesh.vertices[t[1]],
+                            mesh.vertices[t[2]], SatRounding::kPerAxisHalfExtent)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(ReachCrop, VehicleGeneratorMakesFastenedParts) {
+  const VehicleModel& model = SmallVehicle();
+  EXPECT_GT(static_cast<std::int64_t>(model.shell.triangles.size()), kCropMinTriangles);
+  ASSERT_EQ(model.parts.size(), 5u);
+  EXPECT_FALSE(model.riveted[0]);
+  EXPECT_TRUE(model.riveted[4]);
+  // Deterministic.
+  VehicleOptions options;
+  options.parts = 5;
+  options.cell = 8.0;
+  options.scale = 0.35;
+  const VehicleModel again = MakeVehicle(options);
+  EXPECT_EQ(again.shell.triangles, model.shell.triangles);
+  EXPECT_EQ(again.parts[3].vertices, model.parts[3].vertices);
+}
+
+TEST(ReachCrop, PartFarFromMostOfSKeepsFewTriangles) {
+  const Scene scene = VehicleScene(0);
+  const auto crop = ChooseReachCrop(scene, 0);
+  ASSERT_TRUE(crop.has_value());
+  const std::int64_t full = static_cast<std::int64_t>(scene.static_mesh.triangles.size());
+  EXPECT_EQ(crop->full_triangles, full);
+  EXPECT_GT(crop->kept_triangles, 0);
+  EXPECT_LT(crop->kept_triangles * 50, full);
+  // Level 0: D's installed box grown by 1.5 diagonals.
+  const Aabb installed = InstalledBox(scene);
+  EXPECT_NEAR(crop->box.min.x(), installed.min.x() - kCropMargin * installed.Diagonal(), 1e-9);
+  EXPECT_NEAR(crop->clearance, kCropClearance * installed.Diagonal(), 1e-12);
+  // Every triangle it drops lies outside the box grown by the clearance.
+  Aabb grown = crop->box;
+  grown.min.array() -= crop->clearance;
+  grown.max.array() += crop->clearance;
+  std::int64_t touching = 0;
+  for (const auto& t : scene.static_mesh.triangles) {
+    Aabb tbox;
+    for (int i : t) tbox.Extend(scene.static_mesh.vertices[i]);
+    touching += !tbox.SeparatedFrom(grown);
+  }
+  EXPECT_EQ(touching, crop->kept_triangles);
+  // The next level doubles the margin.
+  const auto level1 = ChooseReachCrop(scene, 1);
+  ASSERT_TRUE(level1.has_value());
+  EXPECT_NEAR(installed.min.x() - level1->box.min.x(), 2 * (installed.min.x() - crop->box.min.x()), 1e-9);
+  EXPECT_GT(level1->kept_triangles, crop->kept_triangles);
+
+  // The planning problem: the cropped S, bounds that keep D's ball inside
+  // the box, the start (fastened) not in the goal.
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  ASSERT_NE(problem.crop, nullptr);
+  EXPECT_EQ(static_cast<std::int64_t>(problem.environment.triangles.size()), crop->kept_triangles);
+  EXPECT_GE(problem.crop->BallSlack(problem.bounds.min, problem.robot_radius), -1e-9);
+  EXPECT_GE(problem.crop->BallSlack(problem.bounds.max, problem.robot_radius), -1e-9);
+  EXPECT_FALSE(problem.InGoalRegion(problem.start));
+  // Lifted 100 mm clear along the roof's normal (+z: part 0 sits on the
+  // roof or a side; any axis that clears it will do): in the goal.
+  bool some_direction_clears = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double sign : {1.0, -1.0}) {
+      Pose moved = problem.start;
+      moved.t[axis] += sign * 0.7 * (crop->box.Size()[axis] / 2 - problem.robot_radius);
+      if (problem.InBounds(moved) && problem.InGoalRegion(moved)) some_direction_clears = true;
+    }
+  }
+  EXPECT_TRUE(some_direction_clears);
+}
+
+TEST(ReachCrop, PlannedPathIsValidAgainstTheWholeS) {
+  const Scene scene = VehicleScene(0);
+  PlanSceneOptions options;
+  options.validity = "rigid-exact";
+  options.planner.time_limit_s = 30;
+  options.planner.seed = 1;
+  const PlannedPath planned = PlanScene(scene, options);
+  ASSERT_TRUE(planned.artifact.success);
+  const std::vector<Pose>& path = planned.artifact.waypoints;
+  // The exact check, within the smallest crop that holds the path.
+  const ExactCheckReport cropped = ExactCheckPath(scene, path, 0.05);
+  EXPECT_TRUE(cropped.valid) << cropped.reason;
+  EXPECT_EQ(cropped.crop_level, 0);
+  // The same check against the whole S (bounds in the scene turn the crop
+  // off): no rigid penetration anywhere along the path ...
+  Scene whole = scene;
+  Aabb everything;
+  everything.min = Eigen::Vector3d::Constant(-1e7);
+  everything.max = Eigen::Vector3d::Constant(1e7);
+  whole.bounds = everything;
+  const ExactCheckReport full = ExactCheckPath(whole, path, 0.05);
+  EXPECT_EQ(full.crop_level, -1);
+  EXPECT_EQ(full.checked_triangles, static_cast<std::int64_t>(scene.static_mesh.triangles.size()));
+  EXPECT_TRUE(full.starts_at_start);
+  EXPECT_LE(full.max_rigid_depth, 0.05);
+  EXPECT_LT(full.first_bad_segment, 0);
+  // ... and it ends at least the clearance away from every triangle of S.
+  const auto crop = ChooseReachCrop(scene, 0);
+  ASSERT_TRUE(crop.has_value());
+  EXPECT_TRUE(ClearOfAll(scene, scene.static_mesh, path.back(), crop->clearance));
+  EXPECT_FALSE(ClearOfAll(scene, scene.static_mesh, path.front(), crop->clearance));
+}
+
+TEST(ReachCrop, RivetedPartStaysBlocked) {
+  const Scene scene = VehicleScene(4);
+  PlanSceneOptions options;
+  options.validity = "rigid-exact";
+  options.planner.time_limit_s = 2;
+  options.planner.seed = 1;
+  options.max_crop_level = 1;
+  const PlannedPath planned = PlanScene(scene, options);
+  EXPECT_FALSE(planned.artifact.success);
+}
+
+TEST(ReachCrop, ExactCheckRejectsAnEndThatIsNotClear) {
+  // The installed pose alone: inside the crop, but not clear of S.
+  const Scene scene = VehicleScene(0);
+  const ExactCheckReport report = ExactCheckPath(scene, {scene.start}, 0.05);
+  EXPECT_FALSE(report.valid);
+  EXPECT_EQ(report.crop_level, 0);
+  EXPECT_NE(report.reason.find("clear of S"), std::string::npos) << report.reason;
+}
+
+TEST(ReachCrop, SmootherTakesTheLevelThatHoldsThePath) {
+  const Scene scene = VehicleScene(0);
+  const PlanningProblem level0 = MakePlanningProblem(scene, 0);
+  ASSERT_NE(level0.crop, nullptr);
+  // A waypoint just beyond level 0's bounds (along the axis of the largest
+  // room) lies inside level 1's.
+  Pose far = scene.start;
+  far.t.x() += level0.bounds.max.x() - level0.start.t.x() + 1.0;
+  EXPECT_FALSE(level0.InBounds(level0.SceneToPlanning(far)));
+  const PlanningProblem holding = MakePlanningProblemHolding(scene, {scene.start, far});
+  ASSERT_NE(holding.crop, nullptr);
+  EXPECT_EQ(holding.crop->level, 1);
+  EXPECT_EQ(MakePlanningProblemHolding(scene, {scene.start}).crop->level, 0);
+}
+
+TEST(ReachCrop, SmallScenesAndScenesWithBoundsAreNotCropped) {
+  const auto dir = std::filesystem::temp_directory_path() / "ausbau-test-reach-crop";
+  std::filesystem::remove_all(dir);
+  const Scene small = LoadScene(GenerateScene("peg-in-plate", 1, dir));
+  EXPECT_FALSE(ChooseReachCrop(small, 0).has_value());
+  EXPECT_EQ(MakePlanningProblem(small).crop, nullptr);
+  std::filesystem::remove_all(dir);
+
+  Scene bounded = VehicleScene(0);
+  Aabb bounds;
+  bounds.min = Eigen::Vector3d::Constant(-1e5);
+  bounds.max = Eigen::Vector3d::Constant(1e5);
+  bounded.bounds = bounds;
+  EXPECT_FALSE(ChooseReachCrop(bounded, 0).has_value());
+  // A level whose box holds all of S is the uncropped scene.
+  EXPECT_FALSE(ChooseReachCrop(VehicleScene(0), 30).has_value());
+}
+
+}  // namespace
+}  // namespace ausbau
