@@ -34,6 +34,10 @@ struct PlanSceneOptions {
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
   bool verify = true;  // the independent dense (or exact) re-check of the result
+  // --clearance (scene units; < 0: the default, planning/clearance.h): a
+  // first try keeps D this far from S where the start allows (rigid-exact
+  // and collision; the volume modes leave it to smoothing's sigma_2).
+  double clearance = -1;
 
   // Throws InputError naming the flag of a value that does not fit.
   void Check() const;
