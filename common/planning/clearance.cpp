@@ -88,6 +88,10 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
   return added >= std::min(clearance_, removed);
 }
 
+ClearanceSample ClearanceGuard::Closest(const std::vector<Pose>& path) const {
+  return meter_.AlongPath(path, clearance_, step_);
+}
+
 double ClearanceGuard::MinCapped(const std::vector<Pose>& path) const {
   if (!(clearance_ > 0)) return 0;
   return std::min(clearance_, meter_.AlongPath(path, clearance_, step_).clearance);

@@ -103,6 +103,8 @@ class ClearanceGuard {
   bool Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const;
   // The smallest clearance of a path, capped at d (d when it stays clear).
   double MinCapped(const std::vector<Pose>& path) const;
+  // The closest sample of a path's walk (exact where below d), with where.
+  ClearanceSample Closest(const std::vector<Pose>& path) const;
 
  private:
   ClearanceMeter meter_;

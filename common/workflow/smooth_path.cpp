@@ -38,6 +38,19 @@ std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProb
                                           ClearanceStep(problem, clearance));
 }
 
+// The warning line where the smoothed path (from segment `first` on) comes
+// closer to S than the guard's d: the geometry leaves no more there (a
+// shortcut with more room would have been kept).
+void WarnBelowClearance(const Scene& scene, const ClearanceGuard& guard, const std::vector<Pose>& path, int first) {
+  if (!(guard.clearance() > 0) || path.size() < 2) return;
+  const ClearanceSample closest = guard.Closest(path);
+  if (closest.clearance >= guard.clearance()) return;
+  LogWarn(
+      "clearance: the path comes %.4g %s from S (segment %d), below --clearance %.4g %s; ausbau-verdict lists "
+      "every such segment",
+      closest.clearance, scene.units.c_str(), first + closest.segment, guard.clearance(), scene.units.c_str());
+}
+
 void SetLengths(const SmoothResult& result, PathArtifact* artifact) {
   artifact->length_normalized = result.after.normalized;
   artifact->length_translation = result.after.translation;
@@ -71,6 +84,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
     out.result.after = out.result.before;
   }
   SetLengths(out.result, &out.artifact);
+  WarnBelowClearance(scene, *guard, out.result.path, 0);
   const SmoothResult& r = out.result;
   LogInfo(
       "length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
@@ -104,6 +118,7 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   second_options.seed = options.smooth.seed + 1;
   const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
   const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options, guard.get());
+  WarnBelowClearance(scene, *guard, second.path, static_cast<int>(first.path.size()) - 1);
   SmoothResult& result = out->result;
   result.path = first.path;
   const int inter_index = static_cast<int>(result.path.size()) - 1;
@@ -148,6 +163,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     }
     const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
     out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
+    WarnBelowClearance(scene, *guard, out.result.path, 0);
   } else {
     inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, options, &out);
   }
