@@ -279,8 +279,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
 // iterations, so that the answer does not depend on the machine), smoothed
 // the same way, and kept when it is shorter.
 std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, const PoseValidity& validity,
-                                            const MotionChecker& motion, const ClearanceGuard* guard,
-                                            const SmoothOptions& options, int attempts,
+                                            const MotionChecker& motion, const SmoothOptions& options, int attempts,
                                             const std::function<bool()>& out_of_time) {
   PlanningProblem fixed = problem;
   fixed.fixed_rotation = problem.start.q;
@@ -300,7 +299,10 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   SmoothResult result;
   result.path = planned.path;
   Random random(options.seed + 1);
-  SmoothOnce(problem, motion, guard, attempts, random, out_of_time, &result);
+  // Smoothed without the guard: the whole alternative is held to the input's
+  // clearance instead (SmoothPath), or a guard that a sliding contact trips
+  // at every shortcut would keep its detours.
+  SmoothOnce(problem, motion, nullptr, attempts, random, out_of_time, &result);
   return result;
 }
 
@@ -326,11 +328,14 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   const bool turns = result.after.rotation > 1e-9;
   if (EndIsFree(problem) && turns && !out_of_time()) {
     const std::optional<SmoothResult> straight =
-        TranslationOnly(problem, validity, motion, guard, options, attempts, out_of_time);
+        TranslationOnly(problem, validity, motion, options, attempts, out_of_time);
     // With a clearance guard, the alternative (planned without it) must
-    // also come no closer to S below d than the path it replaces.
+    // also come no closer to S below d than the input path: smoothing as a
+    // whole never makes the clearance worse below d (compared with the
+    // smoothed path instead, an alternative without needless turning would
+    // lose to any that the turning path's shortcuts happened to widen).
     if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized &&
-        (guard == nullptr || guard->MinCapped(straight->path) >= guard->MinCapped(result.path))) {
+        (guard == nullptr || guard->MinCapped(straight->path) >= guard->MinCapped(input))) {
       result.path = straight->path;
       result.after = MeasurePath(problem, result.path);
       result.shortcuts += straight->shortcuts;
