@@ -70,6 +70,7 @@ TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
 VALIDITY ?= auto          # auto | rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
 RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's rigid part may touch into S
+CLEARANCE ?= -1           # scene units: distance from S that plan and smooth keep where the path allows; -1: 0.5 mm in the scene's units; 0: none
 PLANNER ?= auto           # ausbau-plan --planner (auto: EST for sigma_1, CR-RRTC otherwise)
 COLLISION ?= farr         # farr (with the distance fields) | fcl (no distfield-build)
 THREADS ?= 0              # --threads of the parallel stages; 0 = all cores
@@ -119,6 +120,7 @@ VALIDITY := $(or $(filter rigid-exact labeled-mliv,$(shell $(PLAN) --scene $(SCE
 $(info inistate: VALIDITY=auto: $(VALIDITY))
 endif
 RIGID_TOLERANCE := $(strip $(RIGID_TOLERANCE))
+CLEARANCE := $(strip $(CLEARANCE))
 PLANNER := $(strip $(PLANNER))
 COLLISION := $(strip $(COLLISION))
 THREADS := $(strip $(THREADS))
@@ -184,7 +186,7 @@ endif
 # the smoothed files and path.csv are removed, smoothing is skipped
 # (times/no-path marks it) and the verdict reads path.h5.
 PLAN_CMD = $(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
-  --threads $(THREADS) $(PLAN_COLLISION) $(PLAN_VOLUME) $(if $(BUDGET),--deadline $(PLAN_DEADLINE)) \
+  --threads $(THREADS) --clearance $(CLEARANCE) $(PLAN_COLLISION) $(PLAN_VOLUME) $(if $(BUDGET),--deadline $(PLAN_DEADLINE)) \
   -o $(OUT)/path.h5 $(PLAN_FLAGS)
 plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	@echo '$(PLAN_CMD)'; rc=0; $(TIMED) plan $(TIMES) $(PLAN_CMD) || rc=$$?; \
@@ -194,7 +196,7 @@ plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	elif [ $$rc -ne 0 ]; then exit $$rc; fi
 
 SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
-  --rigid-tolerance $(RIGID_TOLERANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(OUT)/profile.csv \
+  --rigid-tolerance $(RIGID_TOLERANCE) --clearance $(CLEARANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(OUT)/profile.csv \
   -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
 smooth: plan
 	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \

@@ -13,6 +13,9 @@ SCENE_GEN ?= $(BIN)/ausbau-scene-gen
 SEED ?= 1
 PLANNER ?= cr-rrtc
 TIME_LIMIT ?= 60
+# scene units: distance from S that plan and smooth keep where the path
+# allows; -1: 0.5 mm in the scene's units (planning/clearance.h); 0: none.
+CLEARANCE ?= -1
 PLAN_FLAGS ?=
 SMOOTH_FLAGS ?=
 
@@ -33,11 +36,11 @@ all: smooth report
 
 plan:
 	@mkdir -p $(OUT)
-	$(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
+	$(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) --clearance $(CLEARANCE) \
 	  -o $(OUT)/path.h5 --csv $(OUT)/path.csv $(PLAN_FLAGS)
 
 smooth: plan
-	$(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) \
+	$(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) --clearance $(CLEARANCE) \
 	  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
 
 report: smooth

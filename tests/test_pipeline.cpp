@@ -134,6 +134,15 @@ TEST_F(PipelineTest, WritesTheSmoothedPathAsPathCsvAndARemovableVerdict) {
     EXPECT_TRUE(HasLine(json, std::string("\"") + stage + "\": ")) << stage << " missing in " << json;
   }
   EXPECT_NE(first_->output.find("REMOVABLE"), std::string::npos) << first_->output;
+  // The path's quality figures and clearance (the default, 0.5 mm here:
+  // the scene is in mm), and profile.csv's units and poses.
+  EXPECT_TRUE(HasLine(json, "\"path_quality\": {")) << json;
+  EXPECT_TRUE(HasLine(json, "\"clearance_kept\": 0.5,")) << json;
+  EXPECT_TRUE(HasLine(json, "\"segment_clearance\": [")) << json;
+  const std::string profile = testing::ReadTextFile(Out() / "profile.csv");
+  EXPECT_EQ(profile.rfind("# units: tx,ty,tz,clearance in mm;", 0), 0u) << profile.substr(0, 200);
+  EXPECT_NE(profile.find("\nsegment,fraction,s,tx,ty,tz,qw,qx,qy,qz,volume,part,deformability,clearance\n"),
+            std::string::npos);
   // plan takes the sigma_1 that tau-estimate's last round found (same tau,
   // psi, planner, seed) instead of planning it again.
   EXPECT_TRUE(ReadTauArtifact(Out() / "tau.h5").estimate.solved);

@@ -1,6 +1,9 @@
 #include "cli/stage_options.h"
 
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "core/hash.h"
 
@@ -55,6 +58,28 @@ void AddVolumeInputOptions(StageDefinition& stage, VolumeInputs* volume) {
                CacheKey::kYes);
 }
 
+namespace {
+
+// --clearance, the same for planning and smoothing.
+void AddClearanceOption(StageDefinition& stage, double* clearance) {
+  stage
+      .Option("--clearance", clearance,
+              "distance from S to keep where the path allows, scene units (a preference, never at the cost of "
+              "validity; where a passage is narrower the verdict says where); -1: 0.5 mm in the scene's units; 0: "
+              "none",
+              CacheKey::kYes)
+      ->check([](const std::string& text) -> std::string {
+        try {
+          const double value = std::stod(text);
+          if (value == -1 || (value >= 0 && std::isfinite(value))) return "";
+        } catch (const std::exception&) {
+        }
+        return "must be a number >= 0 (scene units), or -1 for the default";
+      });
+}
+
+}  // namespace
+
 void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
   AddPlannerOptions(stage, &plan->planner);
   stage
@@ -95,6 +120,7 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
     provenance->inputs.emplace_back("distfield-dynamic", HashFile(distfield[1]));
   });
   stage.Flag("!--no-verify", &plan->verify, "skip the dense re-check of the result", CacheKey::kNo);
+  AddClearanceOption(stage, &plan->clearance);
 }
 
 void AddSmoothOptions(StageDefinition& stage, SmoothOptions* smooth) {
@@ -103,6 +129,7 @@ void AddSmoothOptions(StageDefinition& stage, SmoothOptions* smooth) {
   stage.Option("--time-limit", &smooth->time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
   stage.Option("--resolution", &smooth->resolution, "edge check step as a fraction of D's AABB diagonal",
                CacheKey::kYes);
+  AddClearanceOption(stage, &smooth->clearance);
 }
 
 void AddTauEstimateOptions(StageDefinition& stage, TauEstimateOptions* estimate) {

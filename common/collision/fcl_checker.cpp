@@ -76,4 +76,24 @@ FclCollisionChecker::Nearest FclCollisionChecker::NearestTriangles(const Pose& p
   return out;
 }
 
+FclCollisionChecker::Closest FclCollisionChecker::ClosestPoints(const Pose& pose) const {
+  Closest closest;
+  fcl::CollisionRequestd collision_request(1, true);  // one contact, with its position
+  fcl::CollisionResultd collision_result;
+  fcl::collide(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(),
+               collision_request, collision_result);
+  if (collision_result.isCollision()) {
+    closest.on_robot = closest.on_environment = collision_result.getContact(0).pos;
+    return closest;
+  }
+  fcl::DistanceRequestd request(true);  // nearest points, in world coordinates (FCL >= 0.6)
+  fcl::DistanceResultd result;
+  fcl::distance(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
+                result);
+  closest.distance = std::max(0.0, result.min_distance);
+  closest.on_robot = result.nearest_points[0];
+  closest.on_environment = result.nearest_points[1];
+  return closest;
+}
+
 }  // namespace ausbau

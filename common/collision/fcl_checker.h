@@ -31,6 +31,15 @@ class FclCollisionChecker : public PoseValidity {
     int robot_triangle = -1, environment_triangle = -1;
   };
   Nearest NearestTriangles(const Pose& pose) const;
+  // The distance with where it is attained (world coordinates): the
+  // nearest points of D and of S; in collision, distance 0 and both points
+  // at one contact point.
+  struct Closest {
+    double distance = 0;
+    Eigen::Vector3d on_robot = Eigen::Vector3d::Zero();
+    Eigen::Vector3d on_environment = Eigen::Vector3d::Zero();
+  };
+  Closest ClosestPoints(const Pose& pose) const;
 
  protected:
   bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }

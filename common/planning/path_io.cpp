@@ -23,11 +23,15 @@ void AlignQuaternionSigns(std::vector<Pose>* path) {
   }
 }
 
-void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses) {
+void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses,
+                   const std::string& units) {
   std::vector<double> rows;
   for (const Pose& p : poses) rows.insert(rows.end(), {p.t.x(), p.t.y(), p.t.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z()});
   writer.WriteDoubles(name, rows, {poses.size(), 7});
   writer.SetAttribute(name, "columns", std::string("x,y,z,qw,qx,qy,qz"));
+  const std::string length = LengthUnits(units);
+  writer.SetAttribute(name, "units", "x,y,z: " + length + "; qw,qx,qy,qz: unitless (unit quaternion)");
+  writer.SetAttribute(name, "pose_convention", std::string(kPoseConvention));
 }
 
 std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& name) {
@@ -58,9 +62,42 @@ std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& 
   return poses;
 }
 
+namespace {
+
+// The attribute `units` of every dataset of a path artifact but the
+// waypoints (WritePoseRows): one line per quantity, schemas/path.md.
+void WritePathUnits(ArtifactWriter& writer, const PathArtifact& path) {
+  const std::string length = LengthUnits(path.units);
+  const std::pair<const char*, std::string> units[] = {{"reference_point", length + " (D's mesh coordinates)"},
+                                                       {"dynamic_origin", length + " (D's mesh coordinates)"},
+                                                       {"stats/success", "boolean (0 or 1)"},
+                                                       {"stats/time_s", "s"},
+                                                       {"stats/iterations", "count"},
+                                                       {"stats/nodes", "count"},
+                                                       {"stats/collision_checks", "count"},
+                                                       {"stats/invalid_checks", "count"},
+                                                       {"stats/length", "unitless (normalized metric)"},
+                                                       {"stats/length_translation", length},
+                                                       {"stats/length_rotation", "rad"},
+                                                       {"stats/clearance", length}};
+  for (const auto& [name, unit] : units) writer.SetAttribute(name, "units", unit);
+  writer.SetAttribute("", "units", path.units);
+  if (!IsVolumeValidity(path.validity)) return;
+  const std::pair<const char*, std::string> inistate[] = {
+      {"inistate/tau", length + "^3"},
+      {"inistate/psi", length},
+      {"inistate/inter_index", "index into waypoints"},
+      {"inistate/volume", length + "^3"},
+      {"inistate/part", "index (D's connected component; -1: none)"},
+      {"inistate/deformability", "unitless, 0 rigid .. 1 deformable"}};
+  for (const auto& [name, unit] : inistate) writer.SetAttribute(name, "units", unit);
+}
+
+}  // namespace
+
 void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance) {
   ArtifactWriter writer(file, kPathSchema, kPathSchemaVersion, provenance);
-  WritePoseRows(writer, "waypoints", path.waypoints);
+  WritePoseRows(writer, "waypoints", path.waypoints, path.units);
   writer.WriteDoubles("reference_point", {path.reference_point.x(), path.reference_point.y(), path.reference_point.z()},
                       {3});
   writer.WriteDoubles("dynamic_origin", {path.dynamic_origin.x(), path.dynamic_origin.y(), path.dynamic_origin.z()},
@@ -77,6 +114,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   // Only where there is something to say, so that solved runs' files stay as they were.
   if (!path.partial_waypoints.empty()) WritePoseRows(writer, "partial/waypoints", path.partial_waypoints);
   if (path.stopped_by_budget) writer.WriteInts("stats/stopped_by_budget", {1}, {});
+  writer.WriteDoubles("stats/clearance", {path.clearance}, {});
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
   writer.SetAttribute("", "validity", path.validity);
@@ -93,6 +131,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
                      {n});
     writer.WriteDoubles("inistate/deformability", path.waypoint_deformability, {n});
   }
+  WritePathUnits(writer, path);
   writer.Commit();
 }
 
@@ -141,6 +180,11 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   if (reader.Has("partial/waypoints")) path.partial_waypoints = ReadPoseRows(reader, "partial/waypoints");
   path.stopped_by_budget =
       reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
+  // Absent in artifacts written before they were recorded.
+  path.clearance = reader.Has("stats/clearance") ? ReadScalar(reader, "stats/clearance") : std::nan("");
+  if (!std::isnan(path.clearance) && !(std::isfinite(path.clearance) && path.clearance >= 0)) {
+    throw InputErrorAt(file.string(), "dataset 'stats/clearance' is not a finite number >= 0");
+  }
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
   path.validity = reader.ReadStringAttribute("", "validity");

@@ -25,6 +25,12 @@ struct PathArtifact {
   double length_normalized = 0;
   double length_translation = 0;
   double length_rotation = 0;
+  // The scene's `units` (every length in the file is in them; written as
+  // the attribute `units` of each dataset), and the clearance from S the
+  // path was planned or smoothed to keep where it could (--clearance,
+  // scene units; 0: none; NaN when read from a file that predates it).
+  std::string units;
+  double clearance = 0;
 
   // InIState planning (optional datasets, group `inistate`; absent for
   // rigid planning): the validity mode and threshold, psi, the index of
@@ -55,13 +61,25 @@ inline bool IsVolumeValidity(const std::string& validity) {
   return validity != "collision" && validity != kRigidExactValidity;
 }
 
+// The one pose convention of every file Ausbau writes (path.h5, path.csv,
+// path-smooth.*, profile.csv, the OMPL path): schemas/scene.md "Pose
+// convention". Written into each of them.
+inline constexpr char kPoseConvention[] = "x_world = R(q) (x_mesh - dynamic_origin) + t";
+
+// The unit text of a length in scene units: the scene's `units`, or
+// "scene units" where the scene names none.
+inline std::string LengthUnits(const std::string& units) { return units.empty() ? "scene units" : units; }
+
 // Makes consecutive quaternions lie in the same hemisphere (q and -q are one
 // rotation), so that any reader's interpolation takes the short way.
 void AlignQuaternionSigns(std::vector<Pose>* path);
 
 // Poses as an n x 7 dataset (x,y,z,qw,qx,qy,qz) of an artifact, written and
 // read back checked (finite, unit quaternions; InputError naming `name`).
-void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses);
+// Written with the attributes `columns`, `units` (x,y,z in `units`, the
+// quaternion unitless) and `pose_convention` (kPoseConvention).
+void WritePoseRows(ArtifactWriter& writer, const std::string& name, const std::vector<Pose>& poses,
+                   const std::string& units = "");
 std::vector<Pose> ReadPoseRows(const ArtifactReader& reader, const std::string& name);
 
 void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& path, const Provenance& provenance);

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/random.h"
+#include "planning/clearance.h"
 #include "planning/planner.h"
 
 namespace ausbau {
@@ -18,6 +19,9 @@ void SmoothOptions::Check() const {
   if (!(time_limit_s > 0) || !std::isfinite(time_limit_s))
     throw OptionError(&time_limit_s, "time_limit", "must be positive");
   if (!(resolution > 0 && resolution <= 0.1)) throw OptionError(&resolution, "resolution", "must lie in (0, 0.1]");
+  if (!(clearance == -1 || (clearance >= 0 && std::isfinite(clearance)))) {
+    throw OptionError(&clearance, "clearance", "must be a finite number >= 0 (scene units)");
+  }
 }
 
 PathLength MeasurePath(const PlanningProblem& problem, const std::vector<Pose>& path) {
@@ -75,13 +79,24 @@ std::vector<Eigen::Vector3d> AxisDirections() {
   return directions;
 }
 
+// Whether the straight motion from -> end may replace the path from `from`
+// (on segment `segment`) to its end, as far as the clearance guard goes.
+bool KeepsClearance(const ClearanceGuard* guard, const std::vector<Pose>& path, const Pose& from, std::size_t segment,
+                    const Pose& end) {
+  if (guard == nullptr) return true;
+  std::vector<Pose> replaced = {from};
+  replaced.insert(replaced.end(), path.begin() + segment + 1, path.end());
+  return guard->Accepts(replaced, {from, end});
+}
+
 // Step 2: of 64 points evenly spread along the path (by its metric
 // length), the one from which one straight translation leaves S and makes
 // the whole path shortest. Directions: the axes and diagonals, the way to
 // the current end, and the path's own direction there. A candidate is
 // motion-checked only when it would beat the best so far, so blocked
 // directions cost little.
-void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, SmoothResult* result) {
+void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+                     SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   if (!EndIsFree(problem) || path.size() < 2) return;
   std::vector<double> cost_to(path.size(), 0.0);  // metric length from the start to waypoint i
@@ -107,7 +122,8 @@ void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion
       const std::optional<Pose> end = StraightExitPose(problem, from, direction);
       if (!end) continue;
       const double cost = at + problem.metric.Distance(from, *end, 0.5);
-      if (cost < best_cost && motion.IsValid(from) && motion.MotionValid(from, *end)) {
+      if (cost < best_cost && motion.IsValid(from) && motion.MotionValid(from, *end) &&
+          KeepsClearance(guard, path, from, segment, *end)) {
         best_from = from;
         best_end = end;
         best_cost = cost;
@@ -138,8 +154,8 @@ Pose WithDof(Pose pose, const Pose& from, const Pose& to, int dof, double s) {
 // with `freeze_tail` (j is the end of a disassembly path) the rotation stays
 // at waypoint i's instead. Kept when valid, still ending in the goal region,
 // and shorter.
-bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion, std::vector<Pose>* path_in,
-                     std::size_t i, std::size_t j, int dof, bool freeze_tail) {
+bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+                     std::vector<Pose>* path_in, std::size_t i, std::size_t j, int dof, bool freeze_tail) {
   const std::vector<Pose>& path = *path_in;
   std::vector<double> along(j - i + 1, 0.0);
   for (std::size_t m = i + 1; m <= j; ++m) {
@@ -159,19 +175,23 @@ bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion
   for (std::size_t m = 1; m < next.size(); ++m) {
     if (!motion.MotionValid(next[m - 1], next[m])) return false;
   }
+  if (guard != nullptr && !guard->Accepts(std::vector<Pose>(path.begin() + i, path.begin() + j + 1), next)) {
+    return false;
+  }
   std::copy(next.begin(), next.end(), path_in->begin() + i);
   return true;
 }
 
 // Step 3's freeze: from 16 waypoints evenly spread, the first one from
 // which the rest of a disassembly path can keep that waypoint's rotation.
-void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, SmoothResult* result) {
+void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+                        SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   if (!EndIsFree(problem) || path.size() < 3) return;
   constexpr std::size_t kTries = 16;
   for (std::size_t n = 0; n < kTries; ++n) {
     const std::size_t i = n * (path.size() - 2) / kTries;
-    if (PartialShortcut(problem, motion, &path, i, path.size() - 1, 3, true)) {
+    if (PartialShortcut(problem, motion, guard, &path, i, path.size() - 1, 3, true)) {
       ++result->shortcuts;
       ++result->partial_shortcuts;
       return;
@@ -181,8 +201,8 @@ void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& mot
 
 // Step 1, one attempt: two random points on two different segments; the
 // path between them replaced by the straight motion when valid and shorter.
-bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, Random& random,
-                  std::vector<Pose>* path_in) {
+bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+                  Random& random, std::vector<Pose>* path_in) {
   std::vector<Pose>& path = *path_in;
   const std::size_t segments = path.size() - 1;
   std::size_t i = random.Index(segments), j = random.Index(segments);
@@ -196,6 +216,12 @@ bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, R
   const double new_cost = problem.metric.Distance(a, b, 0.5);
   if (!(new_cost < old_cost - 1e-12)) return false;
   if (!motion.IsValid(a) || !motion.MotionValid(a, b)) return false;
+  if (guard != nullptr) {
+    std::vector<Pose> replaced = {a};
+    replaced.insert(replaced.end(), path.begin() + i + 1, path.begin() + j + 1);
+    replaced.push_back(b);
+    if (!guard->Accepts(replaced, {a, b})) return false;
+  }
   std::vector<Pose> next(path.begin(), path.begin() + i + 1);
   if (fa != 0.0) next.push_back(a);
   next.push_back(b);
@@ -205,9 +231,11 @@ bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, R
 }
 
 // Drops waypoints whose neighbours see each other directly.
-void DropNeedlessWaypoints(const MotionChecker& motion, std::vector<Pose>* path) {
+void DropNeedlessWaypoints(const MotionChecker& motion, const ClearanceGuard* guard, std::vector<Pose>* path) {
   for (std::size_t i = 0; i + 2 < path->size();) {
-    if (motion.MotionValid((*path)[i], (*path)[i + 2])) {
+    const std::vector<Pose>& p = *path;
+    if (motion.MotionValid(p[i], p[i + 2]) &&
+        (guard == nullptr || guard->Accepts({p[i], p[i + 1], p[i + 2]}, {p[i], p[i + 2]}))) {
       path->erase(path->begin() + i + 1);
     } else {
       ++i;
@@ -216,33 +244,33 @@ void DropNeedlessWaypoints(const MotionChecker& motion, std::vector<Pose>* path)
 }
 
 // Steps 1-4 on one path.
-void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, int attempts, Random& random,
-                const std::function<bool()>& out_of_time, SmoothResult* result) {
+void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard, int attempts,
+                Random& random, const std::function<bool()>& out_of_time, SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   for (int attempt = 0; attempt < attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
     ++result->attempts;
-    if (FullShortcut(problem, motion, random, &path)) ++result->shortcuts;
+    if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
-  DropNeedlessWaypoints(motion, &path);
-  if (!out_of_time()) StraightRetreat(problem, motion, result);
+  DropNeedlessWaypoints(motion, guard, &path);
+  if (!out_of_time()) StraightRetreat(problem, motion, guard, result);
 
   // Partial shortcuts: a quarter of the attempts, each on one degree of
   // freedom, between two freezes of a disassembly's tail rotation (the
   // second after the others have straightened the course).
-  FreezeTailRotation(problem, motion, result);
+  FreezeTailRotation(problem, motion, guard, result);
   const int partial_attempts = std::max(20, attempts / 4);
   for (int attempt = 0; attempt < partial_attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
     ++result->attempts;
     std::size_t i = random.Index(path.size() - 1), j = random.Index(path.size());
     if (i > j) std::swap(i, j);
     if (j < i + 2) continue;
-    if (PartialShortcut(problem, motion, &path, i, j, static_cast<int>(random.Index(4)), false)) {
+    if (PartialShortcut(problem, motion, guard, &path, i, j, static_cast<int>(random.Index(4)), false)) {
       ++result->shortcuts;
       ++result->partial_shortcuts;
     }
   }
-  if (!out_of_time()) FreezeTailRotation(problem, motion, result);
-  DropNeedlessWaypoints(motion, &path);
+  if (!out_of_time()) FreezeTailRotation(problem, motion, guard, result);
+  DropNeedlessWaypoints(motion, guard, &path);
 }
 
 // Step 5 (disassembly): most CAD parts come out without turning, but a
@@ -272,14 +300,18 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   SmoothResult result;
   result.path = planned.path;
   Random random(options.seed + 1);
-  SmoothOnce(problem, motion, attempts, random, out_of_time, &result);
+  // Smoothed without the guard: the whole alternative is held to the input's
+  // clearance instead (SmoothPath), or a guard that a sliding contact trips
+  // at every shortcut would keep its detours.
+  SmoothOnce(problem, motion, nullptr, attempts, random, out_of_time, &result);
   return result;
 }
 
 }  // namespace
 
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& input,
-                        const SmoothOptions& options) {
+                        const SmoothOptions& options, const ClearanceGuard* guard) {
+  if (guard != nullptr && !(guard->clearance() > 0)) guard = nullptr;  // d = 0: exactly the unguarded smoothing
   options.Check();
   // Shortcuts are few: check them at the certification step (planner step / 4,
   // planning/certify.h) so that smoothing never trades certainty for length.
@@ -292,13 +324,19 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
   const std::function<bool()> out_of_time = [&] { return std::chrono::steady_clock::now() >= deadline; };
-  SmoothOnce(problem, motion, attempts, random, out_of_time, &result);
+  SmoothOnce(problem, motion, guard, attempts, random, out_of_time, &result);
   result.after = MeasurePath(problem, result.path);
   const bool turns = result.after.rotation > 1e-9;
   if (EndIsFree(problem) && turns && !out_of_time()) {
     const std::optional<SmoothResult> straight =
         TranslationOnly(problem, validity, motion, options, attempts, out_of_time);
-    if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized) {
+    // With a clearance guard, the alternative (planned without it) must
+    // also come no closer to S below d than the input path: smoothing as a
+    // whole never makes the clearance worse below d (compared with the
+    // smoothed path instead, an alternative without needless turning would
+    // lose to any that the turning path's shortcuts happened to widen).
+    if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized &&
+        (guard == nullptr || guard->MinCapped(straight->path) >= guard->MinCapped(input))) {
       result.path = straight->path;
       result.after = MeasurePath(problem, result.path);
       result.shortcuts += straight->shortcuts;

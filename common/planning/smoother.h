@@ -26,6 +26,8 @@
 
 namespace ausbau {
 
+class ClearanceGuard;
+
 struct SmoothOptions {
   std::uint64_t seed = 1;
   int attempts = 0;  // 0 = automatic: 100 + 10 per waypoint, at most 2000
@@ -34,6 +36,9 @@ struct SmoothOptions {
   // machine unless this is hit (the OMPL Apartment scene takes about 12 s).
   double time_limit_s = 60.0;
   double resolution = 0.01;  // as PlannerOptions::resolution
+  // --clearance: the distance from S to keep where the geometry allows, in
+  // scene units; < 0: the default, ClearanceInSceneUnits (planning/clearance.h).
+  double clearance = -1;
   void Check() const;
 };
 
@@ -62,7 +67,12 @@ struct SmoothResult {
   bool translation_only = false;  // the path is the translation-only alternative (step 5)
 };
 
+// With `guard` (a clearance d > 0, planning/clearance.h), every change
+// (shortcut, retreat, dropped waypoint, the translation-only alternative)
+// must also keep the clearance: its motion comes no closer to S than
+// min(d, the closest the part it replaces comes). Without one, or with
+// d = 0, exactly the unguarded smoothing.
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& path,
-                        const SmoothOptions& options);
+                        const SmoothOptions& options, const ClearanceGuard* guard = nullptr);
 
 }  // namespace ausbau

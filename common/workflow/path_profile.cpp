@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <string>
 
-#include "collision/fcl_checker.h"
+#include "collision/rigid_depth.h"
 #include "core/atomic_file.h"
+#include "planning/exact_check.h"
+#include "planning/path_io.h"
 
 namespace ausbau {
 
@@ -25,30 +27,65 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
   return out;
 }
 
-void WritePathProfile(const std::filesystem::path& file, const PlanningProblem& problem, const std::vector<Pose>& path,
-                      VolumeModel* model) {
-  const FclCollisionChecker fcl(problem.robot, problem.environment);
+TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, const std::string& validity,
+                                double rigid_tolerance_mm) {
+  if (validity != kRigidExactValidity) return problem.robot;
+  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
+  return ClearanceRobot(problem, parts.get());
+}
+
+std::vector<ProfilePose> ProfileAlongPath(const PlanningProblem& problem, const ClearanceMeter& meter,
+                                          const std::vector<Pose>& path) {
+  std::vector<ProfilePose> out;
+  if (path.empty()) return out;
   // At most ~2000 rows: the step is 1% of D's diagonal or longer.
   double total = 0;
   for (std::size_t i = 0; i + 1 < path.size(); ++i)
     total += MaxDisplacement(path[i], path[i + 1], problem.robot_radius);
   const double step = std::max(0.01 * problem.robot_diagonal, total / 2000.0);
-  std::string text = "segment,fraction,s,volume,part,deformability,clearance\n";
   double s = 0;
   Pose previous = path.front();
-  char line[256];
   for (const DensePose& p : Densify(problem, path, step)) {
     s += problem.metric.Distance(previous, p.pose, 0.5);
     previous = p.pose;
-    VolumeReport report;
-    if (model != nullptr) report = model->Describe(p.pose);
-    const double clearance = fcl.InCollision(p.pose) ? 0.0 : fcl.Distance(p.pose);
+    ProfilePose row;
+    row.dense = p;
+    row.s = s;
+    row.clearance = meter.At(p.pose);
+    row.clearance.segment = p.segment;
+    row.clearance.fraction = p.fraction;
+    out.push_back(row);
+  }
+  return out;
+}
+
+void WritePathProfile(const std::filesystem::path& file, const PlanningProblem& problem, const std::vector<Pose>& path,
+                      VolumeModel* model, const TriangleMesh& clearance_robot, const std::string& units) {
+  const ClearanceMeter meter(problem, clearance_robot);
+  const std::string u = LengthUnits(units);
+  std::string text = "# units: tx,ty,tz,clearance in " + u + "; qw,qx,qy,qz unitless; s normalized; volume " + u +
+                     "^3; deformability 0..1; pose convention: " + kPoseConvention + "\n";
+  text += "segment,fraction,s,tx,ty,tz,qw,qx,qy,qz,volume,part,deformability,clearance\n";
+  char line[512];
+  std::vector<ProfilePose> rows = ProfileAlongPath(problem, meter, path);
+  std::vector<Pose> poses;
+  for (const ProfilePose& row : rows) poses.push_back(problem.PlanningToScene(row.dense.pose));
+  AlignQuaternionSigns(&poses);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const ProfilePose& p = rows[i];
+    const Pose& pose = poses[i];
+    int n = std::snprintf(line, sizeof line, "%d,%.6f,%.8g,%.10g,%.10g,%.10g,%.9f,%.9f,%.9f,%.9f,", p.dense.segment,
+                          p.dense.fraction, p.s, pose.t.x(), pose.t.y(), pose.t.z(), pose.q.w(), pose.q.x(), pose.q.y(),
+                          pose.q.z());
     if (model != nullptr) {
-      std::snprintf(line, sizeof line, "%d,%.6f,%.8g,%.8g,%d,%.4f,%.8g\n", p.segment, p.fraction, s, report.value,
-                    report.value > 0 ? report.part : -1, report.deformability, clearance);
+      const VolumeReport report = model->Describe(p.dense.pose);
+      n += std::snprintf(line + n, sizeof line - n, "%.8g,%d,%.4f,", report.value, report.value > 0 ? report.part : -1,
+                         report.deformability);
     } else {
-      std::snprintf(line, sizeof line, "%d,%.6f,%.8g,,,,%.8g\n", p.segment, p.fraction, s, clearance);
+      n += std::snprintf(line + n, sizeof line - n, ",,,");
     }
+    std::snprintf(line + n, sizeof line - n, "%.8g\n", p.clearance.clearance);
     text += line;
   }
   WriteTextFileAtomically(file, text);

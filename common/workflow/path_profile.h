@@ -4,11 +4,14 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "geometry/pose.h"
 #include "inistate/volume_model.h"
+#include "planning/clearance.h"
 #include "planning/state_space.h"
+#include "scene/scene.h"
 
 namespace ausbau {
 
@@ -24,11 +27,35 @@ struct DensePose {
 // more than `step`.
 std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector<Pose>& path, double step);
 
-// CSV `segment,fraction,s,volume,part,deformability,clearance`, at most
-// ~2000 rows (the step is 1% of D's diagonal or longer); the volume columns
-// are empty without a model; clearance is the FCL distance (0 in contact).
-// Written atomically.
+// The part of D whose clearance a path of `validity` reports and keeps
+// (planning convention): the rigid shells for rigid-exact (its fasteners
+// bend through S by design; classified at the tolerance, mm), else all of D.
+TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, const std::string& validity,
+                                double rigid_tolerance_mm);
+
+// Per dense pose along a path: the pose, its path parameter s (normalized
+// metric length from the start, u = 0.5) and its clearance with where.
+struct ProfilePose {
+  DensePose dense;
+  double s = 0;
+  ClearanceSample clearance;
+};
+
+// The dense poses of the profile: a step of 1% of D's diagonal, or longer
+// so that there are at most ~2000; clearance measured at every one (FCL
+// distance of `meter`'s part of D and S; 0 in contact).
+std::vector<ProfilePose> ProfileAlongPath(const PlanningProblem& problem, const ClearanceMeter& meter,
+                                          const std::vector<Pose>& path);
+
+// profile.csv: a first comment line with the units and the pose
+// convention, then the header
+//   segment,fraction,s,tx,ty,tz,qw,qx,qy,qz,volume,part,deformability,clearance
+// one row per dense pose (ProfileAlongPath); the pose in the scene
+// convention (as path.csv), the volume columns empty without a model.
+// Units (also in the comment line): t and clearance in scene units, q
+// unitless, s normalized (unitless), volume scene units^3, deformability
+// 0..1. Written atomically.
 void WritePathProfile(const std::filesystem::path& file, const PlanningProblem& problem, const std::vector<Pose>& path,
-                      VolumeModel* model);
+                      VolumeModel* model, const TriangleMesh& clearance_robot, const std::string& units);
 
 }  // namespace ausbau

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 
@@ -12,6 +13,7 @@
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
+#include "planning/clearance.h"
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
 #include "planning/smoother.h"
@@ -92,6 +94,48 @@ void LogResult(const char* what, const PlanStats& stats, bool solved) {
           solved ? "solved" : "no path", stats.time_s, static_cast<long long>(stats.iterations),
           static_cast<long long>(stats.nodes), static_cast<long long>(stats.collision_checks),
           stats.collision_checks > 0 ? 100.0 * stats.invalid_checks / stats.collision_checks : 0.0);
+}
+
+// --clearance while planning: a first try under the validity with D's part
+// (`robot`, ClearanceRobot) at least min(d, its clearance at the start and
+// goal) from S, capped at 2048 iterations (an eighth of the time limit as
+// the safety valve), so the answer depends on the seed only; without a
+// path, `plan` as asked. A start in contact (clearance 0) leaves nothing
+// to keep: the clearance is then the smoother's (workflow/smooth_path.h).
+// Never less valid: the first try's validity only adds a condition.
+PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidity& validity,
+                                const PlannerOptions& planner, const TriangleMesh& robot, double clearance,
+                                const std::string& units,
+                                const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan) {
+  if (!(clearance > 0)) return plan(validity, planner);
+  const ClearanceMeter meter(problem, robot);
+  double floor = std::min(clearance, meter.At(problem.start).clearance);
+  if (problem.goal) floor = std::min(floor, meter.At(*problem.goal).clearance);
+  if (!(floor > 0)) {
+    LogInfo("clearance: D starts in contact with S; the clearance of %.4g %s is left to smoothing", clearance,
+            units.c_str());
+    return plan(validity, planner);
+  }
+  PlannerOptions first = planner;
+  constexpr std::int64_t kFirstTryIterations = 2048;
+  first.max_iterations =
+      planner.max_iterations > 0 ? std::min(planner.max_iterations, kFirstTryIterations) : kFirstTryIterations;
+  first.time_limit_s = planner.time_limit_s / 8;
+  const std::unique_ptr<PoseValidity> keeping = WithClearance(validity, problem, robot, floor);
+  const PlanResult kept = plan(*keeping, first);
+  if (kept.solved()) {
+    LogInfo("clearance: planned keeping at least %.4g %s from S (--clearance %.4g)", floor, units.c_str(), clearance);
+    return kept;
+  }
+  LogInfo("clearance: no path keeping %.4g %s from S within %lld iterations; planning without it", floor, units.c_str(),
+          static_cast<long long>(first.max_iterations));
+  PlanResult result = plan(validity, planner);
+  result.stats.time_s += kept.stats.time_s;
+  result.stats.iterations += kept.stats.iterations;
+  result.stats.nodes += kept.stats.nodes;
+  result.stats.collision_checks += kept.stats.collision_checks;
+  result.stats.invalid_checks += kept.stats.invalid_checks;
+  return result;
 }
 
 // Fills the waypoints (scene convention) and lengths of an artifact.
@@ -212,6 +256,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
   artifact.scene = scene.name;
+  artifact.units = scene.units;
   if (!parts->rigid_interference.empty()) {
     const int shell = parts->rigid_interference.front();
     if (std::isinf(parts->installed_depth[shell])) {
@@ -237,7 +282,11 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
           planner.planner.c_str(), static_cast<unsigned long long>(planner.seed), planner.time_limit_s,
           parts->FastenerCount() > 0 ? "fastened" : "collision-free");
-  const PlanResult result = PlanWithRestarts(problem, checker, planner);
+  const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
+  artifact.clearance = clearance;
+  const PlanResult result = PlanKeepingClearance(
+      problem, checker, planner, ClearanceRobot(problem, parts.get()), clearance, scene.units,
+      [&](const PoseValidity& validity, const PlannerOptions& p) { return PlanWithRestarts(problem, validity, p); });
   artifact.planner = planner.planner;
   artifact.stats = result.stats;
   artifact.success = result.solved();
@@ -312,6 +361,9 @@ std::vector<std::string> DistfieldPaths(const PlanSceneOptions& options) {
 }
 
 void PlanSceneOptions::Check() const {
+  if (!(clearance == -1 || (clearance >= 0 && std::isfinite(clearance)))) {
+    throw OptionError(&clearance, "clearance", "must be a finite number >= 0 (scene units)");
+  }
   if (validity == kRigidExact) {
     if (tau >= 0 || !tau_file.empty() || psi > 0) {
       throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
@@ -369,7 +421,11 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     artifact.stopped_by_budget = !solved && budget_bound;
   } else {
     CheckEndpoints(problem, checker, scene.file.string());
-    const PlanResult result = Plan(problem, checker, planner);
+    const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
+    artifact.clearance = clearance;
+    const PlanResult result = PlanKeepingClearance(
+        problem, checker, planner, problem.robot, clearance, scene.units,
+        [&](const PoseValidity& validity, const PlannerOptions& p) { return Plan(problem, validity, p); });
     artifact.planner = planner.planner;
     stats = result.stats;
     solved = result.solved();
@@ -390,6 +446,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
   artifact.scene = scene.name;
+  artifact.units = scene.units;
   artifact.success = solved;
   artifact.stats = stats;
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/volume_smoother.h"
+#include "planning/clearance.h"
 #include "planning/dense_check.h"
 #include "planning/exact_check.h"
 #include "workflow/made_from.h"
@@ -27,6 +28,29 @@ std::vector<Pose> ToScene(const PlanningProblem& problem, const std::vector<Pose
   return out;
 }
 
+// The clearance guard of --clearance (planning/clearance.h) on the part of
+// D that must keep clear (`parts`: its rigid shells; null: all of D).
+std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProblem& problem,
+                                          const SmoothOptions& options, const PartModel* parts) {
+  const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
+  LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance, scene.units.c_str());
+  return std::make_unique<ClearanceGuard>(problem, ClearanceRobot(problem, parts), clearance,
+                                          ClearanceStep(problem, clearance));
+}
+
+// The warning line where the smoothed path (from segment `first` on) comes
+// closer to S than the guard's d: the geometry leaves no more there (a
+// shortcut with more room would have been kept).
+void WarnBelowClearance(const Scene& scene, const ClearanceGuard& guard, const std::vector<Pose>& path, int first) {
+  if (!(guard.clearance() > 0) || path.size() < 2) return;
+  const ClearanceSample closest = guard.Closest(path);
+  if (closest.clearance >= guard.clearance()) return;
+  LogWarn(
+      "clearance: the path comes %.4g %s from S (segment %d), below --clearance %.4g %s; ausbau-verdict lists "
+      "every such segment",
+      closest.clearance, scene.units.c_str(), first + closest.segment, guard.clearance(), scene.units.c_str());
+}
+
 void SetLengths(const SmoothResult& result, PathArtifact* artifact) {
   artifact->length_normalized = result.after.normalized;
   artifact->length_translation = result.after.translation;
@@ -45,8 +69,11 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
   SmoothedPath out;
   out.planning_path = ToPlanning(problem, input.waypoints);
-  out.result = SmoothPath(problem, checker, out.planning_path, options.smooth);
+  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, parts.get());
+  out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
   out.artifact = input;
+  out.artifact.units = scene.units;
+  out.artifact.clearance = guard->clearance();
   out.artifact.waypoints = DensifyForPlainInterpolation(ToScene(problem, out.result.path), problem.reference_point,
                                                         problem.dynamic_origin, tolerance / 10);
   const ExactCheckReport check = ExactCheckPath(scene, out.artifact.waypoints, tolerance);
@@ -57,6 +84,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
     out.result.after = out.result.before;
   }
   SetLengths(out.result, &out.artifact);
+  WarnBelowClearance(scene, *guard, out.result.path, 0);
   const SmoothResult& r = out.result;
   LogInfo(
       "length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; %d shortcuts in %d "
@@ -88,7 +116,9 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
           scene.units.c_str(), input.tau, first.shortcuts, first.attempts);
   SmoothOptions second_options = options.smooth;
   second_options.seed = options.smooth.seed + 1;
-  const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options);
+  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
+  const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options, guard.get());
+  WarnBelowClearance(scene, *guard, second.path, static_cast<int>(first.path.size()) - 1);
   SmoothResult& result = out->result;
   result.path = first.path;
   const int inter_index = static_cast<int>(result.path.size()) - 1;
@@ -131,12 +161,16 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     if (!options.volume.voxels.empty() || !options.volume.labels.empty()) {
       LogWarn("--voxels and --labels are ignored: the path was planned under plain collision");
     }
-    out.result = SmoothPath(problem, checker, out.planning_path, options.smooth);
+    const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
+    out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
+    WarnBelowClearance(scene, *guard, out.result.path, 0);
   } else {
     inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, options, &out);
   }
   SmoothResult& result = out.result;
   out.artifact = input;
+  out.artifact.units = scene.units;
+  out.artifact.clearance = ClearanceInSceneUnits(options.smooth.clearance, scene.units);
   out.artifact.waypoints = ToScene(problem, result.path);
   const std::vector<Pose> output_rigid(out.artifact.waypoints.begin() + std::max(0, inter_index),
                                        out.artifact.waypoints.end());

@@ -97,6 +97,15 @@ std::string PoseJson(const Pose& pose) {
   return JsonWriter().Add("t", JsonVector(pose.t)).Add("q", JsonQuaternion(pose.q)).Text();
 }
 
+// The path's quality figures and clearance (path_quality.h), with a warning
+// where it comes closer to S than the clearance it was meant to keep.
+void JudgePathQuality(const Scene& scene, Verdict* v) {
+  if (!v->path.success || v->path.waypoints.size() < 2) return;
+  v->quality = MeasurePathQuality(scene, v->path, v->inputs.rigid_tolerance_mm);
+  const std::string warning = ClearanceWarning(*v->quality, v->units);
+  if (!warning.empty()) LogWarn("%s", warning.c_str());
+}
+
 }  // namespace
 
 std::string PartContactJson(const PartContact& c) {
@@ -177,6 +186,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     v.blockers = FindBlockingParts(scene, v.blocked_at);
   }
   v.max_volume = FindMaxVolume(path);
+  JudgePathQuality(scene, &v);
   const bool volume_mode = IsVolumeValidity(path.validity);
   // tau and psi: the path's own (what it was planned with), else the tau file's.
   v.tau_value = std::nan("");
@@ -307,6 +317,7 @@ std::string VerdictJson(const Verdict& v) {
                          .Number("translation", removable ? path.length_translation : std::nan(""))
                          .Number("rotation", removable ? path.length_rotation : std::nan(""))
                          .Text());
+  json.Add("path_quality", v.quality ? PathQualityJson(*v.quality) : "null");
   json.Add("planner", JsonWriter()
                           .String("name", path.planner)
                           .Number("seconds", path.stats.time_s)
@@ -350,6 +361,7 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
                  exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth, units,
                  v.tolerance, exact->max_fastener_depth, units);
   }
+  if (v.quality) std::fprintf(out, "  quality: %s\n", PathQualityLine(*v.quality, v.units).c_str());
   if (v.blocking) std::fprintf(out, "  what blocks: %s\n", v.blocking->summary.c_str());
   for (const PartContact& c : v.blockers) {
     std::fprintf(out, "  blocked by (at the %s): %s\n",

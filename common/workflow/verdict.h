@@ -16,6 +16,7 @@
 #include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "scene/scene.h"
+#include "workflow/path_quality.h"
 
 namespace ausbau {
 
@@ -51,6 +52,7 @@ struct Verdict {
   std::optional<ExactCheckReport> exact;
   std::optional<BlockingReport> blocking;  // not removable: what holds D
   std::optional<MaxVolume> max_volume;
+  std::optional<PathQuality> quality;   // with a path: its lengths and clearance (workflow/path_quality.h)
   double tau_value = 0, psi_value = 0;  // NaN where none
   bool removable = false;
   // Not removable: the time budget ended the search (the path artifact's

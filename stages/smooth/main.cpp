@@ -39,7 +39,12 @@ int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   const SmoothedPath smoothed = SmoothPlannedPath(run.scene, problem, input, options.path, smooth);
   WritePathArtifact(run.output, smoothed.artifact, run.provenance);
   if (!options.csv.empty()) WritePathCsv(options.csv, smoothed.artifact.waypoints);
-  if (!options.profile.empty()) WritePathProfile(options.profile, problem, smoothed.result.path, smoothed.model.get());
+  if (!options.profile.empty()) {
+    WritePathProfile(
+        options.profile, problem, smoothed.result.path, smoothed.model.get(),
+        PathClearanceRobot(run.scene, problem, smoothed.artifact.validity, options.smooth.volume.rigid_tolerance_mm),
+        run.scene.units);
+  }
   LogInfo("written to %s%s%s%s%s", run.output.c_str(), options.csv.empty() ? "" : ", ", options.csv.c_str(),
           options.profile.empty() ? "" : ", ", options.profile.c_str());
   return kExitOk;
@@ -58,7 +63,9 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
     }
     std::vector<Pose> path;
     for (const Pose& pose : cached.waypoints) path.push_back(problem.SceneToPlanning(pose));
-    WritePathProfile(options.profile, problem, path, model.get());
+    WritePathProfile(options.profile, problem, path, model.get(),
+                     PathClearanceRobot(run.scene, problem, cached.validity, options.smooth.volume.rigid_tolerance_mm),
+                     run.scene.units);
   }
   return kExitOk;
 }
@@ -73,7 +80,7 @@ int main(int argc, char** argv) {
   stage.InputFile("--path", &options.path, "path", "path artifact from ausbau-plan")->required();
   stage.ExtraOutput("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
   stage.ExtraOutput("--profile", &options.profile,
-                    "also write the intersection and clearance profile along the path (CSV)");
+                    "also write the intersection and clearance profile along the path (CSV with units and poses)");
   AddSmoothOptions(stage, &options.smooth.smooth);
   AddTimeBudgetOptions(stage, &options.budget);
   AddVolumeInputOptions(stage, &options.smooth.volume);

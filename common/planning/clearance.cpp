@@ -1,0 +1,150 @@
+#include "planning/clearance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "collision/rigid_depth.h"
+#include "scene/units.h"
+
+namespace ausbau {
+
+double ClearanceInSceneUnits(double clearance, const std::string& units) {
+  if (clearance >= 0) return clearance;
+  const std::optional<double> mm = MillimetresPerUnit(units);
+  return kDefaultClearanceMm / (mm ? *mm : 1.0);
+}
+
+double ClearanceStep(const PlanningProblem& problem, double clearance) {
+  return std::clamp(clearance, 0.001 * problem.robot_diagonal, 0.01 * problem.robot_diagonal);
+}
+
+TriangleMesh ClearanceRobot(const PlanningProblem& problem, const PartModel* parts) {
+  if (parts == nullptr || parts->FastenerCount() == 0) return problem.robot;
+  TriangleMesh rigid;
+  for (std::size_t s = 0; s < parts->robot_shells.size(); ++s) {
+    if (parts->role[s] != ShellRole::kRigid) continue;
+    const Shell& shell = parts->robot_shells[s];
+    const int offset = static_cast<int>(rigid.vertices.size());
+    rigid.vertices.insert(rigid.vertices.end(), shell.vertices.begin(), shell.vertices.end());
+    for (const auto& t : shell.triangles) rigid.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  }
+  // The anchor is always rigid, so this holds a shell unless D has none.
+  return rigid.triangles.empty() ? problem.robot : rigid;
+}
+
+ClearanceMeter::ClearanceMeter(const PlanningProblem& problem, const TriangleMesh& robot)
+    : problem_(&problem), fcl_(robot, problem.environment) {}
+
+ClearanceSample ClearanceMeter::At(const Pose& pose) const {
+  const FclCollisionChecker::Closest closest = fcl_.ClosestPoints(pose);
+  ClearanceSample sample;
+  sample.clearance = closest.distance;
+  sample.segment = 0;
+  sample.on_robot = closest.on_robot;
+  sample.on_static = closest.on_environment;
+  return sample;
+}
+
+ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor, double step,
+                                      double stop_below) const {
+  const double total = MaxDisplacement(a, b, problem_->robot_radius);
+  ClearanceSample best;
+  double f = 0;
+  for (;;) {
+    ClearanceSample sample = At(f == 0 ? a : Interpolate(a, b, f));
+    sample.fraction = f;
+    if (sample.clearance < best.clearance) best = sample;
+    if (sample.clearance < stop_below || f >= 1 || !(total > 0)) break;
+    const double advance = std::max(step, sample.clearance - floor);
+    f = std::min(1.0, f + advance / total);
+  }
+  return best;
+}
+
+ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double floor, double step,
+                                          double stop_below) const {
+  ClearanceSample best;
+  if (path.size() == 1) best = At(path.front());
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
+    ClearanceSample sample = Along(path[i], path[i + 1], floor, step, stop_below);
+    sample.segment = static_cast<int>(i);
+    if (sample.clearance < best.clearance) best = sample;
+    if (best.clearance < stop_below) break;
+  }
+  return best;
+}
+
+ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step)
+    : meter_(problem, robot), clearance_(clearance), step_(step) {}
+
+bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
+  if (!(clearance_ > 0)) return true;
+  const double added = meter_.AlongPath(replacement, clearance_, step_).clearance;
+  if (added >= clearance_) return true;
+  // Below d: accepted only when the replaced part comes at least as close
+  // (its walk stops at the first sample that does).
+  const double removed = meter_.AlongPath(replaced, clearance_, step_, added).clearance;
+  return added >= std::min(clearance_, removed);
+}
+
+ClearanceSample ClearanceGuard::Closest(const std::vector<Pose>& path) const {
+  return meter_.AlongPath(path, clearance_, step_);
+}
+
+double ClearanceGuard::MinCapped(const std::vector<Pose>& path) const {
+  if (!(clearance_ > 0)) return 0;
+  return std::min(clearance_, meter_.AlongPath(path, clearance_, step_).clearance);
+}
+
+namespace {
+
+class ClearanceValidity : public PoseValidity {
+ public:
+  ClearanceValidity(const PoseValidity& base, const PlanningProblem& problem, const TriangleMesh& robot, double floor)
+      : base_(base), fcl_(robot, problem.environment), floor_(floor) {}
+
+ protected:
+  bool CheckValid(const Pose& pose) const override {
+    return base_.IsValid(pose) && !fcl_.InCollision(pose) && fcl_.Distance(pose) >= floor_;
+  }
+
+ private:
+  const PoseValidity& base_;
+  FclCollisionChecker fcl_;
+  double floor_;
+};
+
+class ClearanceSlackValidity : public SlackValidity {
+ public:
+  ClearanceSlackValidity(const SlackValidity& base, const PlanningProblem& problem, const TriangleMesh& robot,
+                         double floor)
+      : base_(base), fcl_(robot, problem.environment), floor_(floor) {}
+  double MinStep() const override { return base_.MinStep(); }
+
+ protected:
+  double Slack(const Pose& pose) const override {
+    const double slack = base_.MeasureSlack(pose);
+    if (slack < 0) return slack;
+    if (fcl_.InCollision(pose)) return -1.0;
+    const double gap = fcl_.Distance(pose) - floor_;
+    return gap < 0 ? -1.0 : std::min(slack, gap);
+  }
+
+ private:
+  const SlackValidity& base_;
+  FclCollisionChecker fcl_;
+  double floor_;
+};
+
+}  // namespace
+
+std::unique_ptr<PoseValidity> WithClearance(const PoseValidity& base, const PlanningProblem& problem,
+                                            const TriangleMesh& robot, double floor) {
+  if (const auto* slack = dynamic_cast<const SlackValidity*>(&base)) {
+    return std::make_unique<ClearanceSlackValidity>(*slack, problem, robot, floor);
+  }
+  return std::make_unique<ClearanceValidity>(base, problem, robot, floor);
+}
+
+}  // namespace ausbau

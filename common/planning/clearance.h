@@ -1,0 +1,124 @@
+// Clearance: the distance between D (or the part of D that must stay clear,
+// see ClearanceRobot) and S along a path, measured with FCL at poses along
+// each straight motion (the planners' interpolation, planning convention).
+//
+// Two uses:
+//  - reporting (the verdict's path_quality, profile.csv): the smallest
+//    clearance of every segment at dense poses, with where it is attained;
+//  - keeping a clearance d (ausbau-plan / ausbau-smooth --clearance): only
+//    whether a motion stays at or above a floor matters, so a sample whose
+//    clearance c exceeds the floor lets the walk jump c - floor ahead (no
+//    point of D can close that gap sooner: conservative advancement), and
+//    only near the floor does it take the fixed step.
+// Clearance is a preference, never a validity: it only ever adds a
+// condition to what the validity check already accepted.
+#pragma once
+
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collision/fcl_checker.h"
+#include "planning/state_space.h"
+
+namespace ausbau {
+
+struct PartModel;
+
+// The default --clearance, in millimetres: ten times the default rigid
+// tolerance (RIGID_TOLERANCE, 0.05 mm: how deep a rigid part may touch
+// into S), so a kept clearance is a gap and not a touch within that
+// tolerance, and about the chord tolerance of a CAD export's tessellation
+// (0.1-0.5 mm): a smaller gap on the meshes need not exist on the real
+// part. Small enough to leave every realistic fit its way out (it is a
+// preference; where a passage is narrower the path goes through it anyway
+// and the verdict says where).
+inline constexpr double kDefaultClearanceMm = 0.5;
+
+// --clearance as used: `clearance` (scene units) when >= 0, else the
+// default kDefaultClearanceMm converted by the scene's `units` (mm, cm, m,
+// in; unknown or no units: taken as mm, as the rigid tolerance is).
+double ClearanceInSceneUnits(double clearance, const std::string& units);
+
+// The sample step of the clearance walks that keep d: d itself, within
+// 0.1% and 1% of D's diagonal.
+double ClearanceStep(const PlanningProblem& problem, double clearance);
+
+// The smallest clearance found along a motion and where: the segment, the
+// fraction of it, and the nearest points of D and S (world coordinates;
+// both at a contact point when the clearance is 0).
+struct ClearanceSample {
+  double clearance = std::numeric_limits<double>::infinity();
+  int segment = -1;
+  double fraction = 0;
+  Eigen::Vector3d on_robot = Eigen::Vector3d::Zero();
+  Eigen::Vector3d on_static = Eigen::Vector3d::Zero();
+};
+
+// The part of D that must keep clear of S, relative to D's reference point
+// (planning convention): D's rigid shells when `parts` is given (the exact
+// rigid check, collision/rigid_depth.h: a fastener is meant to bend through
+// S, its distance says nothing), else all of D.
+TriangleMesh ClearanceRobot(const PlanningProblem& problem, const PartModel* parts);
+
+class ClearanceMeter {
+ public:
+  // `robot` relative to D's reference point (ClearanceRobot), S from the problem.
+  ClearanceMeter(const PlanningProblem& problem, const TriangleMesh& robot);
+
+  ClearanceSample At(const Pose& pose) const;
+
+  // The smallest clearance along the straight motion a -> b (segment 0),
+  // walked from a: where a sample's clearance c exceeds `floor` the next is
+  // c - floor farther (largest vertex displacement), else `step` farther.
+  // Exact at the samples; between two samples the clearance is at least the
+  // smaller of them minus `step`, and at least `floor` where the walk jumped.
+  // floor = +infinity samples every `step` (reporting). The walk ends early
+  // at the first sample below `stop_below` (a rejection needs no more).
+  ClearanceSample Along(const Pose& a, const Pose& b, double floor, double step,
+                        double stop_below = -std::numeric_limits<double>::infinity()) const;
+
+  // The smallest clearance over the consecutive motions of `path` (its
+  // segment index and fraction); the same walk as Along on each.
+  ClearanceSample AlongPath(const std::vector<Pose>& path, double floor, double step,
+                            double stop_below = -std::numeric_limits<double>::infinity()) const;
+
+ private:
+  const PlanningProblem* problem_;
+  FclCollisionChecker fcl_;
+};
+
+// What the smoother (and the planner's first try) keeps: a motion replacing
+// part of a path is accepted only when its smallest clearance is at least
+// min(d, the smallest clearance of the part it replaces), so no change makes
+// the clearance worse below d. d = 0 (or no guard) accepts everything.
+class ClearanceGuard {
+ public:
+  ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step);
+
+  double clearance() const { return clearance_; }
+  // Whether `replacement` (a sequence of poses joined by straight motions)
+  // may take the place of `replaced`.
+  bool Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const;
+  // The smallest clearance of a path, capped at d (d when it stays clear).
+  double MinCapped(const std::vector<Pose>& path) const;
+  // The closest sample of a path's walk (exact where below d), with where.
+  ClearanceSample Closest(const std::vector<Pose>& path) const;
+
+ private:
+  ClearanceMeter meter_;
+  double clearance_, step_;
+};
+
+// The planner's first try with a clearance (ausbau-plan --clearance): the
+// validity `base` and, in addition, D's part (the meter's) at least `floor`
+// from S. Only ever stricter than `base`. A SlackValidity base (the exact
+// rigid check) stays one: the slack is the smaller of the base's and
+// clearance - floor (no point of D moving less than that can close the gap
+// to below floor), so the motion check walks it by conservative advancement
+// as before.
+std::unique_ptr<PoseValidity> WithClearance(const PoseValidity& base, const PlanningProblem& problem,
+                                            const TriangleMesh& robot, double floor);
+
+}  // namespace ausbau
