@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <set>
 
@@ -144,6 +145,39 @@ std::vector<std::string> FindBlockingCycle(const std::vector<std::string>& remai
     }
     walk.push_back(it->second);
   }
+}
+
+std::vector<AssemblyPart> CollectAssemblyParts(const std::vector<std::string>& given, const std::string& dir,
+                                               const std::vector<std::string>& fixed) {
+  std::vector<AssemblyPart> parts;
+  if (!dir.empty()) {
+    std::error_code error;
+    if (!fs::is_directory(dir, error)) throw InputErrorAt(dir, "--parts-dir: not a folder");
+    std::vector<fs::path> files;
+    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+      const std::string ext = entry.path().extension().string();
+      if (entry.is_regular_file() && (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off" ||
+                                      ext == ".dae" || ext == ".gltf" || ext == ".glb")) {
+        files.push_back(entry.path());
+      }
+    }
+    std::sort(files.begin(), files.end());
+    for (const fs::path& file : files) parts.push_back({file.stem().string(), file, false});
+  }
+  for (const std::string& text : given) {
+    const auto equals = text.find('=');
+    if (equals == std::string::npos) {
+      parts.push_back({fs::path(text).stem().string(), text, false});
+    } else {
+      parts.push_back({text.substr(0, equals), text.substr(equals + 1), false});
+    }
+  }
+  for (const std::string& name : fixed) {
+    const auto it = std::find_if(parts.begin(), parts.end(), [&](const AssemblyPart& p) { return p.name == name; });
+    if (it == parts.end()) throw InputError("--fixed: no part is named '" + name + "'");
+    it->fixed = true;
+  }
+  return parts;
 }
 
 DisassemblyOrder PlanDisassemblyOrder(const std::vector<AssemblyPart>& parts, const DisassemblyOrderOptions& options) {

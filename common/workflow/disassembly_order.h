@@ -65,6 +65,13 @@ struct DisassemblyOrder {
 
 // Throws InputError for a part list that does not fit (fewer than two
 // parts, a name twice, a missing file, nothing to take out).
+// The parts of the command line: every mesh file of `dir` ("" = none),
+// sorted, named by its stem; then `given` as NAME=FILE or FILE (named by
+// its stem); the parts named in `fixed` marked fixed. Throws InputError naming --parts-dir or
+// --fixed.
+std::vector<AssemblyPart> CollectAssemblyParts(const std::vector<std::string>& given, const std::string& dir,
+                                               const std::vector<std::string>& fixed);
+
 DisassemblyOrder PlanDisassemblyOrder(const std::vector<AssemblyPart>& parts, const DisassemblyOrderOptions& options);
 
 // order.json (documented in stages/order/README.md).

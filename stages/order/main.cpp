@@ -1,8 +1,6 @@
 // ausbau-order: the order in which an assembly comes apart, part by part,
 // and for each part that does not come out, what blocks it. The work is
 // workflow/disassembly_order.h; see README.md beside this file.
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 
 #include "cli/stage_main.h"
@@ -15,41 +13,6 @@ namespace ausbau {
 namespace {
 
 namespace fs = std::filesystem;
-
-// --part NAME=FILE or FILE (named by its file's stem); --parts-dir: every
-// mesh file in it, by name.
-std::vector<AssemblyPart> CollectParts(const std::vector<std::string>& given, const std::string& dir,
-                                       const std::vector<std::string>& fixed) {
-  std::vector<AssemblyPart> parts;
-  if (!dir.empty()) {
-    std::error_code error;
-    if (!fs::is_directory(dir, error)) throw InputErrorAt(dir, "--parts-dir: not a folder");
-    std::vector<fs::path> files;
-    for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-      const std::string ext = entry.path().extension().string();
-      if (entry.is_regular_file() && (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off" ||
-                                      ext == ".dae" || ext == ".gltf" || ext == ".glb")) {
-        files.push_back(entry.path());
-      }
-    }
-    std::sort(files.begin(), files.end());
-    for (const fs::path& file : files) parts.push_back({file.stem().string(), file, false});
-  }
-  for (const std::string& text : given) {
-    const auto equals = text.find('=');
-    if (equals == std::string::npos) {
-      parts.push_back({fs::path(text).stem().string(), text, false});
-    } else {
-      parts.push_back({text.substr(0, equals), text.substr(equals + 1), false});
-    }
-  }
-  for (const std::string& name : fixed) {
-    const auto it = std::find_if(parts.begin(), parts.end(), [&](const AssemblyPart& p) { return p.name == name; });
-    if (it == parts.end()) throw InputError("--fixed: no part is named '" + name + "'");
-    it->fixed = true;
-  }
-  return parts;
-}
 
 void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
   std::printf("%s\n", order.complete ? "ORDER FOUND" : "NO ORDER EXISTS");
@@ -94,20 +57,21 @@ int main(int argc, char** argv) {
         app.add_option("--part-budget", options.part_budget_s, "seconds each attempt (one part, one round) may take")
             ->capture_default_str()
             ->check(Within(1e-3, 7 * 24 * 3600.0));
-        app.add_option("--units", options.units, "the parts' length unit: mm, cm, m or in")
+        app.add_option("--units", options.units, "the parts' length unit: mm, cm, m or inch (in)")
             ->capture_default_str()
-            ->check(CLI::IsMember({"mm", "cm", "m", "in"}));
+            ->check(CLI::IsMember({"mm", "cm", "m", "inch", "in"}));
         app.add_option("--rigid-tolerance", options.plan.volume.rigid_tolerance_mm,
                        "mm (converted by the scene's units): how deep a rigid solid of D may touch into S")
             ->capture_default_str();
         app.add_option("--seed", options.plan.planner.seed, "random seed; the same seed gives the same output")
-            ->capture_default_str();
+            ->capture_default_str()
+            ->check(NonNegative());
         app.add_option("--output-dir", output, "output folder: order.json and round-<r>/<part>/")
             ->capture_default_str();
       },
       [&] {
         options.out = output;
-        const std::vector<AssemblyPart> assembly = CollectParts(parts, parts_dir, fixed);
+        const std::vector<AssemblyPart> assembly = CollectAssemblyParts(parts, parts_dir, fixed);
         const DisassemblyOrder order = PlanDisassemblyOrder(assembly, options);
         const fs::path json = fs::path(output) / "order.json";
         WriteTextFileAtomically(json, DisassemblyOrderJson(order, options));
