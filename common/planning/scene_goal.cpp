@@ -5,22 +5,11 @@
 
 #include "collision/fcl_checker.h"
 #include "core/format.h"
+#include "geometry/placed_box.h"
 #include "scene/scene.h"
 
 namespace ausbau {
 namespace {
-
-// The axis-aligned box of a box `local` turned and moved by `pose`: the
-// corners' box, conservative for anything inside `local`.
-Aabb PlacedBox(const Aabb& local, const Pose& pose) {
-  const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
-  const Eigen::Vector3d center = rotation * local.Center() + pose.t;
-  const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * local.Size());
-  Aabb box;
-  box.min = center - half;
-  box.max = center + half;
-  return box;
-}
 
 // The gap between two boxes (0 when they overlap or touch).
 double Gap(const Aabb& a, const Aabb& b) {

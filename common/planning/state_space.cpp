@@ -6,8 +6,9 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "planning/scene_goal.h"
 #include "core/log.h"
+#include "geometry/placed_box.h"
+#include "planning/scene_goal.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -37,16 +38,7 @@ Pose PlanningProblem::PlanningToScene(const Pose& planning_pose) const {
 
 bool PlanningProblem::InBounds(const Pose& pose) const { return bounds.Contains(pose.Apply(bounded_point)); }
 
-Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const {
-  // Transformed box: centre moves, half-extents through |R|.
-  const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
-  const Eigen::Vector3d center = rotation * robot_local_box.Center() + pose.t;
-  const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * robot_local_box.Size());
-  Aabb box;
-  box.min = center - half;
-  box.max = center + half;
-  return box;
-}
+Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const { return PlacedBox(robot_local_box, pose); }
 
 Pose PlanningProblem::SampleUniform(Random& random) const {
   Pose pose;
@@ -89,15 +81,7 @@ void ApplyCrop(std::optional<ReachCrop> crop, PlanningProblem* problem) {
   problem->bounded_point.setZero();
   problem->crop = shared;
   const Aabb local = problem->robot_local_box;
-  problem->goal_test = [shared, local](const Pose& pose) {
-    const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
-    const Eigen::Vector3d center = rotation * local.Center() + pose.t;
-    const Eigen::Vector3d half = rotation.cwiseAbs() * (0.5 * local.Size());
-    Aabb box;
-    box.min = center - half;
-    box.max = center + half;
-    return shared->InGoal(box);
-  };
+  problem->goal_test = [shared, local](const Pose& pose) { return shared->InGoal(PlacedBox(local, pose)); };
 }
 
 }  // namespace
