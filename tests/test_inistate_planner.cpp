@@ -245,6 +245,72 @@ TEST(VolumeSmoother, ShortcutsNeverDeepenTheIntersection) {
   EXPECT_LT(MeasurePath(problem, result.path).normalized, MeasurePath(problem, path).normalized);
 }
 
+// The guard compares a replacement with the section it replaces, both
+// including the pose they start from: leaving a partial intersection at its
+// own depth is accepted (a section that starts there reaches it too), going
+// deeper is not.
+TEST(VolumeSmoother, GuardComparesWithTheReplacedSectionFromItsStart) {
+  const Scene scene = MakeScene("guard", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-1, -1, -1}, {1, 1, 1}));
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  VoxelizeOptions voxelize;
+  voxelize.voxel_size = 0.25;
+  VolumeModel model(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
+  auto at = [&](double x) {
+    Pose p = problem.start;
+    p.t = Eigen::Vector3d(x, 5, 5);
+    return p;
+  };
+  IntersectionVolume volume = model.volume().Clone();
+  const VolumeGuard guard(problem, volume, VolumeMeasure::kMliv, 0.01 * problem.robot_diagonal / 4);
+  const Pose partly_in = at(-0.5), out = at(-5), deep = at(3);
+  const double start_volume = volume.Measure(VolumeMeasure::kMliv, partly_in);
+  ASSERT_GT(start_volume, 0.0);
+  ASSERT_GT(volume.Measure(VolumeMeasure::kMliv, deep), start_volume);
+  ASSERT_EQ(volume.Measure(VolumeMeasure::kMliv, out), 0.0);
+  EXPECT_TRUE(guard.Accepts({partly_in, out}, {partly_in, partly_in}));  // stays at the start's depth
+  EXPECT_FALSE(guard.Accepts({partly_in, out}, {partly_in, deep}));
+  EXPECT_TRUE(guard.Accepts({partly_in, deep}, {partly_in, out}));
+}
+
+// The straight retreat of an InIState path may leave only from the part
+// that may be replaced (from waypoint `first` on); what comes before stays.
+TEST(Smoother, StraightRetreatLeavesFromTheReplaceablePartOnly) {
+  TriangleMesh walls = MakeBox({0, 0, 0}, {1, 10, 10});
+  walls.Append(MakeBox({9, 0, 0}, {10, 10, 10}));
+  const Scene scene = MakeScene("retreat", walls, MakeBox({4.5, 4.5, 4.5}, {5.5, 5.5, 5.5}));
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const FclCollisionChecker checker(problem.robot, problem.environment);
+  auto at = [&](double dx, double dz) {
+    Pose p = problem.start;
+    p.t += Eigen::Vector3d(dx, 0, dz);
+    return p;
+  };
+  const std::vector<Pose> input = {at(0, 0), at(0, 3), at(1, 3), at(1, 7), at(1, 20)};
+  ASSERT_TRUE(problem.InGoalRegion(input.back()));
+  SmoothOptions options;
+  std::vector<Pose> anywhere = input;
+  // Anywhere: straight up from the first segment (any point of it makes the
+  // same length), D's AABB just clear of S's (plus 1% of D's diagonal).
+  const Pose top = at(0, 5.5 + 0.01 * problem.robot_diagonal);
+  const int from_anywhere = StraightRetreatFrom(problem, checker, options, nullptr, 0, &anywhere);
+  EXPECT_LE(from_anywhere, 1);
+  ASSERT_EQ(static_cast<int>(anywhere.size()), from_anywhere + 2);
+  for (const Pose& pose : anywhere) EXPECT_NEAR(pose.t.x(), top.t.x(), 1e-9);
+  EXPECT_NEAR(anywhere.back().t.z(), top.t.z(), 1e-9);
+  // From waypoint 2 on only: the first two segments stay, then up from at(1, 3).
+  std::vector<Pose> later = input;
+  const int from_later = StraightRetreatFrom(problem, checker, options, nullptr, 2, &later);
+  EXPECT_GE(from_later, 2);
+  ASSERT_EQ(static_cast<int>(later.size()), from_later + 2);
+  for (int i = 0; i <= 2; ++i) EXPECT_EQ(later[i].t, input[i].t);
+  EXPECT_NEAR(later.back().t.x(), at(1, 0).t.x(), 1e-9);
+  EXPECT_NEAR(later.back().t.z(), top.t.z(), 1e-9);
+  // No point of the part to replace: unchanged.
+  std::vector<Pose> none = input;
+  EXPECT_EQ(StraightRetreatFrom(problem, checker, options, nullptr, input.size() - 1, &none), -1);
+  EXPECT_EQ(none.size(), input.size());
+}
+
 // ------------------------------------------------------------ clip scenes
 
 struct ClipCase {

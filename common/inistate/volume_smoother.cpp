@@ -1,20 +1,18 @@
 #include "inistate/volume_smoother.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
-
-#include "core/random.h"
 
 namespace ausbau {
 namespace {
 
 // The largest volume on the straight motion a -> b (b included, a not),
 // stopping early (returning a value above `limit`) once it exceeds limit or
-// leaves the bounds.
+// leaves the bounds. The poses are the motion checker's (MotionChecker:
+// equal sub-steps of at most `step` vertex motion).
 double SegmentMax(const PlanningProblem& problem, IntersectionVolume& volume, VolumeMeasure measure, const Pose& a,
-                  const Pose& b, double step, double limit = std::numeric_limits<double>::infinity()) {
+                  const Pose& b, double step, double limit) {
   const int steps = std::max(1, static_cast<int>(std::ceil(MaxDisplacement(a, b, problem.robot_radius) / step)));
   double worst = 0;
   for (int k = 1; k <= steps; ++k) {
@@ -29,13 +27,18 @@ double SegmentMax(const PlanningProblem& problem, IntersectionVolume& volume, Vo
 }  // namespace
 
 double MaxVolumeAlong(const PlanningProblem& problem, IntersectionVolume& volume, VolumeMeasure measure,
-                      const std::vector<Pose>& path, double step) {
+                      const std::vector<Pose>& path, double step, double limit) {
   if (path.empty()) return 0;
-  double worst = volume.Measure(measure, path.front());
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    worst = std::max(worst, SegmentMax(problem, volume, measure, path[i], path[i + 1], step));
+  double worst = volume.Measure(measure, path.front(), limit);
+  for (std::size_t i = 0; i + 1 < path.size() && !(worst > limit); ++i) {
+    worst = std::max(worst, SegmentMax(problem, volume, measure, path[i], path[i + 1], step, limit));
   }
   return worst;
+}
+
+bool VolumeGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
+  const double removed = MaxVolumeAlong(*problem_, *volume_, measure_, replaced, step_);
+  return MaxVolumeAlong(*problem_, *volume_, measure_, replacement, step_, removed) <= removed;
 }
 
 VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, IntersectionVolume& volume, VolumeMeasure measure,
@@ -43,43 +46,26 @@ VolumeSmoothResult SmoothUnderVolume(const PlanningProblem& problem, Intersectio
   options.Check();
   const double step = options.resolution * problem.robot_diagonal / 4.0;
   VolumeSmoothResult result;
-  result.path = input;
-  std::vector<Pose>& path = result.path;
-  // segment_max[k]: the largest volume on segment k -> k + 1 (its end pose
-  // included), kept in step with the path.
-  std::vector<double> segment_max;
-  for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    segment_max.push_back(SegmentMax(problem, volume, measure, path[i], path[i + 1], step));
+  result.max_before = MaxVolumeAlong(problem, volume, measure, input, step);
+  if (input.size() < 3) {
+    result.path = input;
+    result.max_after = result.max_before;
+    return result;
   }
-  const double start_volume = path.empty() ? 0.0 : volume.Measure(measure, path.front());
-  result.max_before = start_volume;
-  for (double m : segment_max) result.max_before = std::max(result.max_before, m);
-
-  Random random(options.seed);
-  const int attempts =
-      options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
-  for (int attempt = 0; attempt < attempts && path.size() >= 3; ++attempt) {
-    if (std::chrono::steady_clock::now() >= deadline) break;
-    ++result.attempts;
-    std::size_t i = random.Index(path.size()), j = random.Index(path.size());
-    if (i > j) std::swap(i, j);
-    if (j < i + 2) continue;
-    double old_cost = 0, section_max = 0;
-    for (std::size_t k = i; k < j; ++k) {
-      old_cost += problem.metric.Distance(path[k], path[k + 1], 0.5);
-      section_max = std::max(section_max, segment_max[k]);
-    }
-    if (!(problem.metric.Distance(path[i], path[j], 0.5) < old_cost - 1e-12)) continue;
-    const double shortcut_max = SegmentMax(problem, volume, measure, path[i], path[j], step, section_max);
-    if (shortcut_max > section_max) continue;
-    path.erase(path.begin() + i + 1, path.begin() + j);
-    segment_max.erase(segment_max.begin() + i + 1, segment_max.begin() + j);
-    segment_max[i] = shortcut_max;
-    ++result.shortcuts;
-  }
-  result.max_after = start_volume;
-  for (double m : segment_max) result.max_after = std::max(result.max_after, m);
+  // sigma_1's end is c_inter, where sigma_2 starts: held, as a goal pose
+  // holds the end of a rigid path (no retreat, no freeze of the tail).
+  PlanningProblem held_end = problem;
+  held_end.goal = input.back();
+  // The motions are checked against the input's largest volume (no change
+  // may exceed it anyway); the guard then compares with what they replace.
+  const VolumeValidity validity(volume, measure, result.max_before);
+  const VolumeGuard guard(held_end, volume, measure, step);
+  const SmoothResult smoothed = SmoothPath(held_end, validity, input, options, &guard);
+  result.path = smoothed.path;
+  result.shortcuts = smoothed.shortcuts;
+  result.partial_shortcuts = smoothed.partial_shortcuts;
+  result.attempts = smoothed.attempts;
+  result.max_after = MaxVolumeAlong(problem, volume, measure, result.path, step);
   return result;
 }
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "collision/fcl_checker.h"
+#include "planning/replacement_guard.h"
 #include "planning/state_space.h"
 
 namespace ausbau {
@@ -93,14 +94,14 @@ class ClearanceMeter {
 // part of a path is accepted only when its smallest clearance is at least
 // min(d, the smallest clearance of the part it replaces), so no change makes
 // the clearance worse below d. d = 0 (or no guard) accepts everything.
-class ClearanceGuard {
+class ClearanceGuard : public ReplacementGuard {
  public:
   ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step);
 
   double clearance() const { return clearance_; }
   // Whether `replacement` (a sequence of poses joined by straight motions)
   // may take the place of `replaced`.
-  bool Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const;
+  bool Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const override;
   // The smallest clearance of a path, capped at d (d when it stays clear).
   double MinCapped(const std::vector<Pose>& path) const;
   // The closest sample of a path's walk (exact where below d), with where.

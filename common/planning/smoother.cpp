@@ -80,25 +80,27 @@ std::vector<Eigen::Vector3d> AxisDirections() {
 }
 
 // Whether the straight motion from -> end may replace the path from `from`
-// (on segment `segment`) to its end, as far as the clearance guard goes.
-bool KeepsClearance(const ClearanceGuard* guard, const std::vector<Pose>& path, const Pose& from, std::size_t segment,
-                    const Pose& end) {
+// (on segment `segment`) to its end, as far as the guard goes.
+bool KeepsGuard(const ReplacementGuard* guard, const std::vector<Pose>& path, const Pose& from, std::size_t segment,
+                const Pose& end) {
   if (guard == nullptr) return true;
   std::vector<Pose> replaced = {from};
   replaced.insert(replaced.end(), path.begin() + segment + 1, path.end());
   return guard->Accepts(replaced, {from, end});
 }
 
-// Step 2: of 64 points evenly spread along the path (by its metric
-// length), the one from which one straight translation leaves S and makes
-// the whole path shortest. Directions: the axes and diagonals, the way to
-// the current end, and the path's own direction there. A candidate is
-// motion-checked only when it would beat the best so far, so blocked
-// directions cost little.
-void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
-                     SmoothResult* result) {
-  std::vector<Pose>& path = result->path;
-  if (!EndIsFree(problem) || path.size() < 2) return;
+// Step 2: of 64 points evenly spread along the path from waypoint `first`
+// on (by its metric length), the one from which one straight translation
+// leaves S and makes the whole path shortest. Directions: the axes and
+// diagonals, the way to the current end, and the path's own direction
+// there. A candidate is motion-checked only when it would beat the best so
+// far, so blocked directions cost little. Returns the segment the retreat
+// leaves from (the path then ends with the pose it leaves from, unless that
+// is the segment's start, and the retreat's end), or -1.
+int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
+                    std::size_t first, std::vector<Pose>* path_in) {
+  std::vector<Pose>& path = *path_in;
+  if (!EndIsFree(problem) || path.size() < 2 || first + 1 >= path.size()) return -1;
   std::vector<double> cost_to(path.size(), 0.0);  // metric length from the start to waypoint i
   for (std::size_t i = 1; i < path.size(); ++i) {
     cost_to[i] = cost_to[i - 1] + problem.metric.Distance(path[i - 1], path[i], 0.5);
@@ -107,10 +109,10 @@ void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion
   std::optional<Pose> best_from, best_end;
   std::size_t best_segment = 0;
   constexpr int kPoints = 64;
-  std::size_t segment = 0;
+  std::size_t segment = first;
   for (int point = 0; point < kPoints; ++point) {
     // The point at this fraction of the length, on segment [segment, segment + 1].
-    const double at = cost_to.back() * point / kPoints;
+    const double at = cost_to[first] + (cost_to.back() - cost_to[first]) * point / kPoints;
     while (segment + 2 < path.size() && cost_to[segment + 1] <= at) ++segment;
     const double span = cost_to[segment + 1] - cost_to[segment];
     const Pose from =
@@ -123,7 +125,7 @@ void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion
       if (!end) continue;
       const double cost = at + problem.metric.Distance(from, *end, 0.5);
       if (cost < best_cost && motion.IsValid(from) && motion.MotionValid(from, *end) &&
-          KeepsClearance(guard, path, from, segment, *end)) {
+          KeepsGuard(guard, path, from, segment, *end)) {
         best_from = from;
         best_end = end;
         best_cost = cost;
@@ -131,11 +133,11 @@ void StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion
       }
     }
   }
-  if (!best_end) return;
+  if (!best_end) return -1;
   path.resize(best_segment + 1);
   if (best_from->t != path.back().t || best_from->q.coeffs() != path.back().q.coeffs()) path.push_back(*best_from);
   path.push_back(*best_end);
-  result->retreat_from = static_cast<int>(best_segment);
+  return static_cast<int>(best_segment);
 }
 
 // The pose `pose` with degree of freedom `dof` (0..2: x, y, z; 3: the
@@ -154,7 +156,7 @@ Pose WithDof(Pose pose, const Pose& from, const Pose& to, int dof, double s) {
 // with `freeze_tail` (j is the end of a disassembly path) the rotation stays
 // at waypoint i's instead. Kept when valid, still ending in the goal region,
 // and shorter.
-bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                      std::vector<Pose>* path_in, std::size_t i, std::size_t j, int dof, bool freeze_tail) {
   const std::vector<Pose>& path = *path_in;
   std::vector<double> along(j - i + 1, 0.0);
@@ -184,7 +186,7 @@ bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion
 
 // Step 3's freeze: from 16 waypoints evenly spread, the first one from
 // which the rest of a disassembly path can keep that waypoint's rotation.
-void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                         SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   if (!EndIsFree(problem) || path.size() < 3) return;
@@ -201,7 +203,7 @@ void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& mot
 
 // Step 1, one attempt: two random points on two different segments; the
 // path between them replaced by the straight motion when valid and shorter.
-bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard,
+bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                   Random& random, std::vector<Pose>* path_in) {
   std::vector<Pose>& path = *path_in;
   const std::size_t segments = path.size() - 1;
@@ -231,7 +233,7 @@ bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, c
 }
 
 // Drops waypoints whose neighbours see each other directly.
-void DropNeedlessWaypoints(const MotionChecker& motion, const ClearanceGuard* guard, std::vector<Pose>* path) {
+void DropNeedlessWaypoints(const MotionChecker& motion, const ReplacementGuard* guard, std::vector<Pose>* path) {
   for (std::size_t i = 0; i + 2 < path->size();) {
     const std::vector<Pose>& p = *path;
     if (motion.MotionValid(p[i], p[i + 2]) &&
@@ -244,15 +246,15 @@ void DropNeedlessWaypoints(const MotionChecker& motion, const ClearanceGuard* gu
 }
 
 // Steps 1-4 on one path.
-void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ClearanceGuard* guard, int attempts,
-                Random& random, const std::function<bool()>& out_of_time, SmoothResult* result) {
+void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
+                int attempts, Random& random, const std::function<bool()>& out_of_time, SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   for (int attempt = 0; attempt < attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
     ++result->attempts;
     if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
   DropNeedlessWaypoints(motion, guard, &path);
-  if (!out_of_time()) StraightRetreat(problem, motion, guard, result);
+  if (!out_of_time()) result->retreat_from = StraightRetreat(problem, motion, guard, 0, &path);
 
   // Partial shortcuts: a quarter of the attempts, each on one degree of
   // freedom, between two freezes of a disassembly's tail rotation (the
@@ -309,9 +311,16 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
 
 }  // namespace
 
+int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
+                        const ReplacementGuard* guard, std::size_t first, std::vector<Pose>* path) {
+  options.Check();
+  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0);
+  if (StraightRetreat(problem, motion, guard, first, path) < 0) return -1;
+  return static_cast<int>(path->size()) - 2;
+}
+
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& input,
-                        const SmoothOptions& options, const ClearanceGuard* guard) {
-  if (guard != nullptr && !(guard->clearance() > 0)) guard = nullptr;  // d = 0: exactly the unguarded smoothing
+                        const SmoothOptions& options, const ReplacementGuard* guard) {
   options.Check();
   // Shortcuts are few: check them at the certification step (planner step / 4,
   // planning/certify.h) so that smoothing never trades certainty for length.
@@ -336,7 +345,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
     // smoothed path instead, an alternative without needless turning would
     // lose to any that the turning path's shortcuts happened to widen).
     if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized &&
-        (guard == nullptr || guard->MinCapped(straight->path) >= guard->MinCapped(input))) {
+        (guard == nullptr || guard->Accepts(input, straight->path))) {
       result.path = straight->path;
       result.after = MeasurePath(problem, result.path);
       result.shortcuts += straight->shortcuts;

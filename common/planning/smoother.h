@@ -26,7 +26,7 @@
 
 namespace ausbau {
 
-class ClearanceGuard;
+class ReplacementGuard;
 
 struct SmoothOptions {
   std::uint64_t seed = 1;
@@ -67,12 +67,22 @@ struct SmoothResult {
   bool translation_only = false;  // the path is the translation-only alternative (step 5)
 };
 
-// With `guard` (a clearance d > 0, planning/clearance.h), every change
-// (shortcut, retreat, dropped waypoint, the translation-only alternative)
-// must also keep the clearance: its motion comes no closer to S than
-// min(d, the closest the part it replaces comes). Without one, or with
-// d = 0, exactly the unguarded smoothing.
+// With `guard` (planning/replacement_guard.h), every change (shortcut,
+// retreat, dropped waypoint, the translation-only alternative) must also be
+// accepted by it: with a clearance guard (planning/clearance.h), its motion
+// comes no closer to S than min(d, the closest the part it replaces comes);
+// without one, or with d = 0, exactly the unguarded smoothing.
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& path,
-                        const SmoothOptions& options, const ClearanceGuard* guard = nullptr);
+                        const SmoothOptions& options, const ReplacementGuard* guard = nullptr);
+
+// Step 2 alone, on a path of which only the part from waypoint `first` on
+// may be replaced (the InIState path: a retreat may leave from sigma_1 once
+// D is free there, validity the rigid one): from points evenly spread along
+// that part, the straight retreat that makes the whole path shortest. The
+// path then ends with the pose it leaves from and the retreat's end;
+// returns the index of the former, or -1 (path unchanged) when none is
+// valid and shorter. Disassembly only (no goal pose): else -1.
+int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
+                        const ReplacementGuard* guard, std::size_t first, std::vector<Pose>* path);
 
 }  // namespace ausbau

@@ -95,6 +95,45 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   return out;
 }
 
+// Needless turning across c_inter: sigma_1's planner turns D at random and
+// sigma_2 starts with that orientation, so neither part alone can take it
+// out (sigma_1's end is held while it is smoothed). From the first of 16
+// waypoints of sigma_1, evenly spread, from which it works, the rest of the
+// path keeps that waypoint's orientation: sigma_1's remainder under the
+// volume guard, from c_inter on under collision (`rigid`) and the clearance
+// guard, its end in the goal region. Disassembly only (a goal pose holds
+// the end's orientation). Returns whether the path changed.
+bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionChecker& rigid,
+                               const VolumeGuard& volume_guard, const ClearanceGuard& clearance_guard,
+                               std::size_t inter_index, std::vector<Pose>* path) {
+  if (problem.goal.has_value() || inter_index == 0 || inter_index >= path->size()) return false;
+  const std::vector<Pose>& old = *path;
+  const double old_rotation = MeasurePath(problem, old).rotation;
+  const auto slice = [](const std::vector<Pose>& p, std::size_t from, std::size_t to) {
+    return std::vector<Pose>(p.begin() + from, p.begin() + to + 1);
+  };
+  constexpr std::size_t kTries = 16;
+  for (std::size_t n = 0; n < kTries; ++n) {
+    const std::size_t k = n * inter_index / kTries;
+    std::vector<Pose> next = old;
+    for (std::size_t m = k + 1; m < next.size(); ++m) next[m].q = old[k].q;
+    if (!(MeasurePath(problem, next).rotation < old_rotation - 1e-9) || !problem.InGoalRegion(next.back())) continue;
+    if (!rigid.IsValid(next[inter_index])) continue;
+    bool valid = true;
+    for (std::size_t m = inter_index; m + 1 < next.size() && valid; ++m)
+      valid = rigid.MotionValid(next[m], next[m + 1]);
+    if (!valid || !volume_guard.Accepts(slice(old, k, inter_index), slice(next, k, inter_index)) ||
+        !clearance_guard.Accepts(slice(old, inter_index, old.size() - 1), slice(next, inter_index, next.size() - 1))) {
+      continue;
+    }
+    LogInfo("rotation held from sigma_1's waypoint %zu on: %.3f -> %.3f rad", k, old_rotation,
+            MeasurePath(problem, next).rotation);
+    path->swap(next);
+    return true;
+  }
+  return false;
+}
+
 // sigma_1 under its volume, no shortcut deepening any intersection
 // (inistate/volume_smoother.h); sigma_2 under collision; no shortcut
 // crosses c_inter. Returns the index of c_inter in the smoothed path.
@@ -111,18 +150,34 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
     LogWarn("the input path's largest volume %.6g exceeds its tau %.6g (other voxels or labels than planned with?)",
             first.max_before, input.tau);
   }
-  LogInfo("sigma_1: %zu -> %zu waypoints, largest %s %.6g -> %.6g %s^3 (tau %.6g), %d shortcuts in %d attempts",
-          sigma1.size(), first.path.size(), input.validity.c_str(), first.max_before, first.max_after,
-          scene.units.c_str(), input.tau, first.shortcuts, first.attempts);
+  LogInfo(
+      "sigma_1: %zu -> %zu waypoints, largest %s %.6g -> %.6g %s^3 (tau %.6g), %d shortcuts (%d partial) in %d "
+      "attempts",
+      sigma1.size(), first.path.size(), input.validity.c_str(), first.max_before, first.max_after, scene.units.c_str(),
+      input.tau, first.shortcuts, first.partial_shortcuts, first.attempts);
   SmoothOptions second_options = options.smooth;
   second_options.seed = options.smooth.seed + 1;
   const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
   const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options, guard.get());
-  WarnBelowClearance(scene, *guard, second.path, static_cast<int>(first.path.size()) - 1);
   SmoothResult& result = out->result;
   result.path = first.path;
-  const int inter_index = static_cast<int>(result.path.size()) - 1;
+  int inter_index = static_cast<int>(result.path.size()) - 1;
   result.path.insert(result.path.end(), second.path.begin() + 1, second.path.end());
+  const MotionChecker rigid(problem, checker, options.smooth.resolution * problem.robot_diagonal / 4.0);
+  const VolumeGuard volume_guard(problem, volume, out->model->measure(),
+                                 options.smooth.resolution * problem.robot_diagonal / 4.0);
+  FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, inter_index, &result.path);
+  // A straight retreat may also leave from sigma_1, where D is already free
+  // of S before sigma_1's end (c_inter only had to be psi clear of the
+  // fasteners): from there on the path is rigid, so the pose it leaves from
+  // becomes c_inter. Checked like sigma_2 (collision, clearance guard).
+  const int retreat = StraightRetreatFrom(problem, checker, second_options, guard.get(), 0, &result.path);
+  if (retreat >= 0 && retreat < inter_index) {
+    LogInfo("straight retreat from sigma_1's waypoint %d (was c_inter: %d)", retreat, inter_index);
+    inter_index = retreat;
+  }
+  WarnBelowClearance(scene, *guard, std::vector<Pose>(result.path.begin() + inter_index, result.path.end()),
+                     inter_index);
   result.before = MeasurePath(problem, path);
   result.after = MeasurePath(problem, result.path);
   result.shortcuts = first.shortcuts + second.shortcuts;
