@@ -245,11 +245,18 @@ void DropNeedlessWaypoints(const MotionChecker& motion, const ReplacementGuard* 
   }
 }
 
-// Steps 1-4 on one path.
+using Clock = std::chrono::steady_clock;
+
+// Steps 1-4 on one path, by `deadline`. The full shortcuts get at most half
+// of the time left: where the time limit (a safety valve) is hit on a slow
+// or loaded machine, the retreat and the partial shortcuts, which take out
+// the largest detours and the needless turning, still run.
 void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
-                int attempts, Random& random, const std::function<bool()>& out_of_time, SmoothResult* result) {
+                int attempts, Random& random, Clock::time_point deadline, SmoothResult* result) {
+  const auto out_of_time = [&] { return Clock::now() >= deadline; };
+  const Clock::time_point shortcuts_end = Clock::now() + (deadline - Clock::now()) / 2;
   std::vector<Pose>& path = result->path;
-  for (int attempt = 0; attempt < attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
+  for (int attempt = 0; attempt < attempts && path.size() >= 3 && Clock::now() < shortcuts_end; ++attempt) {
     ++result->attempts;
     if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
@@ -283,7 +290,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
 // the same way, and kept when it is shorter.
 std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, const PoseValidity& validity,
                                             const MotionChecker& motion, const SmoothOptions& options, int attempts,
-                                            const std::function<bool()>& out_of_time) {
+                                            Clock::time_point deadline) {
   PlanningProblem fixed = problem;
   fixed.fixed_rotation = problem.start.q;
   PlannerOptions planner;
@@ -298,14 +305,14 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   } catch (const InputError&) {
     return std::nullopt;  // e.g. a start the planner does not take: no alternative then
   }
-  if (!planned.solved() || out_of_time()) return std::nullopt;
+  if (!planned.solved() || Clock::now() >= deadline) return std::nullopt;
   SmoothResult result;
   result.path = planned.path;
   Random random(options.seed + 1);
   // Smoothed without the guard: the whole alternative is held to the input's
   // clearance instead (SmoothPath), or a guard that a sliding contact trips
   // at every shortcut would keep its detours.
-  SmoothOnce(problem, motion, nullptr, attempts, random, out_of_time, &result);
+  SmoothOnce(problem, motion, nullptr, attempts, random, deadline, &result);
   return result;
 }
 
@@ -331,14 +338,19 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   Random random(options.seed);
   const int attempts =
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.time_limit_s);
-  const std::function<bool()> out_of_time = [&] { return std::chrono::steady_clock::now() >= deadline; };
-  SmoothOnce(problem, motion, guard, attempts, random, out_of_time, &result);
+  const Clock::time_point start = Clock::now();
+  // (At most 30 years: a longer limit would overflow the clock's count.)
+  const Clock::time_point deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                                 std::chrono::duration<double>(std::min(options.time_limit_s, 1e9)));
+  // A disassembly keeps 40% of the time for the translation-only
+  // alternative (step 5), should the limit be hit.
+  const Clock::time_point first_deadline = EndIsFree(problem) ? start + (deadline - start) * 3 / 5 : deadline;
+  SmoothOnce(problem, motion, guard, attempts, random, first_deadline, &result);
   result.after = MeasurePath(problem, result.path);
   const bool turns = result.after.rotation > 1e-9;
-  if (EndIsFree(problem) && turns && !out_of_time()) {
+  if (EndIsFree(problem) && turns && Clock::now() < deadline) {
     const std::optional<SmoothResult> straight =
-        TranslationOnly(problem, validity, motion, options, attempts, out_of_time);
+        TranslationOnly(problem, validity, motion, options, attempts, deadline);
     // With a clearance guard, the alternative (planned without it) must
     // also come no closer to S below d than the input path: smoothing as a
     // whole never makes the clearance worse below d (compared with the
