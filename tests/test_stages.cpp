@@ -126,6 +126,36 @@ TEST(PlanStage, ReusesAnUpToDateOutputAndReplansOnChange) {
   EXPECT_EQ(forced.output.find("up to date"), std::string::npos) << forced.output;
 }
 
+// The runner (cli/stage.h) says "up to date" once, in the stage's words
+// (StageSpec::up_to_date), then runs the stage's reuse step (here: the CSV
+// written again); a Query flag (--choose-validity) answers without the cache.
+TEST(StageRunner, UpToDateLineReuseAndQuery) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  const auto dir = yaml.parent_path();
+  const std::string base = "--scene " + yaml.string() + " -o " + (dir / "path.h5").string();
+  ASSERT_EQ(RunStage("plan", base).exit_code, 0);
+  const Outcome again = RunStage("plan", base + " --csv " + (dir / "again.csv").string());
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  const std::string line =
+      (dir / "path.h5").string() + " is up to date (same inputs and options); use --force to plan again";
+  const auto at = again.output.find(line);
+  ASSERT_NE(at, std::string::npos) << again.output;
+  EXPECT_EQ(again.output.find("up to date", at + line.size()), std::string::npos) << "said twice: " << again.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "again.csv")) << "the reuse step did not write the CSV";
+
+  const Outcome query = RunStage("plan", base + " --choose-validity");
+  EXPECT_EQ(query.exit_code, 0) << query.output;
+  EXPECT_EQ(query.output.find("up to date"), std::string::npos) << query.output;
+  EXPECT_NE(query.output.find("rigid-exact"), std::string::npos) << query.output;
+
+  const std::string spheres = "--scene " + yaml.string() + " -o " + (dir / "spheres.h5").string();
+  ASSERT_EQ(RunStage("medial-spheres", spheres).exit_code, 0);
+  const Outcome reused = RunStage("medial-spheres", spheres);
+  EXPECT_EQ(reused.exit_code, 0) << reused.output;
+  EXPECT_NE(reused.output.find("is up to date (same D and options); use --force to compute again"), std::string::npos)
+      << reused.output;
+}
+
 TEST(PlanStage, NoPathWithinTheBudgetHasItsOwnExitCode) {
   // The rod in a cage whose lid has no slot: no way out.
   const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 1);

@@ -14,7 +14,7 @@
 namespace ausbau {
 
 StageDefinition::StageDefinition(const StageSpec& spec)
-    : name_(spec.name), app_(spec.description, name_), scene_hash_(spec.scene) {
+    : name_(spec.name), up_to_date_(spec.up_to_date), app_(spec.description, name_), scene_hash_(spec.scene) {
   SetLogProgramName(name_);
   app_.add_option("--log-level", log_level_, "error, warn, info or debug (stderr)")->capture_default_str();
   app_.set_version_flag("--version", std::string(AUSBAU_VERSION));
@@ -63,6 +63,12 @@ CLI::Option* StageDefinition::InputArtifact(const std::string& flags, std::strin
 CLI::Option* StageDefinition::ExtraOutput(const std::string& flags, std::string* path, const std::string& help) {
   extra_outputs_.push_back(path);
   return Option(flags, path, help, CacheKey::kNo);
+}
+
+void StageDefinition::Query(const std::string& flags, const std::string& help,
+                            std::function<int(const StageRun&)> answer) {
+  Flag(flags, &query_, help, CacheKey::kNo);
+  answer_query_ = std::move(answer);
 }
 
 CLI::Option* StageDefinition::Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key) {
@@ -130,8 +136,20 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   return provenance;
 }
 
-int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& compute,
-                               const std::function<int(const StageRun&)>& reuse) {
+int StageDefinition::PrintValidation(const Provenance& provenance) const {
+  std::printf("%s: the options and inputs are valid\n", name_.c_str());
+  std::printf("options (cache key):\n%s", provenance.parameters_yaml.c_str());
+  std::printf("inputs:\n");
+  for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
+  std::printf("provenance hash: %s\n", provenance.Hash().c_str());
+  if (has_output_) {
+    const bool current = ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash();
+    std::printf("output %s: %s\n", output_.c_str(), current ? "up to date" : "would be computed");
+  }
+  return kExitOk;
+}
+
+int StageDefinition::RunParsed(const StageWork& work) {
   if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
   const struct Scene scene = LoadScene(scene_path_);
   {
@@ -146,25 +164,15 @@ int StageDefinition::RunParsed(const std::function<int(const StageRun&)>& comput
   }
   const Provenance provenance = MakeProvenance(scene);
   const StageRun run{scene, scene_path_, output_, provenance};
-  if (validate_) {
-    std::printf("%s: the options and inputs are valid\n", name_.c_str());
-    std::printf("options (cache key):\n%s", provenance.parameters_yaml.c_str());
-    std::printf("inputs:\n");
-    for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
-    std::printf("provenance hash: %s\n", provenance.Hash().c_str());
-    if (has_output_) {
-      const bool current = ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash();
-      std::printf("output %s: %s\n", output_.c_str(), current ? "up to date" : "would be computed");
-    }
-    return kExitOk;
-  }
+  if (validate_) return PrintValidation(provenance);
+  if (query_) return answer_query_(run);
   if (has_output_ && !force_ &&
-      ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash()) {
-    if (reuse) return reuse(run);
-    LogInfo("%s is up to date (same inputs and options); use --force to compute again", output_.c_str());
-    return kExitOk;
+      ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash() &&
+      !(work.stale && work.stale(run))) {
+    LogInfo("%s is up to date (same %s); use --force to %s", output_.c_str(), up_to_date_.inputs, up_to_date_.redo);
+    return work.reuse ? work.reuse(run) : kExitOk;
   }
-  const int code = compute(run);
+  const int code = work.compute(run);
   CheckInputsUnchanged(scene, provenance);
   return code;
 }
@@ -198,13 +206,12 @@ void StageDefinition::CheckInputsUnchanged(const Scene& scene, const Provenance&
                                   " was removed (run it again)");
 }
 
-int StageDefinition::Run(int argc, char** argv, const std::function<int(const StageRun&)>& compute,
-                         const std::function<int(const StageRun&)>& reuse) {
+int StageDefinition::Run(int argc, char** argv, const StageWork& work) {
   const int parsed = ParseStageArguments(name_, app_, argc, argv, log_level_);
   if (parsed >= 0) return parsed;
   return RunWithExitCodes(name_, [&] {
     try {
-      return RunParsed(compute, reuse);
+      return RunParsed(work);
     } catch (const OptionError& e) {
       throw InputError(FlagOf(e) + ": " + e.problem());
     }

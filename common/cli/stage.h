@@ -12,14 +12,20 @@
 // and the cache short-circuit: when the output's recorded provenance equals
 // this run's, the stage's work is skipped (its `reuse` step runs instead).
 //
-// A stage's main.cpp then starts with what the stage is, in one constant:
+// A stage's main.cpp then says what the stage is, in one constant:
 //   constexpr StageSpec kVoxelizeStage{"ausbau-voxelize", "Voxelizes ...", SceneHash::kWholeScene,
 //                                      {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
-// and its main declares the options and runs:
-//   StageDefinition stage(kVoxelizeStage);
-//   stage.Option("--voxel-size", &options.voxel_size, "voxel edge ...", CacheKey::kYes);
-//   stage.Threads(&options.threads);
-//   return stage.Run(argc, argv, [&](const StageRun& run) { return Voxelize(run, options); });
+// one function that declares its options into its options struct, one that
+// does the work (and, where an up-to-date output still needs something, one
+// for that), and a main that hands them to the runner:
+//   void DeclareVoxelize(StageDefinition& stage, VoxelizeStageOptions* options) {
+//     stage.Option("--voxel-size", &options->voxelize.voxel_size, "voxel edge ...", CacheKey::kYes);
+//     stage.Threads(&options->threads);
+//   }
+//   int Voxelize(const StageRun& run, const VoxelizeStageOptions& options) { ... }
+//   int main(int argc, char** argv) {
+//     return ausbau::RunStageMain(argc, argv, ausbau::kVoxelizeStage, ausbau::DeclareVoxelize, ausbau::Voxelize);
+//   }
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -60,6 +66,12 @@ struct StageSpec {
     const char* schema = nullptr;
     int schema_version = 0;
   } output;
+  // The runner's line for an output that is up to date (its work skipped):
+  //   "<output> is up to date (same <inputs>); use --force to <redo>"
+  struct UpToDate {
+    const char* inputs = "inputs and options";
+    const char* redo = "compute again";
+  } up_to_date;
 };
 
 // What the runner hands to the stage's work: the loaded scene (and the file
@@ -71,6 +83,20 @@ struct StageRun {
   const Provenance& provenance;
   // D's mesh content hash as the provenance records it ("" without a scene).
   std::string DynamicMeshHash() const;
+};
+
+// What a stage does with a run (StageDefinition::Run); each returns the exit
+// code.
+struct StageWork {
+  // The work: the output is missing, out of date, or --force was given.
+  std::function<int(const StageRun&)> compute;
+  // The output is up to date: after the runner's line saying so, what such
+  // an output still needs (its extra files written again) and its exit code.
+  // Empty: nothing more, exit 0.
+  std::function<int(const StageRun&)> reuse;
+  // Whether an up-to-date output is no answer after all and is computed
+  // again (ausbau-plan: a search that its time budget cut short). Empty: never.
+  std::function<bool(const StageRun&)> stale;
 };
 
 class StageDefinition {
@@ -87,6 +113,11 @@ class StageDefinition {
   // (so that an identical recomputation upstream does not invalidate this).
   CLI::Option* InputArtifact(const std::string& flags, std::string* path, const std::string& role, std::string schema,
                              int schema_version, const std::string& help);
+  // A flag that asks the stage a question about the scene instead of doing
+  // its work (ausbau-plan --choose-validity): given, `answer` runs once the
+  // scene is loaded, in place of the work and the cache (never in the cache
+  // key). One per stage.
+  void Query(const std::string& flags, const std::string& help, std::function<int(const StageRun&)> answer);
   // Any other option, marked as part of the cache key or not.
   template <class T>
   CLI::Option* Option(const std::string& flags, T* value, const std::string& help, CacheKey key) {
@@ -112,11 +143,8 @@ class StageDefinition {
   // For what the declarations above do not cover (option groups, excludes).
   CLI::App& app() { return app_; }
 
-  // Parses argv and runs the stage: `compute` when the output is missing,
-  // out of date or --force; otherwise `reuse` (default: a log line). Their
-  // return value is the exit code. Never throws.
-  int Run(int argc, char** argv, const std::function<int(const StageRun&)>& compute,
-          const std::function<int(const StageRun&)>& reuse = {});
+  // Parses argv and runs the stage (see StageWork). Never throws.
+  int Run(int argc, char** argv, const StageWork& work);
 
   // The provenance text of the options (for tests and --validate).
   std::string OptionsText() const;
@@ -128,7 +156,10 @@ class StageDefinition {
     std::string schema;  // empty: hashed by content
     int schema_version = 0;
   };
-  int RunParsed(const std::function<int(const StageRun&)>& compute, const std::function<int(const StageRun&)>& reuse);
+  int RunParsed(const StageWork& work);
+  // --validate: prints the resolved options, the inputs and whether the
+  // output is up to date.
+  int PrintValidation(const Provenance& provenance) const;
   Provenance MakeProvenance(const Scene& scene) const;
   std::string FlagOf(const OptionError& error) const;
   // After the work: throws InputError (and removes the output) when an input
@@ -136,10 +167,13 @@ class StageDefinition {
   void CheckInputsUnchanged(const Scene& scene, const Provenance& used) const;
 
   std::string name_;
+  StageSpec::UpToDate up_to_date_;
   CLI::App app_;
   std::string log_level_ = "info";
   bool validate_ = false;
   bool force_ = false;
+  bool query_ = false;  // the Query flag was given
+  std::function<int(const StageRun&)> answer_query_;
   int* threads_ = nullptr;
   std::string scene_path_;
   SceneHash scene_hash_ = SceneHash::kWholeScene;
@@ -153,5 +187,23 @@ class StageDefinition {
   std::set<std::string> not_in_cache_key_;
   std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"
 };
+
+// A stage's whole main: its spec, the function that declares its options
+// into a default-constructed `Options`, the work, and optionally what an
+// up-to-date output still needs and when it is stale (StageWork).
+template <class Options>
+int RunStageMain(int argc, char** argv, const StageSpec& spec, void (*declare)(StageDefinition&, Options*),
+                 int (*compute)(const StageRun&, const Options&),
+                 int (*reuse)(const StageRun&, const Options&) = nullptr,
+                 bool (*stale)(const StageRun&, const Options&) = nullptr) {
+  Options options;
+  StageDefinition stage(spec);
+  declare(stage, &options);
+  StageWork work;
+  work.compute = [&](const StageRun& run) { return compute(run, options); };
+  if (reuse) work.reuse = [&](const StageRun& run) { return reuse(run, options); };
+  if (stale) work.stale = [&](const StageRun& run) { return stale(run, options); };
+  return stage.Run(argc, argv, work);
+}
 
 }  // namespace ausbau

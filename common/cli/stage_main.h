@@ -24,6 +24,31 @@ struct StageInfo {
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run);
 
+// The whole main of a stage that neither reads a scene.yaml nor caches an
+// artifact (ausbau-assembly, -distfield-build, -order, -report, -scene-gen,
+// -scene-import; the others: RunStageMain in cli/stage.h): its name and
+// --help line, the function that declares its options into a
+// default-constructed `Options`, and the work.
+template <class Options>
+int RunStageMain(int argc, char** argv, const StageInfo& info, void (*declare)(CLI::App&, Options*),
+                 int (*run)(const Options&)) {
+  Options options;
+  return RunStage(
+      info, argc, argv, [&](CLI::App& app) { declare(app, &options); }, [&] { return run(options); });
+}
+
+// Defines a stage executable's main, as BENCHMARK_MAIN() does for Google
+// Benchmark, so that no stage repeats it: the last line of each
+// stages/<name>/main.cpp, after its namespaces close, e.g.
+//   AUSBAU_STAGE_MAIN(kPlanStage, DeclarePlan, Plan, Reuse, CutShort)
+// calls RunStageMain(argc, argv, <the arguments>) (here or in cli/stage.h),
+// the names looked up in namespace ausbau.
+#define AUSBAU_STAGE_MAIN(...)                    \
+  int main(int argc, char** argv) {               \
+    using namespace ausbau;                       \
+    return RunStageMain(argc, argv, __VA_ARGS__); \
+  }
+
 // The two halves of every stage's main, shared by RunStage and the
 // declarative runner (cli/stage.h): parse argv (returns the exit code for
 // --help, --version or a bad flag, or -1 to go on), and run the work,

@@ -204,39 +204,33 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   return v;
 }
 
-std::string VerdictJson(const Verdict& v) {
-  const VerdictInputs& options = v.inputs;
-  const PathArtifact& path = v.path;
-  const auto& exact = v.exact;
-  const auto& blocking = v.blocking;
-  const auto& max = v.max_volume;
-  const auto& tau = v.tau;
-  const bool removable = v.removable;
-  JsonWriter json;
-  json.String("schema", kVerdictSchema).Int("version", kVerdictSchemaVersion);
-  json.String("producer", "ausbau-verdict").String("producer_version", AUSBAU_VERSION);
-  json.Add("scene",
-           JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
-  json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
-  // Not removable: why, and what blocks D where it got to (absent for a
-  // removable part, whose files stay as they were).
-  if (!removable) {
-    json.String("status_detail", VerdictStatusDetail(v)).Bool("stopped_by_budget", v.stopped_by_budget);
-    std::string partial = "[";
-    for (const Pose& pose : v.path.partial_waypoints) partial += (partial.size() > 1 ? ", " : "") + PoseJson(pose);
-    json.Add("partial_path", JsonWriter()
-                                 .Int("waypoints", static_cast<long long>(v.path.partial_waypoints.size()))
-                                 .Add("poses", partial + "]")
-                                 .Text());
-    std::string blockers = "[";
-    for (const PartContact& c : v.blockers) blockers += (blockers.size() > 1 ? ", " : "") + PartContactJson(c);
-    json.Add("blocked_by", JsonWriter()
-                               .String("at", v.blocked_at_partial_end ? "end of the partial path" : "installed pose")
-                               .Add("pose", PoseJson(v.blocked_at))
-                               .Add("parts", blockers + "]")
+namespace {
+
+// The sections of verdict.json (VerdictJson), each added to `json`.
+
+// Not removable: why, and what blocks D where it got to (absent for a
+// removable part, whose files stay as they were).
+void AddWhyNotRemovable(const Verdict& v, JsonWriter& json) {
+  if (v.removable) return;
+  json.String("status_detail", VerdictStatusDetail(v)).Bool("stopped_by_budget", v.stopped_by_budget);
+  std::string partial = "[";
+  for (const Pose& pose : v.path.partial_waypoints) partial += (partial.size() > 1 ? ", " : "") + PoseJson(pose);
+  json.Add("partial_path", JsonWriter()
+                               .Int("waypoints", static_cast<long long>(v.path.partial_waypoints.size()))
+                               .Add("poses", partial + "]")
                                .Text());
-  }
-  json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
+  std::string blockers = "[";
+  for (const PartContact& c : v.blockers) blockers += (blockers.size() > 1 ? ", " : "") + PartContactJson(c);
+  json.Add("blocked_by", JsonWriter()
+                             .String("at", v.blocked_at_partial_end ? "end of the partial path" : "installed pose")
+                             .Add("pose", PoseJson(v.blocked_at))
+                             .Add("parts", blockers + "]")
+                             .Text());
+}
+
+void AddTauEstimate(const Verdict& v, JsonWriter& json) {
+  const auto& tau = v.tau;
+  const VerdictInputs& options = v.inputs;
   if (tau) {
     const TauEstimate& e = tau->estimate;
     json.Add("tau_estimate", JsonWriter()
@@ -252,6 +246,72 @@ std::string VerdictJson(const Verdict& v) {
   } else {
     json.Null("tau_estimate");
   }
+}
+
+void AddExactCheck(const Verdict& v, JsonWriter& json) {
+  const VerdictInputs& options = v.inputs;
+  const auto& exact = v.exact;
+  if (exact) {
+    const PartModel& parts = *exact->parts;
+    json.Add("exact_check", JsonWriter()
+                                .Bool("valid", exact->valid)
+                                .String("reason", exact->reason)
+                                .String("file", options.csv.empty() ? options.path : options.csv)
+                                .Number("rigid_tolerance", v.tolerance)
+                                .Int("poses_checked", exact->poses_checked)
+                                .Number("max_rigid_penetration", exact->max_rigid_depth)
+                                .String("rigid_part", parts.Describe(exact->rigid_shell, true))
+                                .String("static_part", parts.Describe(exact->static_shell, false))
+                                .Int("at_segment", exact->worst_segment)
+                                .Number("max_fastener_penetration", exact->max_fastener_depth)
+                                .Int("fastener_shells", parts.FastenerCount())
+                                .Int("shells", static_cast<long long>(parts.robot_shells.size()))
+                                .Text());
+  } else {
+    json.Null("exact_check");
+  }
+}
+
+void AddWhatBlocks(const Verdict& v, JsonWriter& json) {
+  const auto& blocking = v.blocking;
+  if (blocking) {
+    std::string probes = "[";
+    for (const BlockingProbe& p : blocking->probes) {
+      const auto& parts = *blocking->parts;
+      probes += std::string(probes.size() > 1 ? ", " : "") +
+                JsonWriter()
+                    .Add("direction", "[" + JsonNumber(p.direction.x()) + ", " + JsonNumber(p.direction.y()) + ", " +
+                                          JsonNumber(p.direction.z()) + "]")
+                    .Number("free_distance", p.free_distance)
+                    .Bool("gets_out", p.separated)
+                    .Number("depth", p.separated ? std::nan("") : p.depth)
+                    .String("rigid_part", p.separated ? "" : parts.Describe(p.rigid_shell, true))
+                    .String("static_part", p.separated ? "" : parts.Describe(p.static_shell, false))
+                    .Text();
+    }
+    probes += "]";
+    json.Add("what_blocks", JsonWriter().String("summary", blocking->summary).Add("straight_pulls", probes).Text());
+  } else {
+    json.Null("what_blocks");
+  }
+}
+
+}  // namespace
+
+std::string VerdictJson(const Verdict& v) {
+  const VerdictInputs& options = v.inputs;
+  const PathArtifact& path = v.path;
+  const auto& max = v.max_volume;
+  const bool removable = v.removable;
+  JsonWriter json;
+  json.String("schema", kVerdictSchema).Int("version", kVerdictSchemaVersion);
+  json.String("producer", "ausbau-verdict").String("producer_version", AUSBAU_VERSION);
+  json.Add("scene",
+           JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
+  json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
+  AddWhyNotRemovable(v, json);
+  json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
+  AddTauEstimate(v, json);
   JsonWriter path_json;
   path_json.String("file", options.path);
   if (options.csv.empty()) {
@@ -273,45 +333,8 @@ std::string VerdictJson(const Verdict& v) {
   } else {
     json.Null("max_labeled_mliv");
   }
-  if (exact) {
-    const PartModel& parts = *exact->parts;
-    json.Add("exact_check", JsonWriter()
-                                .Bool("valid", exact->valid)
-                                .String("reason", exact->reason)
-                                .String("file", options.csv.empty() ? options.path : options.csv)
-                                .Number("rigid_tolerance", v.tolerance)
-                                .Int("poses_checked", exact->poses_checked)
-                                .Number("max_rigid_penetration", exact->max_rigid_depth)
-                                .String("rigid_part", parts.Describe(exact->rigid_shell, true))
-                                .String("static_part", parts.Describe(exact->static_shell, false))
-                                .Int("at_segment", exact->worst_segment)
-                                .Number("max_fastener_penetration", exact->max_fastener_depth)
-                                .Int("fastener_shells", parts.FastenerCount())
-                                .Int("shells", static_cast<long long>(parts.robot_shells.size()))
-                                .Text());
-  } else {
-    json.Null("exact_check");
-  }
-  if (blocking) {
-    std::string probes = "[";
-    for (const BlockingProbe& p : blocking->probes) {
-      const auto& parts = *blocking->parts;
-      probes += std::string(probes.size() > 1 ? ", " : "") +
-                JsonWriter()
-                    .Add("direction", "[" + JsonNumber(p.direction.x()) + ", " + JsonNumber(p.direction.y()) + ", " +
-                                          JsonNumber(p.direction.z()) + "]")
-                    .Number("free_distance", p.free_distance)
-                    .Bool("gets_out", p.separated)
-                    .Number("depth", p.separated ? std::nan("") : p.depth)
-                    .String("rigid_part", p.separated ? "" : parts.Describe(p.rigid_shell, true))
-                    .String("static_part", p.separated ? "" : parts.Describe(p.static_shell, false))
-                    .Text();
-    }
-    probes += "]";
-    json.Add("what_blocks", JsonWriter().String("summary", blocking->summary).Add("straight_pulls", probes).Text());
-  } else {
-    json.Null("what_blocks");
-  }
+  AddExactCheck(v, json);
+  AddWhatBlocks(v, json);
   json.Add("length", JsonWriter()
                          .Number("normalized", removable ? path.length_normalized : std::nan(""))
                          .Number("translation", removable ? path.length_translation : std::nan(""))

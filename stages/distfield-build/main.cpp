@@ -27,7 +27,30 @@ struct DistfieldBuildOptions {
   DistanceFieldOptions field;
 };
 
-int Run(DistfieldBuildOptions options) {
+const StageInfo kDistfieldBuildStage{
+    "ausbau-distfield-build",
+    "Builds the FARR distance fields of S and D (thesis 4.2.2) for ausbau-plan --collision farr."};
+
+void DeclareDistfieldBuild(CLI::App& app, DistfieldBuildOptions* options) {
+  app.add_option("--scene", options->scene, "scene.yaml")->required();
+  app.add_option("--field-cells", options->field.resolution, "cells along the longest axis of 1.3x the AABB")
+      ->capture_default_str()
+      ->check(Within(2, kMaxDistanceFieldResolution));
+  app.add_option("--threads", options->field.threads, "OpenMP threads; 0 = all cores")
+      ->capture_default_str()
+      ->check(ThreadCount());
+  app.add_option("--memory-limit", options->memory_budget_gib, "GiB; larger fields are refused")->capture_default_str();
+  app.add_option("--output-dir", options->output_dir,
+                 "write DIR/distfield-static.h5 and DIR/distfield-dynamic.h5 (default: the cache)");
+  app.add_option("--static-out", options->static_out, "the field of S (with --dynamic-out)");
+  app.add_option("--dynamic-out", options->dynamic_out, "the field of D (with --static-out)");
+  AddRenamedFlag(app, "--resolution", "--field-cells");
+  AddRenamedFlag(app, "--memory-budget", "--memory-limit");
+  app.add_flag("--force", options->force, "build even when the output is up to date");
+}
+
+int BuildDistanceFields(const DistfieldBuildOptions& stage_options) {
+  DistfieldBuildOptions options = stage_options;
   if (!(options.memory_budget_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.field.memory_budget_bytes = static_cast<std::uint64_t>(options.memory_budget_gib * double(1 << 30));
   options.field.Check();
@@ -60,30 +83,4 @@ int Run(DistfieldBuildOptions options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  DistfieldBuildOptions options;
-  return RunStage(
-      {"ausbau-distfield-build",
-       "Builds the FARR distance fields of S and D (thesis 4.2.2) for ausbau-plan --collision farr."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app.add_option("--scene", options.scene, "scene.yaml")->required();
-        app.add_option("--field-cells", options.field.resolution, "cells along the longest axis of 1.3x the AABB")
-            ->capture_default_str()
-            ->check(Within(2, kMaxDistanceFieldResolution));
-        app.add_option("--threads", options.field.threads, "OpenMP threads; 0 = all cores")
-            ->capture_default_str()
-            ->check(ThreadCount());
-        app.add_option("--memory-limit", options.memory_budget_gib, "GiB; larger fields are refused")
-            ->capture_default_str();
-        app.add_option("--output-dir", options.output_dir,
-                       "write DIR/distfield-static.h5 and DIR/distfield-dynamic.h5 (default: the cache)");
-        app.add_option("--static-out", options.static_out, "the field of S (with --dynamic-out)");
-        app.add_option("--dynamic-out", options.dynamic_out, "the field of D (with --static-out)");
-        AddRenamedFlag(app, "--resolution", "--field-cells");
-        AddRenamedFlag(app, "--memory-budget", "--memory-limit");
-        app.add_flag("--force", options.force, "build even when the output is up to date");
-      },
-      [&] { return Run(options); });
-}
+AUSBAU_STAGE_MAIN(kDistfieldBuildStage, DeclareDistfieldBuild, BuildDistanceFields)

@@ -15,13 +15,21 @@ constexpr StageSpec kMedialSpheresStage{
     "ausbau-medial-spheres",
     "Computes one medial-axis sphere per vertex of the part D (deformability labeling, phase I).",
     SceneHash::kDynamicMesh,
-    {"spheres.h5", kSpheresSchema, kSpheresSchemaVersion}};
+    {"spheres.h5", kSpheresSchema, kSpheresSchemaVersion},
+    {"D and options", "compute again"}};
 
 struct SpheresStageOptions {
   std::string csv;
   std::string ply;
   PartSpheresOptions spheres;
 };
+
+// Only D's mesh file matters: S and the poses do not change the spheres.
+void DeclareSpheres(StageDefinition& stage, SpheresStageOptions* options) {
+  stage.ExtraOutput("--csv", &options->csv, "also write x,y,z,radius per vertex of D");
+  stage.ExtraOutput("--ply", &options->ply, "also write D as PLY coloured by sphere radius");
+  AddPartSpheresOptions(stage, &options->spheres);
+}
 
 void WriteExtras(const SpheresStageOptions& options, const Scene& scene, const SpheresArtifact& spheres) {
   if (!options.csv.empty()) {
@@ -43,7 +51,6 @@ int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
 }
 
 int ReuseSpheres(const StageRun& run, const SpheresStageOptions& options) {
-  LogInfo("%s is up to date (same D and options); use --force to compute again", run.output.c_str());
   WriteExtras(options, run.scene, ReadSpheresArtifact(run.output));
   return kExitOk;
 }
@@ -51,15 +58,4 @@ int ReuseSpheres(const StageRun& run, const SpheresStageOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  SpheresStageOptions options;
-  StageDefinition stage(kMedialSpheresStage);
-  // Only D's mesh file matters: S and the poses do not change the spheres.
-  stage.ExtraOutput("--csv", &options.csv, "also write x,y,z,radius per vertex of D");
-  stage.ExtraOutput("--ply", &options.ply, "also write D as PLY coloured by sphere radius");
-  AddPartSpheresOptions(stage, &options.spheres);
-  return stage.Run(
-      argc, argv, [&](const StageRun& run) { return ComputeSpheres(run, options); },
-      [&](const StageRun& run) { return ReuseSpheres(run, options); });
-}
+AUSBAU_STAGE_MAIN(kMedialSpheresStage, DeclareSpheres, ComputeSpheres, ReuseSpheres)

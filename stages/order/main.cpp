@@ -14,6 +14,36 @@ namespace {
 
 namespace fs = std::filesystem;
 
+const StageInfo kOrderStage{
+    "ausbau-order", "Finds the order in which an assembly comes apart, and what blocks each part that does not."};
+
+struct OrderStageOptions {
+  std::vector<std::string> parts, fixed;
+  std::string parts_dir, output = "order";
+  DisassemblyOrderOptions order;
+};
+
+void DeclareOrder(CLI::App& app, OrderStageOptions* options) {
+  app.add_option("--part", options->parts, "a part: NAME=FILE, or FILE (named by its stem); repeat for each part");
+  app.add_option("--parts-dir", options->parts_dir, "every mesh file in this folder is a part, named by its stem");
+  app.add_option("--fixed", options->fixed, "a part that stays in (the frame): S in every round, never taken out");
+  DisassemblyOrderOptions& order = options->order;
+  app.add_option("--part-budget", order.part_budget_s, "seconds each attempt (one part, one round) may take")
+      ->capture_default_str()
+      ->check(Within(1e-3, 7 * 24 * 3600.0));
+  app.add_option("--units", order.units, "the parts' length unit: mm, cm, m or inch (in)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"mm", "cm", "m", "inch", "in"}));
+  app.add_option("--rigid-tolerance", order.plan.volume.rigid_tolerance_mm,
+                 "mm (converted by the scene's units): how deep a rigid solid of D may touch into S")
+      ->capture_default_str();
+  app.add_option("--seed", order.plan.planner.seed, "random seed; the same seed gives the same output")
+      ->capture_default_str()
+      ->check(NonNegative());
+  app.add_option("--output-dir", options->output, "output folder: order.json and round-<r>/<part>/")
+      ->capture_default_str();
+}
+
 void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
   std::printf("%s\n", order.complete ? "ORDER FOUND" : "NO ORDER EXISTS");
   for (std::size_t i = 0; i < order.steps.size(); ++i) {
@@ -39,43 +69,19 @@ void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
   std::fflush(stdout);
 }
 
+int FindOrder(const OrderStageOptions& stage_options) {
+  DisassemblyOrderOptions options = stage_options.order;
+  options.out = stage_options.output;
+  const std::vector<AssemblyPart> assembly =
+      CollectAssemblyParts(stage_options.parts, stage_options.parts_dir, stage_options.fixed);
+  const DisassemblyOrder order = PlanDisassemblyOrder(assembly, options);
+  const fs::path json = fs::path(stage_options.output) / "order.json";
+  WriteTextFileAtomically(json, DisassemblyOrderJson(order, options));
+  PrintOrder(order, json);
+  return order.complete ? kExitOk : kExitNoPath;
+}
+
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  std::vector<std::string> parts, fixed;
-  std::string parts_dir, output = "order";
-  DisassemblyOrderOptions options;
-  return RunStage(
-      {"ausbau-order", "Finds the order in which an assembly comes apart, and what blocks each part that does not."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app.add_option("--part", parts, "a part: NAME=FILE, or FILE (named by its stem); repeat for each part");
-        app.add_option("--parts-dir", parts_dir, "every mesh file in this folder is a part, named by its stem");
-        app.add_option("--fixed", fixed, "a part that stays in (the frame): S in every round, never taken out");
-        app.add_option("--part-budget", options.part_budget_s, "seconds each attempt (one part, one round) may take")
-            ->capture_default_str()
-            ->check(Within(1e-3, 7 * 24 * 3600.0));
-        app.add_option("--units", options.units, "the parts' length unit: mm, cm, m or inch (in)")
-            ->capture_default_str()
-            ->check(CLI::IsMember({"mm", "cm", "m", "inch", "in"}));
-        app.add_option("--rigid-tolerance", options.plan.volume.rigid_tolerance_mm,
-                       "mm (converted by the scene's units): how deep a rigid solid of D may touch into S")
-            ->capture_default_str();
-        app.add_option("--seed", options.plan.planner.seed, "random seed; the same seed gives the same output")
-            ->capture_default_str()
-            ->check(NonNegative());
-        app.add_option("--output-dir", output, "output folder: order.json and round-<r>/<part>/")
-            ->capture_default_str();
-      },
-      [&] {
-        options.out = output;
-        const std::vector<AssemblyPart> assembly = CollectAssemblyParts(parts, parts_dir, fixed);
-        const DisassemblyOrder order = PlanDisassemblyOrder(assembly, options);
-        const fs::path json = fs::path(output) / "order.json";
-        WriteTextFileAtomically(json, DisassemblyOrderJson(order, options));
-        PrintOrder(order, json);
-        return order.complete ? kExitOk : kExitNoPath;
-      });
-}
+AUSBAU_STAGE_MAIN(kOrderStage, DeclareOrder, FindOrder)

@@ -17,7 +17,8 @@ constexpr StageSpec kPbdLabelStage{
     "ausbau-pbd-label",
     "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II).",
     SceneHash::kWholeScene,
-    {"labels.h5", kLabelsSchema, kLabelsSchemaVersion}};
+    {"labels.h5", kLabelsSchema, kLabelsSchemaVersion},
+    {"D, spheres and options", "label again"}};
 
 struct LabelStageOptions {
   std::string spheres;
@@ -25,6 +26,18 @@ struct LabelStageOptions {
   std::string ply;
   LabelPartOptions label;
 };
+
+// S is an input too: the solid rule reads the installed intersections.
+void DeclareLabel(StageDefinition& stage, LabelStageOptions* options) {
+  stage
+      .InputArtifact("--spheres", &options->spheres, "spheres", kSpheresSchema, kSpheresSchemaVersion,
+                     "spheres artifact of D (ausbau-medial-spheres)")
+      ->required();
+  stage.ExtraOutput("--csv", &options->csv, "also write x,y,z,deformability per vertex of D");
+  stage.ExtraOutput("--ply", &options->ply,
+                    "also write D as PLY coloured by deformability (blue rigid, red deformable)");
+  AddLabelPartOptions(stage, &options->label);
+}
 
 void WriteExtras(const LabelStageOptions& options, const Scene& scene, const LabelsArtifact& labels) {
   if (!options.csv.empty()) {
@@ -49,7 +62,6 @@ int Label(const StageRun& run, const LabelStageOptions& options) {
 }
 
 int ReuseLabels(const StageRun& run, const LabelStageOptions& options) {
-  LogInfo("%s is up to date (same D, spheres and options); use --force to label again", run.output.c_str());
   WriteExtras(options, run.scene, ReadLabelsArtifact(run.output));
   return kExitOk;
 }
@@ -57,20 +69,4 @@ int ReuseLabels(const StageRun& run, const LabelStageOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  LabelStageOptions options;
-  StageDefinition stage(kPbdLabelStage);
-  // S is an input too: the solid rule reads the installed intersections.
-  stage
-      .InputArtifact("--spheres", &options.spheres, "spheres", kSpheresSchema, kSpheresSchemaVersion,
-                     "spheres artifact of D (ausbau-medial-spheres)")
-      ->required();
-  stage.ExtraOutput("--csv", &options.csv, "also write x,y,z,deformability per vertex of D");
-  stage.ExtraOutput("--ply", &options.ply,
-                    "also write D as PLY coloured by deformability (blue rigid, red deformable)");
-  AddLabelPartOptions(stage, &options.label);
-  return stage.Run(
-      argc, argv, [&](const StageRun& run) { return Label(run, options); },
-      [&](const StageRun& run) { return ReuseLabels(run, options); });
-}
+AUSBAU_STAGE_MAIN(kPbdLabelStage, DeclareLabel, Label, ReuseLabels)

@@ -14,15 +14,33 @@ namespace {
 constexpr StageSpec kPlanStage{"ausbau-plan",
                                "Plans a collision-free motion of the part D out of (or through) its surroundings S.",
                                SceneHash::kWholeScene,
-                               {"path.h5", kPathSchema, kPathSchemaVersion}};
+                               {"path.h5", kPathSchema, kPathSchemaVersion},
+                               {"inputs and options", "plan again"}};
 
 struct PlanStageOptions {
   std::string csv;
   std::string ompl_path;
-  bool choose_validity = false;  // print the validity this scene needs, plan nothing
   PlanSceneOptions plan;
   TimeBudgetOptions budget;
 };
+
+// --choose-validity: the pipeline's VALIDITY=auto asks this before it runs
+// any stage.
+int PrintValidity(const StageRun& run, const PlanStageOptions& options) {
+  std::printf("%s\n", ChooseValidity(run.scene, options.plan.volume.rigid_tolerance_mm).c_str());
+  return kExitOk;
+}
+
+void DeclarePlan(StageDefinition& stage, PlanStageOptions* options) {
+  stage.ExtraOutput("--csv", &options->csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
+  stage.ExtraOutput("--ompl-path", &options->ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
+  AddPlanSceneOptions(stage, &options->plan);
+  AddTimeBudgetOptions(stage, &options->budget);
+  stage.Query("--choose-validity",
+              "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed interference is "
+              "not measured) and exit; the pipeline's VALIDITY=auto",
+              [options](const StageRun& run) { return PrintValidity(run, *options); });
+}
 
 void WriteExtras(const PlanStageOptions& options, const PathArtifact& artifact) {
   if (!artifact.success) return;
@@ -45,42 +63,21 @@ int Plan(const StageRun& run, const PlanStageOptions& options) {
 
 // An existing output with the same provenance is the same answer: reused
 // (its CSV and OMPL files written again), and its exit status returned;
-// unless the time budget ended that search: then this run plans again.
-int Reuse(const StageRun& run, const PlanStageOptions& options) {
-  const PathArtifact cached = ReadPathArtifact(run.output);
-  if (cached.stopped_by_budget) {
-    LogInfo("%s was cut short by its time budget: planning again", run.output.c_str());
-    return Plan(run, options);
-  }
-  LogInfo("%s is up to date (same inputs and options); use --force to plan again", run.output.c_str());
-  WriteExtras(options, cached);
-  return cached.success ? kExitOk : kExitNoPath;
+// unless the time budget ended that search (CutShort): then this run plans
+// again.
+bool CutShort(const StageRun& run, const PlanStageOptions&) {
+  if (!ReadPathArtifact(run.output).stopped_by_budget) return false;
+  LogInfo("%s was cut short by its time budget: planning again", run.output.c_str());
+  return true;
 }
 
-// --choose-validity: the pipeline's VALIDITY=auto asks this before it runs
-// any stage.
-int PrintValidity(const StageRun& run, const PlanStageOptions& options) {
-  std::printf("%s\n", ChooseValidity(run.scene, options.plan.volume.rigid_tolerance_mm).c_str());
-  return kExitOk;
+int Reuse(const StageRun& run, const PlanStageOptions& options) {
+  const PathArtifact cached = ReadPathArtifact(run.output);
+  WriteExtras(options, cached);
+  return cached.success ? kExitOk : kExitNoPath;
 }
 
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  PlanStageOptions options;
-  StageDefinition stage(kPlanStage);
-  stage.ExtraOutput("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
-  stage.ExtraOutput("--ompl-path", &options.ompl_path, "also write the path in OMPL's format (x y z qx qy qz qw)");
-  AddPlanSceneOptions(stage, &options.plan);
-  AddTimeBudgetOptions(stage, &options.budget);
-  stage.Flag("--choose-validity", &options.choose_validity,
-             "print the --validity this scene needs (rigid-exact, or labeled-mliv where an installed interference is "
-             "not measured) and exit; the pipeline's VALIDITY=auto",
-             CacheKey::kNo);
-  return stage.Run(
-      argc, argv,
-      [&](const StageRun& run) { return options.choose_validity ? PrintValidity(run, options) : Plan(run, options); },
-      [&](const StageRun& run) { return options.choose_validity ? PrintValidity(run, options) : Reuse(run, options); });
-}
+AUSBAU_STAGE_MAIN(kPlanStage, DeclarePlan, Plan, Reuse, CutShort)

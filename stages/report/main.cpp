@@ -23,13 +23,41 @@ std::string_view View(const unsigned char* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};
 }
 
+const StageInfo kReportStage{"ausbau-report",
+                             "Writes a self-contained HTML report: the verdict in one sentence, S and D in 3D, D "
+                             "animated along the path, clearance and penetration along it, a table per waypoint, "
+                             "stats and verdict (or a benchmark page with --bench-dir)."};
+
 struct ReportStageOptions {
+  std::string scene, path, smoothed, run_dir;  // as text: into `report` by WriteReport
   ReportOptions report;
   std::string bench_dir;
   std::string output = "report.html";
 };
 
-int Run(const ReportStageOptions& options) {
+void DeclareReport(CLI::App& app, ReportStageOptions* options) {
+  app.add_option("--scene", options->scene, "scene.yaml");
+  app.add_option("--path", options->path, "planned path artifact (ausbau-path)");
+  app.add_option("--smoothed", options->smoothed, "smoothed path artifact (ausbau-path)");
+  app.add_option("--run-dir", options->run_dir,
+                 "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json, stats.json "
+                 "when present (explicit --path/--smoothed win)");
+  app.add_option("--clearance-samples", options->report.clearance_samples,
+                 "poses along the path at which clearance and penetration are measured, besides the waypoints")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
+  app.add_option("--bench-dir", options->bench_dir,
+                 "instead: a page of ausbau-bench's outputs in this folder (summary.md, results.csv, "
+                 "study-*.svg)");
+  app.add_option("-o,--output", options->output, "the HTML file")->capture_default_str();
+}
+
+int WriteReport(const ReportStageOptions& stage_options) {
+  ReportStageOptions options = stage_options;
+  options.report.scene = options.scene;
+  options.report.path = options.path;
+  options.report.smoothed = options.smoothed;
+  options.report.run_dir = options.run_dir;
   ReportSummary summary;
   std::string html;
   if (!options.bench_dir.empty()) {
@@ -56,37 +84,4 @@ int Run(const ReportStageOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  ReportStageOptions options;
-  std::string scene, path, smoothed, run_dir;
-  return RunStage(
-      {"ausbau-report",
-       "Writes a self-contained HTML report: the verdict in one sentence, S and D in 3D, D animated "
-       "along the path, clearance and penetration along it, a table per waypoint, stats and verdict "
-       "(or a benchmark page with --bench-dir)."},
-      argc, argv,
-      [&](CLI::App& app) {
-        app.add_option("--scene", scene, "scene.yaml");
-        app.add_option("--path", path, "planned path artifact (ausbau-path)");
-        app.add_option("--smoothed", smoothed, "smoothed path artifact (ausbau-path)");
-        app.add_option("--run-dir", run_dir,
-                       "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json, stats.json "
-                       "when present (explicit --path/--smoothed win)");
-        app.add_option("--clearance-samples", options.report.clearance_samples,
-                       "poses along the path at which clearance and penetration are measured, besides the waypoints")
-            ->capture_default_str()
-            ->check(CLI::Range(0, 100000));
-        app.add_option("--bench-dir", options.bench_dir,
-                       "instead: a page of ausbau-bench's outputs in this folder (summary.md, results.csv, "
-                       "study-*.svg)");
-        app.add_option("-o,--output", options.output, "the HTML file")->capture_default_str();
-      },
-      [&] {
-        options.report.scene = scene;
-        options.report.path = path;
-        options.report.smoothed = smoothed;
-        options.report.run_dir = run_dir;
-        return Run(options);
-      });
-}
+AUSBAU_STAGE_MAIN(kReportStage, DeclareReport, WriteReport)

@@ -12,13 +12,21 @@ namespace ausbau {
 namespace {
 
 constexpr StageSpec kSceneCheckStage{
-    "ausbau-scene-check", "Prints what a scene contains and what in it is suspicious (units, poses, meshes).",
-    SceneHash::kWholeScene};
+    "ausbau-scene-check",
+    "Prints what a scene contains and what in it is suspicious (units, poses, meshes).",
+    SceneHash::kWholeScene,
+    {},  // no artifact: the summary goes to stdout (and --json)
+    {}};
 
 struct SceneCheckOptions {
   std::string json;     // empty: no JSON file
   bool strict = false;  // exit 1 when any finding is a warning
 };
+
+void DeclareCheck(StageDefinition& stage, SceneCheckOptions* options) {
+  stage.ExtraOutput("--json", &options->json, "also write the summary and the findings as JSON (atomically)");
+  stage.Flag("--strict", &options->strict, "exit 1 when any finding is a warning", CacheKey::kNo);
+}
 
 int Check(const StageRun& run, const SceneCheckOptions& options) {
   const SceneSummary summary = CheckScene(run.scene);
@@ -33,11 +41,4 @@ int Check(const StageRun& run, const SceneCheckOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  SceneCheckOptions options;
-  StageDefinition stage(kSceneCheckStage);
-  stage.ExtraOutput("--json", &options.json, "also write the summary and the findings as JSON (atomically)");
-  stage.Flag("--strict", &options.strict, "exit 1 when any finding is a warning", CacheKey::kNo);
-  return stage.Run(argc, argv, [&](const StageRun& run) { return Check(run, options); });
-}
+AUSBAU_STAGE_MAIN(kSceneCheckStage, DeclareCheck, Check)

@@ -16,7 +16,8 @@ constexpr StageSpec kSmoothStage{
     "ausbau-smooth",
     "Shortens a planned path by shortcuts that keep it valid (collision-free, or within its InIState volume).",
     SceneHash::kWholeScene,
-    {"path-smooth.h5", kPathSchema, kPathSchemaVersion}};
+    {"path-smooth.h5", kPathSchema, kPathSchemaVersion},
+    {"inputs and options", "smooth again"}};
 
 struct SmoothStageOptions {
   std::string path;
@@ -25,6 +26,16 @@ struct SmoothStageOptions {
   SmoothPlannedPathOptions smooth;
   TimeBudgetOptions budget;
 };
+
+void DeclareSmooth(StageDefinition& stage, SmoothStageOptions* options) {
+  stage.InputFile("--path", &options->path, "path", "path artifact from ausbau-plan")->required();
+  stage.ExtraOutput("--csv", &options->csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
+  stage.ExtraOutput("--profile", &options->profile,
+                    "also write the intersection and clearance profile along the path (CSV with units and poses)");
+  AddSmoothOptions(stage, &options->smooth.smooth);
+  AddTimeBudgetOptions(stage, &options->budget);
+  AddVolumeInputOptions(stage, &options->smooth.volume);
+}
 
 int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   options.smooth.smooth.Check();
@@ -52,7 +63,6 @@ int Smooth(const StageRun& run, const SmoothStageOptions& options) {
 
 // Up to date: the CSV again, and the profile where it is missing.
 int Reuse(const StageRun& run, const SmoothStageOptions& options) {
-  LogInfo("%s is up to date (same inputs and options); use --force to smooth again", run.output.c_str());
   const PathArtifact cached = ReadPathArtifact(run.output);
   if (!options.csv.empty()) WritePathCsv(options.csv, cached.waypoints);
   if (!options.profile.empty() && !std::filesystem::exists(options.profile)) {
@@ -73,18 +83,4 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  SmoothStageOptions options;
-  StageDefinition stage(kSmoothStage);
-  stage.InputFile("--path", &options.path, "path", "path artifact from ausbau-plan")->required();
-  stage.ExtraOutput("--csv", &options.csv, "also write the path as CSV (x,y,z,qw,qx,qy,qz)");
-  stage.ExtraOutput("--profile", &options.profile,
-                    "also write the intersection and clearance profile along the path (CSV with units and poses)");
-  AddSmoothOptions(stage, &options.smooth.smooth);
-  AddTimeBudgetOptions(stage, &options.budget);
-  AddVolumeInputOptions(stage, &options.smooth.volume);
-  return stage.Run(
-      argc, argv, [&](const StageRun& run) { return Smooth(run, options); },
-      [&](const StageRun& run) { return Reuse(run, options); });
-}
+AUSBAU_STAGE_MAIN(kSmoothStage, DeclareSmooth, Smooth, Reuse)

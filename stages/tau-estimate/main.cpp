@@ -12,13 +12,27 @@ constexpr StageSpec kTauEstimateStage{
     "ausbau-tau-estimate",
     "Estimates the intersection-volume threshold tau (and psi) for planning out of an invalid initial state.",
     SceneHash::kWholeScene,
-    {"tau.h5", kTauSchema, kTauSchemaVersion}};
+    {"tau.h5", kTauSchema, kTauSchemaVersion},
+    {"inputs and options", "estimate again"}};
 
 struct TauStageOptions {
   std::string csv;
   SceneTauOptions tau;
   TimeBudgetOptions budget;
 };
+
+void DeclareTau(StageDefinition& stage, TauStageOptions* options) {
+  stage.ExtraOutput("--csv", &options->csv, "also write the search's trace as CSV");
+  stage
+      .Option("--validity", &options->tau.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded",
+              CacheKey::kYes)
+      ->check(CLI::IsMember(ValidityModeNames()));
+  stage.Option("--psi", &options->tau.psi, "scene units; 0 = from the labels (largest deformable component)",
+               CacheKey::kYes);
+  AddVolumeInputOptions(stage, &options->tau.volume);
+  AddTauEstimateOptions(stage, &options->tau.estimate);
+  AddTimeBudgetOptions(stage, &options->budget);
+}
 
 int EstimateTauStage(const StageRun& run, const TauStageOptions& options) {
   SceneTauOptions tau = options.tau;
@@ -36,7 +50,6 @@ int EstimateTauStage(const StageRun& run, const TauStageOptions& options) {
 
 int ReuseTau(const StageRun& run, const TauStageOptions& options) {
   const TauArtifact cached = ReadTauArtifact(run.output);
-  LogInfo("%s is up to date (same inputs and options); use --force to estimate again", run.output.c_str());
   if (!options.csv.empty()) WriteTauTraceCsv(options.csv, cached.estimate);
   return cached.estimate.solved ? kExitOk : kExitNoPath;
 }
@@ -44,21 +57,4 @@ int ReuseTau(const StageRun& run, const TauStageOptions& options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  TauStageOptions options;
-  StageDefinition stage(kTauEstimateStage);
-  stage.ExtraOutput("--csv", &options.csv, "also write the search's trace as CSV");
-  stage
-      .Option("--validity", &options.tau.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded",
-              CacheKey::kYes)
-      ->check(CLI::IsMember(ValidityModeNames()));
-  stage.Option("--psi", &options.tau.psi, "scene units; 0 = from the labels (largest deformable component)",
-               CacheKey::kYes);
-  AddVolumeInputOptions(stage, &options.tau.volume);
-  AddTauEstimateOptions(stage, &options.tau.estimate);
-  AddTimeBudgetOptions(stage, &options.budget);
-  return stage.Run(
-      argc, argv, [&](const StageRun& run) { return EstimateTauStage(run, options); },
-      [&](const StageRun& run) { return ReuseTau(run, options); });
-}
+AUSBAU_STAGE_MAIN(kTauEstimateStage, DeclareTau, EstimateTauStage, ReuseTau)

@@ -15,16 +15,17 @@ namespace {
 // No artifact: the verdict is JSON (-o), always written anew.
 constexpr StageSpec kVerdictStage{"ausbau-verdict",
                                   "Says whether D is removable and summarizes an InIState run as verdict.json.",
-                                  SceneHash::kWholeScene};
+                                  SceneHash::kWholeScene,
+                                  {},
+                                  {}};
 
-}  // namespace
-}  // namespace ausbau
-
-int main(int argc, char** argv) {
-  using namespace ausbau;
+struct VerdictStageOptions {
   std::string output = "verdict.json";
   VerdictInputs inputs;
-  StageDefinition stage(kVerdictStage);
+};
+
+void DeclareVerdict(StageDefinition& stage, VerdictStageOptions* options) {
+  VerdictInputs& inputs = options->inputs;
   stage.InputFile("--path", &inputs.path, "path", "the final path artifact (ausbau-path), e.g. path-smooth.h5")
       ->required();
   stage.InputFile("--tau-file", &inputs.tau, "tau", "tau artifact (ausbau-tau-estimate)");
@@ -36,12 +37,18 @@ int main(int argc, char** argv) {
                "the path's CSV file: checked exactly as written (plain interpolation) and recorded", CacheKey::kNo);
   stage.Option("--rigid-tolerance", &inputs.rigid_tolerance_mm,
                "how deep D's rigid part may touch into S along the path, in mm (scene units converted)", CacheKey::kNo);
-  stage.ExtraOutput("-o,--output", &output, "verdict (JSON, schemas/verdict.md)");
-  return stage.Run(argc, argv, [&](const StageRun& run) {
-    if (!std::isfinite(inputs.budget)) throw InputError("--budget: must be a finite number");
-    const Verdict verdict = JudgeRun(run.scene, inputs);
-    WriteTextFileAtomically(output, VerdictJson(verdict));
-    PrintVerdictSummary(verdict, output, stdout);
-    return verdict.removable ? kExitOk : kExitNoPath;
-  });
+  stage.ExtraOutput("-o,--output", &options->output, "verdict (JSON, schemas/verdict.md)");
 }
+
+int Judge(const StageRun& run, const VerdictStageOptions& options) {
+  if (!std::isfinite(options.inputs.budget)) throw InputError("--budget: must be a finite number");
+  const Verdict verdict = JudgeRun(run.scene, options.inputs);
+  WriteTextFileAtomically(options.output, VerdictJson(verdict));
+  PrintVerdictSummary(verdict, options.output, stdout);
+  return verdict.removable ? kExitOk : kExitNoPath;
+}
+
+}  // namespace
+}  // namespace ausbau
+
+AUSBAU_STAGE_MAIN(kVerdictStage, DeclareVerdict, Judge)

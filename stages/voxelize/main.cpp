@@ -15,7 +15,8 @@ constexpr StageSpec kVoxelizeStage{
     "ausbau-voxelize",
     "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV).",
     SceneHash::kWholeScene,
-    {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
+    {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion},
+    {"inputs and options", "compute again"}};
 
 struct VoxelizeStageOptions {
   double memory_limit_gib = 2.0;
@@ -23,7 +24,19 @@ struct VoxelizeStageOptions {
   VoxelizeOptions voxelize;
 };
 
-int Voxelize(const StageRun& run, VoxelizeStageOptions options) {
+void DeclareVoxelize(StageDefinition& stage, VoxelizeStageOptions* options) {
+  stage.Option("--voxel-size", &options->voxelize.voxel_size,
+               "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)", CacheKey::kYes);
+  stage.Option("--voxel-budget", &options->voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB",
+               CacheKey::kYes);
+  stage.Option("--shrink", &options->voxelize.shrink,
+               "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none", CacheKey::kYes);
+  stage.Option("--memory-limit", &options->memory_limit_gib, "GiB; larger grids are refused", CacheKey::kNo);
+  stage.Threads(&options->threads);
+}
+
+int Voxelize(const StageRun& run, const VoxelizeStageOptions& stage_options) {
+  VoxelizeStageOptions options = stage_options;
   if (!(options.memory_limit_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.voxelize.memory_limit = static_cast<std::int64_t>(options.memory_limit_gib * double(1 << 30));
   options.voxelize.progress = true;
@@ -52,17 +65,4 @@ int Voxelize(const StageRun& run, VoxelizeStageOptions options) {
 }  // namespace
 }  // namespace ausbau
 
-int main(int argc, char** argv) {
-  using namespace ausbau;
-  VoxelizeStageOptions options;
-  StageDefinition stage(kVoxelizeStage);
-  stage.Option("--voxel-size", &options.voxelize.voxel_size,
-               "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)", CacheKey::kYes);
-  stage.Option("--voxel-budget", &options.voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB",
-               CacheKey::kYes);
-  stage.Option("--shrink", &options.voxelize.shrink,
-               "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none", CacheKey::kYes);
-  stage.Option("--memory-limit", &options.memory_limit_gib, "GiB; larger grids are refused", CacheKey::kNo);
-  stage.Threads(&options.threads);
-  return stage.Run(argc, argv, [&](const StageRun& run) { return Voxelize(run, options); });
-}
+AUSBAU_STAGE_MAIN(kVoxelizeStage, DeclareVoxelize, Voxelize)
