@@ -61,7 +61,8 @@ class WeightIndex {
 
 // A pose within range r1 of `center`: translation uniform in the ball of
 // radius r1 * nu, rotation about a uniform axis by an angle uniform in
-// [0, min(pi, 2 pi r1)] (d'_q = angle / (2 pi) <= r1).
+// [0, min(pi, 2 pi r1)] (d'_q = angle / (2 pi) <= r1); the problem's
+// fixed rotation instead where it has one.
 Pose SampleNear(const PlanningProblem& problem, const Pose& center, double r1, Random& random) {
   Eigen::Vector3d direction;
   do direction = {random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(-1, 1)};
@@ -74,6 +75,7 @@ Pose SampleNear(const PlanningProblem& problem, const Pose& center, double r1, R
   Pose out;
   out.t = center.t + radius * direction.normalized();
   out.q = (center.q * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
+  if (problem.fixed_rotation) out.q = *problem.fixed_rotation;  // the same draws either way
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "core/log.h"
 #include "core/random.h"
 #include "planning/clearance.h"
 #include "planning/planner.h"
@@ -305,7 +306,11 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   } catch (const InputError&) {
     return std::nullopt;  // e.g. a start the planner does not take: no alternative then
   }
-  if (!planned.solved() || Clock::now() >= deadline) return std::nullopt;
+  if (!planned.solved() || Clock::now() >= deadline) {
+    LogInfo("translation-only alternative: %s after %lld iterations", planned.solved() ? "out of time" : "no path",
+            static_cast<long long>(planned.stats.iterations));
+    return std::nullopt;
+  }
   SmoothResult result;
   result.path = planned.path;
   Random random(options.seed + 1);
@@ -356,6 +361,10 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
     // whole never makes the clearance worse below d (compared with the
     // smoothed path instead, an alternative without needless turning would
     // lose to any that the turning path's shortcuts happened to widen).
+    if (straight) {
+      LogInfo("translation-only alternative: length %.4f against %.4f (normalized)",
+              MeasurePath(problem, straight->path).normalized, result.after.normalized);
+    }
     if (straight && MeasurePath(problem, straight->path).normalized < result.after.normalized &&
         (guard == nullptr || guard->Accepts(input, straight->path))) {
       result.path = straight->path;
