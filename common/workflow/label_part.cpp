@@ -84,4 +84,17 @@ LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, co
   return ToLabelsArtifact(topology, labels, options.pbd.measure);
 }
 
+void WriteLabelsExtras(const Scene& scene, const LabelsArtifact& labels, const std::string& csv,
+                       const std::string& ply) {
+  if (!csv.empty()) {
+    WriteLabelsCsv(csv, scene.dynamic_mesh.vertices, labels.deformability);
+    LogInfo("wrote %s", csv.c_str());
+  }
+  if (!ply.empty()) {
+    WriteColoredPly(ply, scene.dynamic_mesh, labels.deformability, "deformability", ColorRamp::kRigidToDeformable, 0.0,
+                    1.0, "ausbau-pbd-label: D coloured by deformability, blue rigid to red deformable");
+    LogInfo("wrote %s", ply.c_str());
+  }
+}
+
 }  // namespace ausbau

@@ -33,4 +33,10 @@ struct LabelPartOptions {
 LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, const std::string& spheres_file,
                          const LabelPartOptions& options);
 
+// ausbau-pbd-label --csv / --ply (either may be empty: not written):
+// x,y,z,deformability per vertex of D, and D coloured by deformability
+// (blue rigid to red deformable); logged.
+void WriteLabelsExtras(const Scene& scene, const LabelsArtifact& labels, const std::string& csv,
+                       const std::string& ply);
+
 }  // namespace ausbau

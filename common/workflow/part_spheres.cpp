@@ -84,4 +84,16 @@ void WriteSpheresPly(const std::filesystem::path& path, const TriangleMesh& mesh
                   "ausbau-medial-spheres: D coloured by medial-sphere radius, yellow small to blue large");
 }
 
+void WriteSpheresExtras(const Scene& scene, const SpheresArtifact& spheres, const std::string& csv,
+                        const std::string& ply) {
+  if (!csv.empty()) {
+    WriteSpheresCsv(csv, scene.dynamic_mesh.vertices, spheres.radii);
+    LogInfo("wrote %s", csv.c_str());
+  }
+  if (!ply.empty()) {
+    WriteSpheresPly(ply, scene.dynamic_mesh, spheres);
+    LogInfo("wrote %s", ply.c_str());
+  }
+}
+
 }  // namespace ausbau

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
@@ -24,5 +25,10 @@ SpheresArtifact ComputePartSpheres(const Scene& scene, const PartSpheresOptions&
 // D as PLY coloured by sphere radius, yellow small to blue large (spheres
 // without a radius and contact vertices left out of the colour range).
 void WriteSpheresPly(const std::filesystem::path& path, const TriangleMesh& mesh, const SpheresArtifact& spheres);
+
+// ausbau-medial-spheres --csv / --ply (either may be empty: not written):
+// x,y,z,radius per vertex of D, and D coloured by sphere radius; logged.
+void WriteSpheresExtras(const Scene& scene, const SpheresArtifact& spheres, const std::string& csv,
+                        const std::string& ply);
 
 }  // namespace ausbau

@@ -31,27 +31,16 @@ void DeclareSpheres(StageDefinition& stage, SpheresStageOptions* options) {
   AddPartSpheresOptions(stage, &options->spheres);
 }
 
-void WriteExtras(const SpheresStageOptions& options, const Scene& scene, const SpheresArtifact& spheres) {
-  if (!options.csv.empty()) {
-    WriteSpheresCsv(options.csv, scene.dynamic_mesh.vertices, spheres.radii);
-    LogInfo("wrote %s", options.csv.c_str());
-  }
-  if (!options.ply.empty()) {
-    WriteSpheresPly(options.ply, scene.dynamic_mesh, spheres);
-    LogInfo("wrote %s", options.ply.c_str());
-  }
-}
-
 int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
   const SpheresArtifact artifact = ComputePartSpheres(run.scene, options.spheres);
   WriteSpheresArtifact(run.output, artifact, run.provenance);
   LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.radii.size());
-  WriteExtras(options, run.scene, artifact);
+  WriteSpheresExtras(run.scene, artifact, options.csv, options.ply);
   return kExitOk;
 }
 
 int ReuseSpheres(const StageRun& run, const SpheresStageOptions& options) {
-  WriteExtras(options, run.scene, ReadSpheresArtifact(run.output));
+  WriteSpheresExtras(run.scene, ReadSpheresArtifact(run.output), options.csv, options.ply);
   return kExitOk;
 }
 

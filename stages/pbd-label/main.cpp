@@ -39,30 +39,17 @@ void DeclareLabel(StageDefinition& stage, LabelStageOptions* options) {
   AddLabelPartOptions(stage, &options->label);
 }
 
-void WriteExtras(const LabelStageOptions& options, const Scene& scene, const LabelsArtifact& labels) {
-  if (!options.csv.empty()) {
-    WriteLabelsCsv(options.csv, scene.dynamic_mesh.vertices, labels.deformability);
-    LogInfo("wrote %s", options.csv.c_str());
-  }
-  if (!options.ply.empty()) {
-    WriteColoredPly(options.ply, scene.dynamic_mesh, labels.deformability, "deformability",
-                    ColorRamp::kRigidToDeformable, 0.0, 1.0,
-                    "ausbau-pbd-label: D coloured by deformability, blue rigid to red deformable");
-    LogInfo("wrote %s", options.ply.c_str());
-  }
-}
-
 int Label(const StageRun& run, const LabelStageOptions& options) {
   // D's content hash: hashed once, by the runner, for the provenance.
   const LabelsArtifact artifact = LabelPart(run.scene, run.DynamicMeshHash(), options.spheres, options.label);
   WriteLabelsArtifact(run.output, artifact, run.provenance);
   LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
-  WriteExtras(options, run.scene, artifact);
+  WriteLabelsExtras(run.scene, artifact, options.csv, options.ply);
   return kExitOk;
 }
 
 int ReuseLabels(const StageRun& run, const LabelStageOptions& options) {
-  WriteExtras(options, run.scene, ReadLabelsArtifact(run.output));
+  WriteLabelsExtras(run.scene, ReadLabelsArtifact(run.output), options.csv, options.ply);
   return kExitOk;
 }
 
