@@ -274,6 +274,10 @@ TEST_F(Readers, MalformedPlyHeaderIsRefusedBeforeAssimpReadsIt) {
   ExpectInputError([&] { LoadMesh(no_end); }, {no_end.string(), "malformed PLY file (element line 'element vertex"});
   const fs::path unended = Write("unended.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n0\n1\n2\n");
   ExpectInputError([&] { LoadMesh(unended); }, {unended.string(), "malformed PLY file (no end_header line)"});
+  // Only the first 1 MiB is read for the header.
+  const fs::path long_header =
+      Write("long.ply", "ply\nformat ascii 1.0\ncomment " + std::string(std::size_t{1} << 20, 'x') + "\nend_header\n");
+  ExpectInputError([&] { LoadMesh(long_header); }, {long_header.string(), "no end_header line in the first 1 MiB"});
   std::string many = PlyWithFace("3 0 1 2");
   many.replace(many.find("vertex 3"), 8, "vertex 4000000000");
   const fs::path ascii = Write("many.ply", many);

@@ -250,8 +250,16 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
 // property at least one character and one separator).
 void CheckPlyHeader(const fs::path& path, const std::string& name) {
   constexpr std::size_t kMaxHeaderBytes = std::size_t{1} << 20;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputErrorAt(name, "cannot read mesh (" + ec.message() + ")");
+  // Only the first 1 MiB is read (a binary body may hold no line break).
+  std::string prefix(static_cast<std::size_t>(std::min<std::uintmax_t>(size, kMaxHeaderBytes)), '\0');
+  file.read(prefix.data(), static_cast<std::streamsize>(prefix.size()));
+  prefix.resize(static_cast<std::size_t>(file.gcount()));
+  std::istringstream in(prefix);
   auto fail = [&](const std::string& what) { throw InputErrorAt(name, "malformed PLY file (" + what + ")"); };
   auto scalar_bytes = [](const std::string& type) -> int {
     static const std::pair<const char*, int> kTypes[] = {{"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},
@@ -274,7 +282,9 @@ void CheckPlyHeader(const fs::path& path, const std::string& name) {
   std::string line;
   for (int number = 0; !ended && std::getline(in, line); ++number) {
     header_bytes += line.size() + 1;
-    if (header_bytes > kMaxHeaderBytes) fail("no end_header line in the first 1 MiB");
+    if (header_bytes > prefix.size() && prefix.size() == kMaxHeaderBytes) {
+      fail("no end_header line in the first 1 MiB");
+    }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream tokens(line);
     std::vector<std::string> words;
@@ -312,9 +322,6 @@ void CheckPlyHeader(const fs::path& path, const std::string& name) {
   }
   if (!ended) fail("no end_header line");
   if (!format) fail("no format line");
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec) throw InputErrorAt(name, "cannot read mesh (" + ec.message() + ")");
   const unsigned long long body = size > header_bytes ? size - header_bytes : 0;
   unsigned long long needed = 0;
   for (const Element& e : elements) {
