@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs each libFuzzer harness for a given time and prints one line per
-# harness: executions, seconds, findings and where they were written.
+# harness: executions, wall and CPU seconds, rates, findings and where they
+# were written.
 #   fuzz/run.sh <build dir> <seconds per harness> [harness ...]
 # (`make fuzz` calls it; default: every harness.) Each harness grows its own
 # corpus in <build>/fuzz-out/<harness>/corpus from the seeds in
@@ -33,20 +34,27 @@ for h in "${harnesses[@]}"; do
   # -timeout: one input running 10 s is a hang; -rss/-malloc_limit_mb: an
   # allocation over 2 GB is a finding. The files under test go to a folder
   # of this process (fuzz_util.h: AUSBAU_FUZZ_TMP, /dev/shm or the temp folder).
+  # The CPU seconds the harness got (user + system) beside the wall time:
+  # on a shared machine the rate per CPU second is what the harness costs.
   start=$(date +%s)
-  "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$out/findings/" "$out/corpus" "$source_dir/fuzz/corpus/$h" > "$log" 2>&1
+  TIMEFORMAT='%U %S'
+  { time "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$out/findings/" "$out/corpus" "$source_dir/fuzz/corpus/$h" > "$log" 2>&1; } 2> "$out/cpu"
   rc=$?
   elapsed=$(( $(date +%s) - start ))
+  cpu=$(awk '{printf "%.0f", $1 + $2}' "$out/cpu" 2>/dev/null)
   runs=$(grep -o 'stat::number_of_executed_units: [0-9]*' "$log" | tail -1 | awk '{print $2}')
   findings=$(find "$out/findings" -type f | wc -l)
   [ "$rc" -eq 0 ] && [ "$findings" -eq 0 ] || status=1
-  line=$(printf '%-10s %12s executions %6s s  %3s findings' "$h" "${runs:-?}" "$elapsed" "$findings")
+  rate=$(awk -v n="${runs:-0}" -v s="$elapsed" -v c="${cpu:-0}" \
+    'BEGIN { printf "%7.0f/s %7.0f/CPU-s", n / (s > 0 ? s : 1), n / (c > 0 ? c : 1) }')
+  line=$(printf '%-10s %12s executions %6s s (%5s CPU-s) %s %3s findings' "$h" "${runs:-?}" "$elapsed" "${cpu:-?}" \
+    "$rate" "$findings")
   [ "$findings" -eq 0 ] || line="$line in $out/findings/"
   [ "$rc" -eq 0 ] || [ "$findings" -gt 0 ] || line="$line (exit $rc, see $log)"
   summary+=("$line")
 done
 echo
-echo "fuzz: summary (harness, executions, seconds, findings)"
+echo "fuzz: summary (harness, executions, wall and CPU seconds, executions per wall and per CPU second, findings)"
 printf '  %s\n' "${summary[@]}"
 exit $status

@@ -267,6 +267,39 @@ TEST_F(Readers, MalformedOffIsRefusedBeforeAssimpReadsIt) {
   EXPECT_EQ(LoadMesh(good).triangles.size(), 1u);
 }
 
+TEST_F(Readers, MalformedPlyHeaderIsRefusedBeforeAssimpReadsIt) {
+  // Found by fuzz_mesh: assimp 5.2's PLY importer never returned on a file
+  // without an end_header line, and loops once per declared element.
+  const fs::path no_end = Write("no-end.ply", "ply\nformat ascii 1.0\nelement vertex \n4 2 0\n0 0 0\n1 0 0\n");
+  ExpectInputError([&] { LoadMesh(no_end); }, {no_end.string(), "malformed PLY file (element line 'element vertex"});
+  const fs::path unended = Write("unended.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n0\n1\n2\n");
+  ExpectInputError([&] { LoadMesh(unended); }, {unended.string(), "malformed PLY file (no end_header line)"});
+  // Only the first 1 MiB is read for the header.
+  const fs::path long_header =
+      Write("long.ply", "ply\nformat ascii 1.0\ncomment " + std::string(std::size_t{1} << 20, 'x') + "\nend_header\n");
+  ExpectInputError([&] { LoadMesh(long_header); }, {long_header.string(), "no end_header line in the first 1 MiB"});
+  std::string many = PlyWithFace("3 0 1 2");
+  many.replace(many.find("vertex 3"), 8, "vertex 4000000000");
+  const fs::path ascii = Write("many.ply", many);
+  ExpectInputError([&] { LoadMesh(ascii); }, {ascii.string(), "declares more elements than its 26 bytes"});
+  // Binary: 3 vertices of 3 floats and 1 face of a uchar count and 3 ints
+  // need 3 * 12 + 13 = 49 bytes; one byte short is refused, 49 load.
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  std::string body;
+  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) body.append(reinterpret_cast<const char*>(&v), 4);
+  body.push_back('\3');
+  for (const std::int32_t i : {0, 1, 2}) body.append(reinterpret_cast<const char*>(&i), 4);
+  ASSERT_EQ(body.size(), 49u);
+  const fs::path short_binary = Write("short.ply", header + body.substr(0, 36));
+  ExpectInputError([&] { LoadMesh(short_binary); },
+                   {short_binary.string(), "declares more elements than its 36 bytes"});
+  const fs::path binary = Write("binary.ply", header + body);
+  EXPECT_EQ(LoadMesh(binary).triangles.size(), 1u);
+  EXPECT_EQ(LoadMesh(Write("good.ply", PlyWithFace("3 0 1 2"))).triangles.size(), 1u);
+}
+
 TEST_F(Readers, MeshVertexAbsurdlyFarOutIsRefused) {
   // assimp reads float: 1e20 is finite there, 1e300 would be inf.
   const fs::path far = Write("far.obj", "v 1e20 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

@@ -26,6 +26,7 @@
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "core/atomic_file.h"
@@ -238,6 +239,103 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
   }
 }
 
+// The header of a PLY file, checked before assimp reads it: assimp 5.2's
+// PLY importer loops forever at the end of a file without an end_header line
+// (fuzz_mesh found it), and loops once per declared element, reading past the
+// end of the file, for a count the file cannot hold. Refused: no "ply" line
+// first, no format line, an element line without a non-negative integer count,
+// a property of an unknown type, no end_header within the first 1 MiB, and
+// element counts whose instances cannot fit in the bytes after the header
+// (binary: the sizes of the properties, a list at least its count; ASCII: a
+// property at least one character and one separator).
+void CheckPlyHeader(const fs::path& path, const std::string& name) {
+  constexpr std::size_t kMaxHeaderBytes = std::size_t{1} << 20;
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) throw InputErrorAt(name, "cannot read mesh (" + ec.message() + ")");
+  // Only the first 1 MiB is read (a binary body may hold no line break).
+  std::string prefix(static_cast<std::size_t>(std::min<std::uintmax_t>(size, kMaxHeaderBytes)), '\0');
+  file.read(prefix.data(), static_cast<std::streamsize>(prefix.size()));
+  prefix.resize(static_cast<std::size_t>(file.gcount()));
+  std::istringstream in(prefix);
+  auto fail = [&](const std::string& what) { throw InputErrorAt(name, "malformed PLY file (" + what + ")"); };
+  auto scalar_bytes = [](const std::string& type) -> int {
+    static const std::pair<const char*, int> kTypes[] = {{"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},
+                                                         {"short", 2}, {"ushort", 2},  {"int16", 2},  {"uint16", 2},
+                                                         {"int", 4},   {"uint", 4},    {"int32", 4},  {"uint32", 4},
+                                                         {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
+    for (const auto& [word, bytes] : kTypes) {
+      if (type == word) return bytes;
+    }
+    return 0;
+  };
+  struct Element {
+    unsigned long long count = 0;
+    unsigned long long min_binary_bytes = 0;  // per instance
+    unsigned long long properties = 0;
+  };
+  std::vector<Element> elements;
+  bool ascii = false, format = false, ended = false;
+  std::size_t header_bytes = 0;
+  std::string line;
+  for (int number = 0; !ended && std::getline(in, line); ++number) {
+    header_bytes += line.size() + 1;
+    if (header_bytes > prefix.size() && prefix.size() == kMaxHeaderBytes) {
+      fail("no end_header line in the first 1 MiB");
+    }
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream tokens(line);
+    std::vector<std::string> words;
+    for (std::string word; tokens >> word;) words.push_back(word);
+    if (number == 0) {
+      if (words.size() != 1 || words[0] != "ply") fail("the first line is not 'ply'");
+      continue;
+    }
+    if (words.empty()) continue;
+    if (words[0] == "end_header") {
+      ended = true;
+    } else if (words[0] == "format") {
+      if (words.size() < 2 ||
+          (words[1] != "ascii" && words[1] != "binary_little_endian" && words[1] != "binary_big_endian")) {
+        fail("unknown format line '" + line + "'");
+      }
+      ascii = words[1] == "ascii";
+      format = true;
+    } else if (words[0] == "element") {
+      char* end = nullptr;
+      errno = 0;
+      const unsigned long long count = words.size() == 3 ? std::strtoull(words[2].c_str(), &end, 10) : 0;
+      if (words.size() != 3 || words[2][0] == '-' || errno != 0 || end != words[2].c_str() + words[2].size()) {
+        fail("element line '" + line + "' has no count");
+      }
+      elements.push_back({count, 0, 0});
+    } else if (words[0] == "property") {
+      const bool list = words.size() == 5 && words[1] == "list";
+      const int bytes = list ? scalar_bytes(words[2]) : words.size() == 3 ? scalar_bytes(words[1]) : 0;
+      if (bytes == 0 || (list && scalar_bytes(words[3]) == 0)) fail("unknown property line '" + line + "'");
+      if (elements.empty()) fail("property line '" + line + "' before any element line");
+      elements.back().min_binary_bytes += static_cast<unsigned long long>(bytes);
+      elements.back().properties += 1;
+    }
+  }
+  if (!ended) fail("no end_header line");
+  if (!format) fail("no format line");
+  const unsigned long long body = size > header_bytes ? size - header_bytes : 0;
+  unsigned long long needed = 0;
+  for (const Element& e : elements) {
+    // An instance takes at least one byte (an element without properties
+    // would otherwise be free to declare any count).
+    const unsigned long long each =
+        std::max<unsigned long long>(1, ascii ? 2 * e.properties - (e.properties > 0 ? 1 : 0) : e.min_binary_bytes);
+    if (e.count > body / each || needed > body - e.count * each) {
+      fail("declares more elements than its " + std::to_string(body) + " bytes after the header can hold");
+    }
+    needed += e.count * each;
+  }
+}
+
 }  // namespace
 
 MeshFile LoadMeshFile(const fs::path& path) {
@@ -259,6 +357,7 @@ MeshFile LoadMeshFile(const fs::path& path) {
   std::string lower = extension;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (lower == ".off") CheckOffStructure(path, name);
+  if (lower == ".ply") CheckPlyHeader(path, name);
   // Read without post-processing first: the raw vertices are checked before
   // aiProcess_JoinIdenticalVertices, which mangles NaN vertices (NaN never
   // compares equal, so they get merged into or dropped for others).
