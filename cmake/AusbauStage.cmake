@@ -9,10 +9,10 @@ endfunction()
 
 # ausbau_add_test(<name> SOURCES ... [LABELS ...] [RUNS <stage> ...]): a
 # GoogleTest executable registered with CTest. RUNS names the stages it runs
-# (ausbau-<stage>). The target ausbau_<label>_tests (tests/CMakeLists.txt)
-# builds the tests of a label and the stages they run, nothing else: `make
-# test-sanitize` builds ausbau_unit_tests. A stage a test runs but does not
-# list is missing there (exit 127, or a skipped test where it checks first).
+# (ausbau-<stage>). The target ausbau_unit_tests (tests/CMakeLists.txt)
+# builds the unit tests and the stages they run, nothing else; `make
+# test-sanitize` builds only that. A stage a test runs but does not list is
+# missing there (exit 127, or a skipped test where it checks first).
 function(ausbau_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LABELS;RUNS" ${ARGN})
   foreach(label IN LISTS ARG_LABELS)
