@@ -212,24 +212,40 @@ TEST(VolumeModel, FastenerGuardRefusesIntersectionsBeyondTheFastenersReach) {
   EXPECT_EQ(no_reach.Measure(problem.start), std::numeric_limits<double>::infinity());
 }
 
-// A detour around a cube (no intersection anywhere) is shortened, but never
-// through the cube, although the straight line start -> end would be shorter.
-TEST(VolumeSmoother, ShortcutsNeverDeepenTheIntersection) {
-  const Scene scene = MakeScene("detour", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-1, -1, -1}, {1, 1, 1}));
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  VoxelizeOptions voxelize;
-  voxelize.voxel_size = 0.25;
-  VolumeModel model(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
-  auto at = [&](double x, double z) {
+// S a 10-unit cube, D a 2-unit cube, and the MLIV model on 0.25 voxels:
+// the volume smoother's hand-checkable case.
+struct CubeBesideCube {
+  explicit CubeBesideCube(const std::string& name)
+      : scene(MakeScene(name, MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-1, -1, -1}, {1, 1, 1}))),
+        problem(MakePlanningProblem(scene)),
+        model(problem, scene.dynamic_mesh, VoxelizeScene(scene, Voxels(0.25)), {}, ValidityMode::kMliv) {}
+  static VoxelizeOptions Voxels(double size) {
+    VoxelizeOptions options;
+    options.voxel_size = size;
+    return options;
+  }
+  // D's reference point at (x, 5, z).
+  Pose At(double x, double z) const {
     Pose p = problem.start;
     p.t = Eigen::Vector3d(x, 5, z);
     return p;
-  };
+  }
+  Scene scene;
+  PlanningProblem problem;
+  VolumeModel model;
+};
+
+// A detour around a cube (no intersection anywhere) is shortened, but never
+// through the cube, although the straight line start -> end would be shorter.
+TEST(VolumeSmoother, ShortcutsNeverDeepenTheIntersection) {
+  const CubeBesideCube cubes("detour");
+  const PlanningProblem& problem = cubes.problem;
+  auto at = [&](double x, double z) { return cubes.At(x, z); };
   // Left of the cube, up, over in small steps, down on the right.
   std::vector<Pose> path = {at(-5, 5), at(-5, 15)};
   for (double x = -3; x <= 15; x += 2) path.push_back(at(x, 15));
   path.push_back(at(15, 5));
-  IntersectionVolume volume = model.volume().Clone();
+  IntersectionVolume volume = cubes.model.volume().Clone();
   const double step = 0.01 * problem.robot_diagonal / 4;
   ASSERT_EQ(MaxVolumeAlong(problem, volume, VolumeMeasure::kMliv, path, step), 0.0);
   ASSERT_GT(MaxVolumeAlong(problem, volume, VolumeMeasure::kMliv, {path.front(), path.back()}, step), 0.0);
@@ -250,17 +266,10 @@ TEST(VolumeSmoother, ShortcutsNeverDeepenTheIntersection) {
 // own depth is accepted (a section that starts there reaches it too), going
 // deeper is not.
 TEST(VolumeSmoother, GuardComparesWithTheReplacedSectionFromItsStart) {
-  const Scene scene = MakeScene("guard", MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-1, -1, -1}, {1, 1, 1}));
-  const PlanningProblem problem = MakePlanningProblem(scene);
-  VoxelizeOptions voxelize;
-  voxelize.voxel_size = 0.25;
-  VolumeModel model(problem, scene.dynamic_mesh, VoxelizeScene(scene, voxelize), {}, ValidityMode::kMliv);
-  auto at = [&](double x) {
-    Pose p = problem.start;
-    p.t = Eigen::Vector3d(x, 5, 5);
-    return p;
-  };
-  IntersectionVolume volume = model.volume().Clone();
+  const CubeBesideCube cubes("guard");
+  const PlanningProblem& problem = cubes.problem;
+  auto at = [&](double x) { return cubes.At(x, 5); };
+  IntersectionVolume volume = cubes.model.volume().Clone();
   const VolumeGuard guard(problem, volume, VolumeMeasure::kMliv, 0.01 * problem.robot_diagonal / 4);
   const Pose partly_in = at(-0.5), out = at(-5), deep = at(3);
   const double start_volume = volume.Measure(VolumeMeasure::kMliv, partly_in);
