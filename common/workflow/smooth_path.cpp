@@ -136,7 +136,9 @@ bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionCheck
 
 // sigma_1 under its volume, no shortcut deepening any intersection
 // (inistate/volume_smoother.h); sigma_2 under collision; no shortcut
-// crosses c_inter. Returns the index of c_inter in the smoothed path.
+// crosses c_inter. Across it, only the turning taken out and a straight
+// retreat from sigma_1, each checked part by part. Returns the index of
+// c_inter in the smoothed path.
 int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
                    const FclCollisionChecker& checker, int first_rigid, const SmoothPlannedPathOptions& options,
                    SmoothedPath* out) {
