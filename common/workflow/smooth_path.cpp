@@ -165,9 +165,10 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   result.path = first.path;
   int inter_index = static_cast<int>(result.path.size()) - 1;
   result.path.insert(result.path.end(), second.path.begin() + 1, second.path.end());
-  const MotionChecker rigid(problem, checker, options.smooth.resolution * problem.robot_diagonal / 4.0);
-  const VolumeGuard volume_guard(problem, volume, out->model->measure(),
-                                 options.smooth.resolution * problem.robot_diagonal / 4.0);
+  // The smoother's check step (planning/smoother.h), for both parts.
+  const double step = options.smooth.resolution * problem.robot_diagonal / 4.0;
+  const MotionChecker rigid(problem, checker, step);
+  const VolumeGuard volume_guard(problem, volume, out->model->measure(), step);
   FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, inter_index, &result.path);
   // A straight retreat may also leave from sigma_1, where D is already free
   // of S before sigma_1's end (c_inter only had to be psi clear of the
