@@ -221,6 +221,78 @@ TEST(Smoother, ShortensAndStaysValid) {
   for (std::size_t i = 0; i < result.path.size(); ++i) EXPECT_EQ(again.path[i].t, result.path[i].t);
 }
 
+TEST(Smoother, WithWaypointAtInsertsAPoseInsideASegmentOnly) {
+  // Three waypoints 10 apart along x, no turning: with the metric's nu = 1
+  // and u = 1/2 each segment has length 5, the path up to waypoint 2 has 10.
+  PlanningProblem problem;
+  problem.metric.nu = 1.0;
+  std::vector<Pose> path(3);
+  for (int i = 0; i < 3; ++i) path[i].t = {10.0 * i, 0, 0};
+  std::size_t index = 99;
+  std::vector<Pose> out = WithWaypointAt(problem, path, 2, 0.25, &index);
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_EQ(index, 1u);
+  EXPECT_NEAR(out[1].t.x(), 5.0, 1e-12);
+  EXPECT_EQ(out[2].t.x(), 10.0);
+  out = WithWaypointAt(problem, path, 2, 0.5, &index);  // on waypoint 1: nothing inserted
+  EXPECT_EQ(out.size(), 3u);
+  EXPECT_EQ(index, 1u);
+  out = WithWaypointAt(problem, path, 2, 0.0, &index);
+  EXPECT_EQ(out.size(), 3u);
+  EXPECT_EQ(index, 0u);
+  out = WithWaypointAt(problem, path, 2, 1.0, &index);
+  EXPECT_EQ(out.size(), 3u);
+  EXPECT_EQ(index, 2u);
+  out = WithWaypointAt(problem, path, 1, 0.5, &index);  // half of the part up to waypoint 1
+  ASSERT_EQ(out.size(), 4u);
+  EXPECT_EQ(index, 1u);
+  EXPECT_NEAR(out[1].t.x(), 5.0, 1e-12);
+}
+
+TEST(Smoother, FirstFreezeThatWorksRefinesBetweenTheLastFailureAndTheFirstSuccess) {
+  // Works from 0.3 on: the coarse step finds 5/16 = 0.3125, the finer ones
+  // between 4/16 and 5/16 (eighths of 1/16) then 0.3046875, the first >= 0.3.
+  std::vector<double> tried;
+  double kept = -1;
+  const bool found = FirstFreezeThatWorks([&](double fraction) {
+    tried.push_back(fraction);
+    if (fraction < 0.3) return false;
+    kept = fraction;
+    return true;
+  });
+  EXPECT_TRUE(found);
+  EXPECT_DOUBLE_EQ(kept, (4 + 7.0 / 8) / 16);
+  ASSERT_EQ(tried.size(), 6u + 7u);
+  EXPECT_DOUBLE_EQ(tried[5], 5.0 / 16);
+  EXPECT_FALSE(FirstFreezeThatWorks([](double) { return false; }));
+}
+
+TEST(StateSpace, GuidedSamplesLieNearTheCourseHalfOfTheTime) {
+  Fixture f("two-boxes");
+  PlanningProblem problem = f.problem;
+  problem.fixed_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d a = problem.bounds.min + 0.25 * problem.bounds.Size();
+  const Eigen::Vector3d b = problem.bounds.min + 0.3 * problem.bounds.Size();
+  Pose pa, pb;
+  pa.t = a;
+  pb.t = b;
+  problem.sampling_guide = {pa, pb};
+  Random random(7);
+  int near = 0;
+  constexpr int kSamples = 4000;
+  for (int i = 0; i < kSamples; ++i) {
+    const Pose pose = problem.SampleUniform(random);
+    EXPECT_EQ(pose.q.coeffs(), problem.fixed_rotation->coeffs());
+    // Distance from the segment a-b.
+    const double s = std::clamp((pose.t - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    if ((pose.t - (a + s * (b - a))).norm() <= problem.robot_diagonal * (1 + 1e-9)) ++near;
+  }
+  // Half drawn near the course (all within D's diagonal of it), the other
+  // half uniform in the bounds (few of them that near).
+  EXPECT_GT(near, kSamples * 45 / 100);
+  EXPECT_LT(near, kSamples * 70 / 100);
+}
+
 TEST(Planner, SamplersWorkInsideTheTreePlanners) {
   Fixture f("peg-in-plate");
   for (const char* sampler : {"gaussian", "bridge", "mixed"}) {

@@ -23,6 +23,7 @@ CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& va
     PlanningProblem local = problem;
     local.start = a;
     local.goal = b;
+    local.sampling_guide = {a, b};  // half the samples near the segment
     PlannerOptions local_options = options;
     local_options.seed = options.seed + 1000003ull * (i + 1);
     local_options.max_iterations = 50000;

@@ -4,7 +4,8 @@
 // `step` between checked poses), which leaves thin slivers of collision
 // between checked poses undetected. Before a path is returned, every segment
 // is re-checked at step / 4; a segment that fails is re-planned locally
-// (CR-RRTC between its two end poses, edges checked at the fine step) and
+// (CR-RRTC between its two end poses, edges checked at the fine step, half
+// of its samples near the segment: PlanningProblem::sampling_guide) and
 // spliced in. Rare, but without it a grazing path can fail a later dense
 // check.
 #pragma once

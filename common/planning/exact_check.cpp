@@ -6,8 +6,8 @@
 
 #include "core/format.h"
 #include "geometry/principal_axes.h"
-#include "planning/scene_goal.h"
 #include "planning/reach_crop.h"
+#include "planning/scene_goal.h"
 #include "scene/scene.h"
 #include "scene/units.h"
 

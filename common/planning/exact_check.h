@@ -51,9 +51,9 @@ struct ExactCheckReport {
   double max_fastener_depth = 0;  // deepest fastener penetration (reported)
   int first_bad_segment = -1;     // first segment that breaks the limits
   bool starts_at_start = false;
-  bool ends_separated = false;  // D's exact AABB at the last waypoint clear of S's
-  bool ends_in_goal = false;    // the last waypoint meets the scene's goal (SceneGoal)
-  std::string goal;             // the goal, in words (SceneGoal::Describe)
+  bool ends_separated = false;         // D's exact AABB at the last waypoint clear of S's
+  bool ends_in_goal = false;           // the last waypoint meets the scene's goal (SceneGoal)
+  std::string goal;                    // the goal, in words (SceneGoal::Describe)
   int crop_level = -1;                 // the crop the check used (planning/reach_crop.h); -1: the whole S
   std::int64_t checked_triangles = 0;  // S's triangles the check measured against
   std::shared_ptr<const PartModel> parts;

@@ -304,7 +304,7 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
                                             const std::vector<Pose>& turning, Clock::time_point deadline) {
   PlanningProblem fixed = problem;
   fixed.fixed_rotation = problem.start.q;
-  for (const Pose& pose : turning) fixed.sampling_guide.push_back(pose.t);
+  fixed.sampling_guide = turning;
   PlannerOptions planner;
   planner.planner = "rrtc";
   planner.seed = options.seed;
@@ -363,6 +363,18 @@ bool FirstFreezeThatWorks(const std::function<bool(double fraction)>& try_at) {
     return true;
   }
   return false;
+}
+
+bool StraightenRotation(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
+                        const ReplacementGuard* guard, std::size_t first, std::size_t last, std::vector<Pose>* path) {
+  options.Check();
+  if (last >= path->size() || last < first + 2) return false;
+  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0);
+  if (PartialShortcut(problem, motion, guard, path, first, last, 3, false)) return true;
+  const std::size_t middle = (first + last) / 2;
+  const bool front = PartialShortcut(problem, motion, guard, path, first, middle, 3, false);
+  const bool back = PartialShortcut(problem, motion, guard, path, middle, last, 3, false);
+  return front || back;
 }
 
 int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,

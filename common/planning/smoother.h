@@ -91,6 +91,15 @@ std::vector<Pose> WithWaypointAt(const PlanningProblem& problem, const std::vect
 // whether one did.
 bool FirstFreezeThatWorks(const std::function<bool(double fraction)>& try_at);
 
+// Step 3 on the rotation alone, over waypoints [first, last] of a path:
+// the rotation made linear in the path parameter (the partial shortcut on
+// the rotation) over the whole part, else over each half of it by
+// waypoint. Kept when valid, shorter and accepted by the guard; the
+// endpoints stay. Returns whether the path changed (the InIState smoother
+// takes out the wobble that sigma_1 keeps before a rotation freeze).
+bool StraightenRotation(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
+                        const ReplacementGuard* guard, std::size_t first, std::size_t last, std::vector<Pose>* path);
+
 // Step 2 alone, on a path of which only the part from waypoint `first` on
 // may be replaced (the InIState path: a retreat may leave from sigma_1 once
 // D is free there, validity the rigid one): from points evenly spread along

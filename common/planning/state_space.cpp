@@ -42,28 +42,31 @@ Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const { return PlacedBox(robo
 
 namespace {
 
-// A point near the polyline `guide`: a uniform point of a uniformly chosen
+// A pose near the path `guide`: a uniform pose of a uniformly chosen
 // segment, moved in a uniform direction by a distance log-uniform in
 // [diagonal / 1000, diagonal] (no scale to tune: every passage width in that
-// range gets its share of samples).
-Eigen::Vector3d SampleNearGuide(const std::vector<Eigen::Vector3d>& guide, double diagonal, Random& random) {
+// range gets its share of samples) and turned about a uniform axis by up to
+// that distance over `radius`.
+Pose SampleNearGuide(const std::vector<Pose>& guide, double diagonal, double radius, Random& random) {
   const std::size_t i = guide.size() > 1 ? random.Index(guide.size() - 1) : 0;
-  const Eigen::Vector3d& a = guide[i];
-  const Eigen::Vector3d& b = guide[std::min(i + 1, guide.size() - 1)];
-  const Eigen::Vector3d on = a + random.Uniform01() * (b - a);
+  Pose pose = Interpolate(guide[i], guide[std::min(i + 1, guide.size() - 1)], random.Uniform01());
+  const double distance = diagonal * std::pow(10.0, -3.0 * random.Uniform01());
   Eigen::Vector3d direction(random.Normal(), random.Normal(), random.Normal());
   if (direction.norm() < 1e-12) direction = Eigen::Vector3d::UnitX();
-  const double distance = diagonal * std::pow(10.0, -3.0 * random.Uniform01());
-  return on + direction.normalized() * distance;
+  pose.t += direction.normalized() * distance;
+  Eigen::Vector3d axis(random.Normal(), random.Normal(), random.Normal());
+  if (axis.norm() < 1e-12) axis = Eigen::Vector3d::UnitZ();
+  const double angle = random.Uniform01() * distance / std::max(radius, 1e-12);
+  pose.q = (pose.q * Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()))).normalized();
+  return pose;
 }
 
 }  // namespace
 
 Pose PlanningProblem::SampleUniform(Random& random) const {
   if (!sampling_guide.empty() && random.Index(2) == 0) {
-    Pose pose;
-    pose.q = fixed_rotation ? *fixed_rotation : random.UniformQuaternion();
-    pose.t = SampleNearGuide(sampling_guide, robot_diagonal, random);
+    Pose pose = SampleNearGuide(sampling_guide, robot_diagonal, robot_radius, random);
+    if (fixed_rotation) pose.q = *fixed_rotation;
     return pose;
   }
   Pose pose;

@@ -185,6 +185,13 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   std::size_t frozen_inter = static_cast<std::size_t>(inter_index);
   FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, &frozen_inter, &result.path);
   inter_index = static_cast<int>(frozen_inter);
+  // The turning left in sigma_1 (before a freeze), straightened: its
+  // wobble out, under sigma_1's own validity and the volume guard.
+  const VolumeValidity sigma1_validity(volume, out->model->measure(), first.max_before);
+  const double turning = MeasurePath(problem, result.path).rotation;
+  if (StraightenRotation(problem, sigma1_validity, options.smooth, &volume_guard, 0, frozen_inter, &result.path)) {
+    LogInfo("sigma_1's rotation straightened: %.3f -> %.3f rad", turning, MeasurePath(problem, result.path).rotation);
+  }
   // A straight retreat may also leave from sigma_1, where D is already free
   // of S before sigma_1's end (c_inter only had to be psi clear of the
   // fasteners): from there on the path is rigid, so the pose it leaves from
