@@ -370,11 +370,16 @@ bool StraightenRotation(const PlanningProblem& problem, const PoseValidity& vali
   options.Check();
   if (last >= path->size() || last < first + 2) return false;
   const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0);
-  if (PartialShortcut(problem, motion, guard, path, first, last, 3, false)) return true;
-  const std::size_t middle = (first + last) / 2;
-  const bool front = PartialShortcut(problem, motion, guard, path, first, middle, 3, false);
-  const bool back = PartialShortcut(problem, motion, guard, path, middle, last, 3, false);
-  return front || back;
+  // Longest sections first; at most 200 tries (a smoothed sigma_1 has some
+  // ten waypoints: about 50 sections).
+  bool changed = false;
+  int tries = 0;
+  for (std::size_t span = last - first; span >= 2 && tries < 200; --span) {
+    for (std::size_t i = first; i + span <= last && tries < 200; ++i, ++tries) {
+      changed |= PartialShortcut(problem, motion, guard, path, i, i + span, 3, false);
+    }
+  }
+  return changed;
 }
 
 int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,

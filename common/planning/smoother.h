@@ -93,8 +93,8 @@ bool FirstFreezeThatWorks(const std::function<bool(double fraction)>& try_at);
 
 // Step 3 on the rotation alone, over waypoints [first, last] of a path:
 // the rotation made linear in the path parameter (the partial shortcut on
-// the rotation) over the whole part, else over each half of it by
-// waypoint. Kept when valid, shorter and accepted by the guard; the
+// the rotation) over each section between two waypoints, the longest
+// first. Each kept when valid, shorter and accepted by the guard; the
 // endpoints stay. Returns whether the path changed (the InIState smoother
 // takes out the wobble that sigma_1 keeps before a rotation freeze).
 bool StraightenRotation(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
