@@ -38,6 +38,9 @@ double MaxVolumeAlong(const PlanningProblem& problem, IntersectionVolume& volume
 
 bool VolumeGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
   const double removed = MaxVolumeAlong(*problem_, *volume_, measure_, replaced, step_);
+  // A replaced section that is itself refused somewhere (a rigid solid into
+  // S, or out of the bounds: infinite) justifies no replacement.
+  if (!std::isfinite(removed)) return false;
   return MaxVolumeAlong(*problem_, *volume_, measure_, replacement, step_, removed) <= removed;
 }
 

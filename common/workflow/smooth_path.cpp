@@ -106,8 +106,9 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
 // the end's orientation). Returns whether the path changed; `inter_index`
 // follows an inserted waypoint.
 bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionChecker& rigid,
-                               const VolumeGuard& volume_guard, const ClearanceGuard& clearance_guard,
-                               std::size_t* inter_index, std::vector<Pose>* path) {
+                               const PoseValidity& sigma1_validity, const VolumeGuard& volume_guard,
+                               const ClearanceGuard& clearance_guard, std::size_t* inter_index,
+                               std::vector<Pose>* path) {
   if (problem.goal.has_value() || *inter_index == 0 || *inter_index >= path->size()) return false;
   const double old_rotation = MeasurePath(problem, *path).rotation;
   const auto slice = [](const std::vector<Pose>& p, std::size_t from, std::size_t to) {
@@ -121,12 +122,19 @@ bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionCheck
     // measured on it.
     const std::vector<Pose> old = WithWaypointAt(problem, *path, *inter_index, fraction, &k);
     const std::size_t inter = *inter_index + (old.size() - path->size());
+    // A pose inside a segment may fail sigma_1's volume between the poses
+    // its smoothing checked (a rigid solid grazing S): not a waypoint then.
+    if (!sigma1_validity.IsValid(old[k])) return false;
     std::vector<Pose> next = old;
     for (std::size_t m = k + 1; m < next.size(); ++m) next[m].q = old[k].q;
     if (!(MeasurePath(problem, next).rotation < old_rotation - 1e-9) || !problem.InGoalRegion(next.back())) {
       return false;
     }
+    // c_inter ends sigma_1 and starts the rigid part: valid under both.
     if (!rigid.IsValid(next[inter])) return false;
+    for (std::size_t m = k + 1; m <= inter; ++m) {
+      if (!sigma1_validity.IsValid(next[m])) return false;
+    }
     for (std::size_t m = inter; m + 1 < next.size(); ++m) {
       if (!rigid.MotionValid(next[m], next[m + 1])) return false;
     }
@@ -182,12 +190,12 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   const double step = options.smooth.resolution * problem.robot_diagonal / 4.0;
   const MotionChecker rigid(problem, checker, step);
   const VolumeGuard volume_guard(problem, volume, out->model->measure(), step);
+  const VolumeValidity sigma1_validity(volume, out->model->measure(), first.max_before);
   std::size_t frozen_inter = static_cast<std::size_t>(inter_index);
-  FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, &frozen_inter, &result.path);
+  FreezeRotationAcrossInter(problem, rigid, sigma1_validity, volume_guard, *guard, &frozen_inter, &result.path);
   inter_index = static_cast<int>(frozen_inter);
   // The turning left in sigma_1 (before a freeze), straightened: its
   // wobble out, under sigma_1's own validity and the volume guard.
-  const VolumeValidity sigma1_validity(volume, out->model->measure(), first.max_before);
   const double turning = MeasurePath(problem, result.path).rotation;
   if (StraightenRotation(problem, sigma1_validity, options.smooth, &volume_guard, 0, frozen_inter, &result.path)) {
     LogInfo("sigma_1's rotation straightened: %.3f -> %.3f rad", turning, MeasurePath(problem, result.path).rotation);
@@ -196,10 +204,18 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   // of S before sigma_1's end (c_inter only had to be psi clear of the
   // fasteners): from there on the path is rigid, so the pose it leaves from
   // becomes c_inter. Checked like sigma_2 (collision, clearance guard).
+  // The pose it leaves from must also be valid under sigma_1's volume (a
+  // pose between two checked ones may not be: the volume model keeps rigid
+  // solids within half the rigid tolerance), else the retreat is undone.
+  const std::vector<Pose> before_retreat = result.path;
   const int retreat = StraightRetreatFrom(problem, checker, second_options, guard.get(), 0, &result.path);
   if (retreat >= 0 && retreat < inter_index) {
-    LogInfo("straight retreat from sigma_1's waypoint %d (was c_inter: %d)", retreat, inter_index);
-    inter_index = retreat;
+    if (sigma1_validity.IsValid(result.path[retreat])) {
+      LogInfo("straight retreat from sigma_1's waypoint %d (was c_inter: %d)", retreat, inter_index);
+      inter_index = retreat;
+    } else {
+      result.path = before_retreat;
+    }
   }
   WarnBelowClearance(scene, *guard, std::vector<Pose>(result.path.begin() + inter_index, result.path.end()),
                      inter_index);
