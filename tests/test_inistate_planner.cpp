@@ -552,7 +552,7 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
                InputError);
 
   TauArtifact artifact;
-  artifact.validity = "iv";
+  artifact.validity = ValidityMode::kIv;
   artifact.units = "mm";
   artifact.estimate.tau = 12.5;
   artifact.estimate.psi = 3.0;
@@ -572,7 +572,7 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
   const auto file = testing::MakeTempDir("tau") / "tau.h5";
   WriteTauArtifact(file, artifact, Provenance{"test", "0", "", {}});
   const TauArtifact back = ReadTauArtifact(file);
-  EXPECT_EQ(back.validity, "iv");
+  EXPECT_EQ(back.validity, ValidityMode::kIv);
   EXPECT_EQ(back.estimate.tau, 12.5);
   EXPECT_EQ(back.estimate.psi, 3.0);
   ASSERT_EQ(back.estimate.trace.size(), 1u);
@@ -590,7 +590,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   path.success = true;
   path.waypoints = {Pose{}, Pose{}};
   path.waypoints[1].t = {1, 2, 3};
-  path.validity = "labeled-mliv";
+  path.validity = ValidityMode::kLabeledMliv;
   path.tau = 4.5;
   path.psi = 2.0;
   path.inter_index = 1;
@@ -600,7 +600,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   const auto file = testing::MakeTempDir("path") / "path.h5";
   WritePathArtifact(file, path, Provenance{"test", "0", "", {}});
   const PathArtifact back = ReadPathArtifact(file);
-  EXPECT_EQ(back.validity, "labeled-mliv");
+  EXPECT_EQ(back.validity, ValidityMode::kLabeledMliv);
   EXPECT_EQ(back.tau, 4.5);
   EXPECT_EQ(back.inter_index, 1);
   EXPECT_EQ(back.waypoint_part, (std::vector<int>{2, -1}));
@@ -609,7 +609,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   PathArtifact rigid;
   rigid.waypoints = {Pose{}};
   WritePathArtifact(file, rigid, Provenance{"test", "0", "", {}});
-  EXPECT_EQ(ReadPathArtifact(file).validity, "collision");
+  EXPECT_EQ(ReadPathArtifact(file).validity, ValidityMode::kCollision);
   EXPECT_TRUE(ReadPathArtifact(file).waypoint_volume.empty());
 }
 

@@ -148,7 +148,7 @@ class Readers : public ::testing::Test {
     path.waypoints.resize(3);
     path.waypoints[1].t = {1, 0, 0};
     path.waypoints[2].t = {2, 0, 0};
-    path.validity = "iv";
+    path.validity = ValidityMode::kIv;
     path.tau = 1;
     path.psi = 1;
     path.inter_index = 1;
@@ -350,7 +350,7 @@ TEST_F(Readers, TauWithEmptyScalarIsAnInputError) {
   TauArtifact tau;
   tau.estimate.tau = 1;
   tau.estimate.psi = 1;
-  tau.validity = "iv";
+  tau.validity = ValidityMode::kIv;
   tau.units = "mm";
   const fs::path file = dir_ / "tau.h5";
   WriteTauArtifact(file, tau, TestProvenance());

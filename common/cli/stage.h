@@ -129,6 +129,21 @@ class StageDefinition {
     return option;
   }
   CLI::Option* Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key);
+  // A mode: one of `names` (a wrong one is the usual one-line usage error
+  // listing them), stored as the enum `parse` makes of it. The provenance
+  // and --help keep its spelling, `name` of the default where not given.
+  template <class Enum>
+  CLI::Option* Choice(const std::string& flags, Enum* value, const std::vector<std::string>& names,
+                      Enum (*parse)(const std::string&), std::string (*name)(Enum), const std::string& help,
+                      CacheKey key) {
+    CLI::Option* option = app_.add_option_function<std::string>(
+                                  flags, [value, parse](const std::string& text) { *value = parse(text); }, help)
+                              ->default_str(name(*value))
+                              ->check(CLI::IsMember(names));
+    if (key == CacheKey::kNo) not_in_cache_key_.insert(option->get_single_name());
+    NameField(value, option);
+    return option;
+  }
   // Inputs that no single option names (e.g. two files in one option),
   // added to the provenance after the declared ones.
   void AddInputs(std::function<void(Provenance*)> add) { add_inputs_.push_back(std::move(add)); }
