@@ -52,6 +52,33 @@ TEST(ValidityModes, NamesRoundTripAndUnknownNamesAreRefused) {
   EXPECT_THROW(ParseValidityMode("labelled-mliv"), InputError);
 }
 
+// Every mode has one spelling (the flag's and the artifacts'); rigid-exact
+// and collision are no volume modes; ausbau-tau-estimate's list leaves out
+// rigid-exact; a wrong name's error lists the right ones.
+TEST(ValidityModes, EachModeHasOneSpellingAndAWrongOneListsThem) {
+  EXPECT_EQ(ValidityModeNames().size(), 7u);
+  EXPECT_EQ(ValidityModeName(ValidityMode::kRigidExact), "rigid-exact");
+  EXPECT_EQ(ValidityModeName(ValidityMode::kCollision), "collision");
+  EXPECT_EQ(ValidityModeName(ValidityMode::kLabeledMlivUnguarded), "labeled-mliv-unguarded");
+  EXPECT_EQ(ParseValidityMode("rigid-exact"), ValidityMode::kRigidExact);
+  EXPECT_EQ(ParseValidityMode("shrink"), ValidityMode::kShrink);
+  EXPECT_FALSE(IsVolumeValidity(ValidityMode::kRigidExact));
+  EXPECT_FALSE(IsVolumeValidity(ValidityMode::kCollision));
+  EXPECT_TRUE(IsVolumeValidity(ValidityMode::kShrink));
+  EXPECT_TRUE(IsVolumeValidity(ValidityMode::kLabeledMlivUnguarded));
+  const std::vector<std::string> inistate = {"collision", "shrink",       "iv",
+                                             "mliv",      "labeled-mliv", "labeled-mliv-unguarded"};
+  EXPECT_EQ(InIStateValidityNames(), inistate);
+  try {
+    ParseValidityMode("exact", "run/path.h5: attribute 'validity'");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "run/path.h5: attribute 'validity': unknown mode 'exact' (expected rigid-exact, collision, shrink, "
+                 "iv, mliv, labeled-mliv or labeled-mliv-unguarded)");
+  }
+}
+
 // A box-soup panel: a rigid key (its own solid) 2 mm above a 2 mm plate,
 // near a long clip whose tip sits in the plate at the start (so the key is
 // within the fasteners' reach psi and the voxel fastener guard lets it be).
