@@ -185,20 +185,28 @@ bool PartialShortcut(const PlanningProblem& problem, const MotionChecker& motion
   return true;
 }
 
-// Step 3's freeze: from 16 waypoints evenly spread, the first one from
-// which the rest of a disassembly path can keep that waypoint's rotation.
+// Step 3's freeze: the first pose along the path (FirstFreezeThatWorks)
+// from which the rest of a disassembly path can keep that pose's rotation.
+// Spread by length, not by waypoint: a smoothed path is often one long
+// turning segment and a retreat, whose only waypoints are the start and the
+// turned end.
 void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                         SmoothResult* result) {
   std::vector<Pose>& path = result->path;
   if (!EndIsFree(problem) || path.size() < 3) return;
-  constexpr std::size_t kTries = 16;
-  for (std::size_t n = 0; n < kTries; ++n) {
-    const std::size_t i = n * (path.size() - 2) / kTries;
-    if (PartialShortcut(problem, motion, guard, &path, i, path.size() - 1, 3, true)) {
-      ++result->shortcuts;
-      ++result->partial_shortcuts;
-      return;
-    }
+  std::vector<Pose> frozen_path;
+  const bool frozen = FirstFreezeThatWorks([&](double fraction) {
+    std::size_t from = 0;
+    std::vector<Pose> candidate = WithWaypointAt(problem, path, path.size() - 1, fraction, &from);
+    if (candidate.size() > path.size() && !motion.MotionValid(candidate[from - 1], candidate[from])) return false;
+    if (!PartialShortcut(problem, motion, guard, &candidate, from, candidate.size() - 1, 3, true)) return false;
+    frozen_path = std::move(candidate);
+    return true;
+  });
+  if (frozen) {
+    path = std::move(frozen_path);
+    ++result->shortcuts;
+    ++result->partial_shortcuts;
   }
 }
 
@@ -288,12 +296,15 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
 // was found with the part turned). So a translation-only path is planned
 // too (RRT-Connect with D's start orientation fixed, a bounded number of
 // iterations, so that the answer does not depend on the machine), smoothed
-// the same way, and kept when it is shorter.
+// the same way, and kept when it is shorter. Half of its samples lie near
+// the turning path's course (`sampling_guide`): in a narrow channel,
+// uniform samples in the bounds almost never fall inside it.
 std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, const PoseValidity& validity,
                                             const MotionChecker& motion, const SmoothOptions& options, int attempts,
-                                            Clock::time_point deadline) {
+                                            const std::vector<Pose>& turning, Clock::time_point deadline) {
   PlanningProblem fixed = problem;
   fixed.fixed_rotation = problem.start.q;
+  for (const Pose& pose : turning) fixed.sampling_guide.push_back(pose.t);
   PlannerOptions planner;
   planner.planner = "rrtc";
   planner.seed = options.seed;
@@ -322,6 +333,37 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
 }
 
 }  // namespace
+
+std::vector<Pose> WithWaypointAt(const PlanningProblem& problem, const std::vector<Pose>& path, std::size_t last,
+                                 double fraction, std::size_t* index) {
+  std::vector<double> along(last + 1, 0.0);
+  for (std::size_t m = 1; m <= last; ++m) along[m] = along[m - 1] + problem.metric.Distance(path[m - 1], path[m], 0.5);
+  const double at = std::clamp(fraction, 0.0, 1.0) * along[last];
+  std::size_t segment = 0;
+  while (segment + 1 < last && along[segment + 1] <= at) ++segment;
+  const double length = last > 0 ? along[segment + 1] - along[segment] : 0.0;
+  const double s = length > 0 ? (at - along[segment]) / length : 0.0;
+  std::vector<Pose> out(path.begin(), path.begin() + segment + 1);
+  if (s > 1e-9 && s < 1.0 - 1e-9) out.push_back(Interpolate(path[segment], path[segment + 1], s));
+  if (s >= 1.0 - 1e-9) out.push_back(path[segment + 1]);
+  *index = out.size() - 1;
+  out.insert(out.end(), path.begin() + static_cast<std::ptrdiff_t>(s >= 1.0 - 1e-9 ? segment + 2 : segment + 1),
+             path.end());
+  return out;
+}
+
+bool FirstFreezeThatWorks(const std::function<bool(double fraction)>& try_at) {
+  constexpr int kTries = 16, kFiner = 8;
+  for (int n = 0; n < kTries; ++n) {
+    if (!try_at(static_cast<double>(n) / kTries)) continue;
+    // Between the failure at n - 1 and n, nearest the former first.
+    for (int k = 1; n > 0 && k < kFiner; ++k) {
+      if (try_at((n - 1 + static_cast<double>(k) / kFiner) / kTries)) break;
+    }
+    return true;
+  }
+  return false;
+}
 
 int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& validity, const SmoothOptions& options,
                         const ReplacementGuard* guard, std::size_t first, std::vector<Pose>* path) {
@@ -355,7 +397,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   const bool turns = result.after.rotation > 1e-9;
   if (EndIsFree(problem) && turns && Clock::now() < deadline) {
     const std::optional<SmoothResult> straight =
-        TranslationOnly(problem, validity, motion, options, attempts, deadline);
+        TranslationOnly(problem, validity, motion, options, attempts, result.path, deadline);
     // With a clearance guard, the alternative (planned without it) must
     // also come no closer to S below d than the input path: smoothing as a
     // whole never makes the clearance worse below d (compared with the

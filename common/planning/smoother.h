@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -74,6 +75,21 @@ struct SmoothResult {
 // without one, or with d = 0, exactly the unguarded smoothing.
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& path,
                         const SmoothOptions& options, const ReplacementGuard* guard = nullptr);
+
+// A copy of `path` with a waypoint at `fraction` (0 to 1) of the metric
+// length (u = 1/2) of its part up to waypoint `last`: a pose inside a
+// segment is inserted there (the motion stays the same). `index` receives
+// that waypoint's index in the copy.
+std::vector<Pose> WithWaypointAt(const PlanningProblem& problem, const std::vector<Pose>& path, std::size_t last,
+                                 double fraction, std::size_t* index);
+
+// Where a rotation freeze is tried (the tail freeze of step 3 and the
+// InIState freeze across c_inter): 16 fractions of the length evenly
+// spread, and after the first that works, 7 more between it and the one
+// before, which failed. `try_at` returns whether the freeze at a fraction
+// works (the caller keeps the last that did: the earliest found); returns
+// whether one did.
+bool FirstFreezeThatWorks(const std::function<bool(double fraction)>& try_at);
 
 // Step 2 alone, on a path of which only the part from waypoint `first` on
 // may be replaced (the InIState path: a retreat may leave from sigma_1 once

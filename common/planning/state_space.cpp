@@ -40,7 +40,32 @@ bool PlanningProblem::InBounds(const Pose& pose) const { return bounds.Contains(
 
 Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const { return PlacedBox(robot_local_box, pose); }
 
+namespace {
+
+// A point near the polyline `guide`: a uniform point of a uniformly chosen
+// segment, moved in a uniform direction by a distance log-uniform in
+// [diagonal / 1000, diagonal] (no scale to tune: every passage width in that
+// range gets its share of samples).
+Eigen::Vector3d SampleNearGuide(const std::vector<Eigen::Vector3d>& guide, double diagonal, Random& random) {
+  const std::size_t i = guide.size() > 1 ? random.Index(guide.size() - 1) : 0;
+  const Eigen::Vector3d& a = guide[i];
+  const Eigen::Vector3d& b = guide[std::min(i + 1, guide.size() - 1)];
+  const Eigen::Vector3d on = a + random.Uniform01() * (b - a);
+  Eigen::Vector3d direction(random.Normal(), random.Normal(), random.Normal());
+  if (direction.norm() < 1e-12) direction = Eigen::Vector3d::UnitX();
+  const double distance = diagonal * std::pow(10.0, -3.0 * random.Uniform01());
+  return on + direction.normalized() * distance;
+}
+
+}  // namespace
+
 Pose PlanningProblem::SampleUniform(Random& random) const {
+  if (!sampling_guide.empty() && random.Index(2) == 0) {
+    Pose pose;
+    pose.q = fixed_rotation ? *fixed_rotation : random.UniformQuaternion();
+    pose.t = SampleNearGuide(sampling_guide, robot_diagonal, random);
+    return pose;
+  }
   Pose pose;
   pose.q = random.UniformQuaternion();
   if (fixed_rotation) pose.q = *fixed_rotation;  // the same draws either way

@@ -59,6 +59,12 @@ struct PlanningProblem {
   // When set, every sampled pose has this orientation: translation-only
   // planning (the smoother's alternative without turning D).
   std::optional<Eigen::Quaterniond> fixed_rotation;
+  // When set, SampleUniform draws half of its samples near this polyline of
+  // positions (planning convention), at a distance drawn log-uniformly
+  // between 1/1000 and 1 of D's AABB diagonal: a path found with D turned
+  // guides the translation-only alternative through the same narrow
+  // passages, where uniform samples in the bounds hardly ever land.
+  std::vector<Eigen::Vector3d> sampling_guide;
   Aabb robot_local_box;       // AABB of `robot`
   double robot_radius = 0;    // max distance of a vertex of D from the reference point
   double robot_diagonal = 0;  // diagonal of D's AABB

@@ -97,41 +97,54 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
 
 // Needless turning across c_inter: sigma_1's planner turns D at random and
 // sigma_2 starts with that orientation, so neither part alone can take it
-// out (sigma_1's end is held while it is smoothed). From the first of 16
-// waypoints of sigma_1, evenly spread, from which it works, the rest of the
-// path keeps that waypoint's orientation: sigma_1's remainder under the
+// out (sigma_1's end is held while it is smoothed). From the first pose
+// along sigma_1 (planning/smoother.h, FirstFreezeThatWorks: by length, a
+// pose inside a segment becomes a waypoint) from which it works, the rest
+// of the path keeps that pose's orientation: sigma_1's remainder under the
 // volume guard, from c_inter on under collision (`rigid`) and the clearance
 // guard, its end in the goal region. Disassembly only (a goal pose holds
-// the end's orientation). Returns whether the path changed.
+// the end's orientation). Returns whether the path changed; `inter_index`
+// follows an inserted waypoint.
 bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionChecker& rigid,
                                const VolumeGuard& volume_guard, const ClearanceGuard& clearance_guard,
-                               std::size_t inter_index, std::vector<Pose>* path) {
-  if (problem.goal.has_value() || inter_index == 0 || inter_index >= path->size()) return false;
-  const std::vector<Pose>& old = *path;
-  const double old_rotation = MeasurePath(problem, old).rotation;
+                               std::size_t* inter_index, std::vector<Pose>* path) {
+  if (problem.goal.has_value() || *inter_index == 0 || *inter_index >= path->size()) return false;
+  const double old_rotation = MeasurePath(problem, *path).rotation;
   const auto slice = [](const std::vector<Pose>& p, std::size_t from, std::size_t to) {
     return std::vector<Pose>(p.begin() + from, p.begin() + to + 1);
   };
-  constexpr std::size_t kTries = 16;
-  for (std::size_t n = 0; n < kTries; ++n) {
-    const std::size_t k = n * inter_index / kTries;
+  std::vector<Pose> kept;
+  std::size_t kept_inter = 0, kept_from = 0;
+  const bool frozen = FirstFreezeThatWorks([&](double fraction) {
+    std::size_t k = 0;
+    // The same motion with a waypoint at `fraction`; the replaced part is
+    // measured on it.
+    const std::vector<Pose> old = WithWaypointAt(problem, *path, *inter_index, fraction, &k);
+    const std::size_t inter = *inter_index + (old.size() - path->size());
     std::vector<Pose> next = old;
     for (std::size_t m = k + 1; m < next.size(); ++m) next[m].q = old[k].q;
-    if (!(MeasurePath(problem, next).rotation < old_rotation - 1e-9) || !problem.InGoalRegion(next.back())) continue;
-    if (!rigid.IsValid(next[inter_index])) continue;
-    bool valid = true;
-    for (std::size_t m = inter_index; m + 1 < next.size() && valid; ++m)
-      valid = rigid.MotionValid(next[m], next[m + 1]);
-    if (!valid || !volume_guard.Accepts(slice(old, k, inter_index), slice(next, k, inter_index)) ||
-        !clearance_guard.Accepts(slice(old, inter_index, old.size() - 1), slice(next, inter_index, next.size() - 1))) {
-      continue;
+    if (!(MeasurePath(problem, next).rotation < old_rotation - 1e-9) || !problem.InGoalRegion(next.back())) {
+      return false;
     }
-    LogInfo("rotation held from sigma_1's waypoint %zu on: %.3f -> %.3f rad", k, old_rotation,
-            MeasurePath(problem, next).rotation);
-    path->swap(next);
+    if (!rigid.IsValid(next[inter])) return false;
+    for (std::size_t m = inter; m + 1 < next.size(); ++m) {
+      if (!rigid.MotionValid(next[m], next[m + 1])) return false;
+    }
+    if (!volume_guard.Accepts(slice(old, k, inter), slice(next, k, inter)) ||
+        !clearance_guard.Accepts(slice(old, inter, old.size() - 1), slice(next, inter, next.size() - 1))) {
+      return false;
+    }
+    kept = std::move(next);
+    kept_inter = inter;
+    kept_from = k;
     return true;
-  }
-  return false;
+  });
+  if (!frozen) return false;
+  LogInfo("rotation held from sigma_1's waypoint %zu on: %.3f -> %.3f rad", kept_from, old_rotation,
+          MeasurePath(problem, kept).rotation);
+  path->swap(kept);
+  *inter_index = kept_inter;
+  return true;
 }
 
 // sigma_1 under its volume, no shortcut deepening any intersection
@@ -169,7 +182,9 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   const double step = options.smooth.resolution * problem.robot_diagonal / 4.0;
   const MotionChecker rigid(problem, checker, step);
   const VolumeGuard volume_guard(problem, volume, out->model->measure(), step);
-  FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, inter_index, &result.path);
+  std::size_t frozen_inter = static_cast<std::size_t>(inter_index);
+  FreezeRotationAcrossInter(problem, rigid, volume_guard, *guard, &frozen_inter, &result.path);
+  inter_index = static_cast<int>(frozen_inter);
   // A straight retreat may also leave from sigma_1, where D is already free
   // of S before sigma_1's end (c_inter only had to be psi clear of the
   // fasteners): from there on the path is rigid, so the pose it leaves from
