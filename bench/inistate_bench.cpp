@@ -661,8 +661,8 @@ int main(int argc, char** argv) {
     if (!modes.empty()) {
       options.modes.clear();
       for (const std::string& name : bench::SplitList(modes)) {
-        const ValidityMode mode = ParseValidityMode(name);
-        if (mode == ValidityMode::kCollision) throw InputError("--modes: collision is not an InIState mode");
+        const ValidityMode mode = ParseValidityMode(name, "--modes");
+        if (!IsVolumeValidity(mode)) throw InputError("--modes: " + name + " is not an InIState mode");
         options.modes.push_back(mode);
       }
     }

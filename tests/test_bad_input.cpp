@@ -665,7 +665,7 @@ std::vector<Case> ArtifactCases() {
       {"PathWithNaNVolumes",
        [](const fs::path& d) {
          WritePath(d / "path.h5", [](PathArtifact* p) {
-           p->validity = "mliv";
+           p->validity = ValidityMode::kMliv;
            p->waypoint_volume.assign(p->waypoints.size(), std::nan(""));
            p->waypoint_part.assign(p->waypoints.size(), 0);
            p->waypoint_deformability.assign(p->waypoints.size(), 0.5);

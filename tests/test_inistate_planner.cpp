@@ -52,6 +52,33 @@ TEST(ValidityModes, NamesRoundTripAndUnknownNamesAreRefused) {
   EXPECT_THROW(ParseValidityMode("labelled-mliv"), InputError);
 }
 
+// Every mode has one spelling (the flag's and the artifacts'); rigid-exact
+// and collision are no volume modes; ausbau-tau-estimate's list leaves out
+// rigid-exact; a wrong name's error lists the right ones.
+TEST(ValidityModes, EachModeHasOneSpellingAndAWrongOneListsThem) {
+  EXPECT_EQ(ValidityModeNames().size(), 7u);
+  EXPECT_EQ(ValidityModeName(ValidityMode::kRigidExact), "rigid-exact");
+  EXPECT_EQ(ValidityModeName(ValidityMode::kCollision), "collision");
+  EXPECT_EQ(ValidityModeName(ValidityMode::kLabeledMlivUnguarded), "labeled-mliv-unguarded");
+  EXPECT_EQ(ParseValidityMode("rigid-exact"), ValidityMode::kRigidExact);
+  EXPECT_EQ(ParseValidityMode("shrink"), ValidityMode::kShrink);
+  EXPECT_FALSE(IsVolumeValidity(ValidityMode::kRigidExact));
+  EXPECT_FALSE(IsVolumeValidity(ValidityMode::kCollision));
+  EXPECT_TRUE(IsVolumeValidity(ValidityMode::kShrink));
+  EXPECT_TRUE(IsVolumeValidity(ValidityMode::kLabeledMlivUnguarded));
+  const std::vector<std::string> inistate = {"collision", "shrink",       "iv",
+                                             "mliv",      "labeled-mliv", "labeled-mliv-unguarded"};
+  EXPECT_EQ(InIStateValidityNames(), inistate);
+  try {
+    ParseValidityMode("exact", "run/path.h5: attribute 'validity'");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "run/path.h5: attribute 'validity': unknown mode 'exact' (expected rigid-exact, collision, shrink, "
+                 "iv, mliv, labeled-mliv or labeled-mliv-unguarded)");
+  }
+}
+
 // A box-soup panel: a rigid key (its own solid) 2 mm above a 2 mm plate,
 // near a long clip whose tip sits in the plate at the start (so the key is
 // within the fasteners' reach psi and the voxel fastener guard lets it be).
@@ -552,7 +579,7 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
                InputError);
 
   TauArtifact artifact;
-  artifact.validity = "iv";
+  artifact.validity = ValidityMode::kIv;
   artifact.units = "mm";
   artifact.estimate.tau = 12.5;
   artifact.estimate.psi = 3.0;
@@ -572,7 +599,7 @@ TEST(TauEstimate, StartAboveTauIsRefusedAndArtifactRoundTrips) {
   const auto file = testing::MakeTempDir("tau") / "tau.h5";
   WriteTauArtifact(file, artifact, Provenance{"test", "0", "", {}});
   const TauArtifact back = ReadTauArtifact(file);
-  EXPECT_EQ(back.validity, "iv");
+  EXPECT_EQ(back.validity, ValidityMode::kIv);
   EXPECT_EQ(back.estimate.tau, 12.5);
   EXPECT_EQ(back.estimate.psi, 3.0);
   ASSERT_EQ(back.estimate.trace.size(), 1u);
@@ -590,7 +617,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   path.success = true;
   path.waypoints = {Pose{}, Pose{}};
   path.waypoints[1].t = {1, 2, 3};
-  path.validity = "labeled-mliv";
+  path.validity = ValidityMode::kLabeledMliv;
   path.tau = 4.5;
   path.psi = 2.0;
   path.inter_index = 1;
@@ -600,7 +627,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   const auto file = testing::MakeTempDir("path") / "path.h5";
   WritePathArtifact(file, path, Provenance{"test", "0", "", {}});
   const PathArtifact back = ReadPathArtifact(file);
-  EXPECT_EQ(back.validity, "labeled-mliv");
+  EXPECT_EQ(back.validity, ValidityMode::kLabeledMliv);
   EXPECT_EQ(back.tau, 4.5);
   EXPECT_EQ(back.inter_index, 1);
   EXPECT_EQ(back.waypoint_part, (std::vector<int>{2, -1}));
@@ -609,7 +636,7 @@ TEST(PathArtifact, InIStateDatasetsRoundTrip) {
   PathArtifact rigid;
   rigid.waypoints = {Pose{}};
   WritePathArtifact(file, rigid, Provenance{"test", "0", "", {}});
-  EXPECT_EQ(ReadPathArtifact(file).validity, "collision");
+  EXPECT_EQ(ReadPathArtifact(file).validity, ValidityMode::kCollision);
   EXPECT_TRUE(ReadPathArtifact(file).waypoint_volume.empty());
 }
 

@@ -190,7 +190,7 @@ TEST_F(PipelineTest, TheUnguardedModeReusesVoxelsAndLabels) {
   for (const char* name : {"tau.h5", "path.h5"}) {
     EXPECT_FALSE(UpToDate(run, (dir / "out" / name).string())) << name << " was not redone:\n" << run.output;
   }
-  EXPECT_EQ(ReadTauArtifact(dir / "out/tau.h5").validity, "labeled-mliv-unguarded");
+  EXPECT_EQ(ReadTauArtifact(dir / "out/tau.h5").validity, ValidityMode::kLabeledMlivUnguarded);
   EXPECT_TRUE(HasLine(testing::ReadTextFile(dir / "out/verdict.json"), "\"validity\": \"labeled-mliv-unguarded\""));
   // The guarded run said what its guard allows; the unguarded one has none.
   EXPECT_NE(first_->output.find("fastener guard:"), std::string::npos) << first_->output;

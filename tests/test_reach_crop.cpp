@@ -130,7 +130,7 @@ TEST(ReachCrop, PartFarFromMostOfSKeepsFewTriangles) {
 TEST(ReachCrop, PlannedPathIsValidAgainstTheWholeS) {
   const Scene scene = VehicleScene(0);
   PlanSceneOptions options;
-  options.validity = "rigid-exact";
+  options.validity = ValidityMode::kRigidExact;
   options.planner.time_limit_s = 30;
   options.planner.seed = 1;
   const PlannedPath planned = PlanScene(scene, options);
@@ -163,7 +163,7 @@ TEST(ReachCrop, PlannedPathIsValidAgainstTheWholeS) {
 TEST(ReachCrop, RivetedPartStaysBlocked) {
   const Scene scene = VehicleScene(4);
   PlanSceneOptions options;
-  options.validity = "rigid-exact";
+  options.validity = ValidityMode::kRigidExact;
   options.planner.time_limit_s = 2;
   options.planner.seed = 1;
   options.max_crop_level = 1;

@@ -114,6 +114,21 @@ void PutDoubleAttribute(const fs::path& file, const std::string& name, double va
   H5Fclose(f);
 }
 
+void PutStringAttribute(const fs::path& file, const std::string& name, const std::string& value) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  if (H5Aexists(f, name.c_str()) > 0) H5Adelete(f, name.c_str());
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size());
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t a = H5Acreate2(f, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(a, type, value.data());
+  H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Fclose(f);
+}
+
 class Readers : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -148,7 +163,7 @@ class Readers : public ::testing::Test {
     path.waypoints.resize(3);
     path.waypoints[1].t = {1, 0, 0};
     path.waypoints[2].t = {2, 0, 0};
-    path.validity = "iv";
+    path.validity = ValidityMode::kIv;
     path.tau = 1;
     path.psi = 1;
     path.inter_index = 1;
@@ -350,12 +365,31 @@ TEST_F(Readers, TauWithEmptyScalarIsAnInputError) {
   TauArtifact tau;
   tau.estimate.tau = 1;
   tau.estimate.psi = 1;
-  tau.validity = "iv";
+  tau.validity = ValidityMode::kIv;
   tau.units = "mm";
   const fs::path file = dir_ / "tau.h5";
   WriteTauArtifact(file, tau, TestProvenance());
   PutDataset(file, "rounds", H5T_STD_I64LE, {0}, {});  // was std::out_of_range from .at(0)
   ExpectInputError([&] { ReadTauArtifact(file); }, {file.string(), "dataset 'rounds' must be a scalar"});
+}
+
+// The validity mode is parsed where it is read: a name no mode has is an
+// input error naming the file and the attribute, not a mode nobody knows.
+TEST_F(Readers, PathAndTauOfAnUnknownValidityAreRefused) {
+  const fs::path path = WritePath();
+  EXPECT_EQ(ReadPathArtifact(path).validity, ValidityMode::kIv);
+  PutStringAttribute(path, "validity", "labelled-mliv");
+  ExpectInputError([&] { ReadPathArtifact(path); },
+                   {path.string(), "attribute 'validity'", "unknown mode 'labelled-mliv'", "rigid-exact, collision"});
+  TauArtifact tau;
+  tau.estimate.tau = 1;
+  tau.estimate.psi = 1;
+  tau.validity = ValidityMode::kLabeledMlivUnguarded;
+  const fs::path file = dir_ / "tau.h5";
+  WriteTauArtifact(file, tau, TestProvenance());
+  EXPECT_EQ(ReadTauArtifact(file).validity, ValidityMode::kLabeledMlivUnguarded);
+  PutStringAttribute(file, "validity", "");
+  ExpectInputError([&] { ReadTauArtifact(file); }, {file.string(), "attribute 'validity'", "unknown mode ''"});
 }
 
 TEST_F(Readers, VoxelsWithNonFiniteShrinkAreRefused) {

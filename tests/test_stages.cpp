@@ -10,7 +10,9 @@
 #include <sstream>
 
 #include "artifact/artifact.h"
+#include "core/error.h"
 #include "core/hash.h"
+#include "fixtures/scene_families.h"
 #include "geometry/primitives.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/voxel_grid.h"
@@ -346,6 +348,50 @@ TEST(SceneGenStage, WritesALoadableScene) {
   ASSERT_EQ(o.exit_code, 0) << o.output;
   EXPECT_NO_THROW(LoadScene(dir / "scene.yaml"));
   EXPECT_EQ(RunStage("scene-gen", "--family nope -o " + dir.string()).exit_code, 2);
+}
+
+// The families by name (fixtures/scene_families.h): each list's family has
+// its kind, the names list every family, and the library writes a scene and
+// says which file, or refuses an unknown family.
+TEST(SceneFamilies, KindsNamesAndGeneration) {
+  EXPECT_EQ(KindOfSceneFamily("rod-in-cage"), SceneFamilyKind::kGenerated);
+  EXPECT_EQ(KindOfSceneFamily("clips-ds3"), SceneFamilyKind::kClip);
+  EXPECT_EQ(KindOfSceneFamily("panel-channel"), SceneFamilyKind::kBox);
+  EXPECT_EQ(KindOfSceneFamily("vehicle"), SceneFamilyKind::kVehicle);
+  EXPECT_EQ(KindOfSceneFamily("clips-ds9"), SceneFamilyKind::kUnknown);
+  const std::string names = SceneFamilyNames();
+  for (const char* family : {"rod-in-cage", "two-boxes", "clips-ds1", "clips-ds5", "panel-tilt-slide", "vehicle"}) {
+    EXPECT_NE(names.find(family), std::string::npos) << family << " in " << names;
+  }
+  const auto dir = testing::MakeTempDir("scene-families");
+  SceneFamilyOptions options;
+  options.family = "two-boxes";
+  const std::vector<std::string> lines = GenerateSceneFamily(options, dir);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0], (dir / "scene.yaml").string());
+  EXPECT_NO_THROW(LoadScene(lines[0]));
+  options.family = "nope";
+  EXPECT_THROW(GenerateSceneFamily(options, dir / "nope"), InputError);
+}
+
+// --validity and --collision are parsed into enums, but the provenance keeps
+// their spelling: --validate's hash of the default equals that of the
+// default given by name, and differs from another mode's.
+TEST(StageRunner, ModesKeepTheirSpellingInTheProvenance) {
+  const auto scene = testing::MakeGeneratedScene("two-boxes", 1).string();
+  const auto hash = [&](const std::string& flags) {
+    const Outcome o = RunStage("plan", "--scene " + scene + " --validate" + flags);
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    const auto at = o.output.find("provenance");
+    return at == std::string::npos ? o.output : o.output.substr(at);
+  };
+  EXPECT_EQ(hash(""), hash(" --validity collision --collision fcl"));
+  EXPECT_NE(hash(""), hash(" --validity rigid-exact"));
+  EXPECT_NE(hash(""), hash(" --collision farr"));
+  const Outcome bad = RunStage("plan", "--scene " + scene + " --validity exact");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--validity"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("rigid-exact,collision,shrink"), std::string::npos) << bad.output;
 }
 
 // The `inputs` of an artifact: role -> content hash.

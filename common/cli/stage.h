@@ -30,6 +30,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <set>
@@ -38,6 +39,7 @@
 
 #include "artifact/artifact.h"
 #include "cli/stage_main.h"
+#include "core/log.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -127,6 +129,21 @@ class StageDefinition {
     return option;
   }
   CLI::Option* Flag(const std::string& flags, bool* value, const std::string& help, CacheKey key);
+  // A mode: one of `names` (a wrong one is the usual one-line usage error
+  // listing them), stored as the enum `parse` makes of it. The provenance
+  // and --help keep its spelling, `name` of the default where not given.
+  template <class Enum>
+  CLI::Option* Choice(const std::string& flags, Enum* value, const std::vector<std::string>& names,
+                      Enum (*parse)(const std::string&), std::string (*name)(Enum), const std::string& help,
+                      CacheKey key) {
+    CLI::Option* option = app_.add_option_function<std::string>(
+                                  flags, [value, parse](const std::string& text) { *value = parse(text); }, help)
+                              ->default_str(name(*value))
+                              ->check(CLI::IsMember(names));
+    if (key == CacheKey::kNo) not_in_cache_key_.insert(option->get_single_name());
+    NameField(value, option);
+    return option;
+  }
   // Inputs that no single option names (e.g. two files in one option),
   // added to the provenance after the declared ones.
   void AddInputs(std::function<void(Provenance*)> add) { add_inputs_.push_back(std::move(add)); }
@@ -188,6 +205,17 @@ class StageDefinition {
   std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"
 };
 
+// Builds the stage's definition, lets `declare` fill a default-constructed
+// `Options`, and runs the StageWork that `work` makes for those options.
+template <class Options, class MakeWork>
+int RunDeclaredStage(int argc, char** argv, const StageSpec& spec, void (*declare)(StageDefinition&, Options*),
+                     const MakeWork& work) {
+  Options options;
+  StageDefinition stage(spec);
+  declare(stage, &options);
+  return stage.Run(argc, argv, work(options));
+}
+
 // A stage's whole main: its spec, the function that declares its options
 // into a default-constructed `Options`, the work, and optionally what an
 // up-to-date output still needs and when it is stale (StageWork).
@@ -196,14 +224,49 @@ int RunStageMain(int argc, char** argv, const StageSpec& spec, void (*declare)(S
                  int (*compute)(const StageRun&, const Options&),
                  int (*reuse)(const StageRun&, const Options&) = nullptr,
                  bool (*stale)(const StageRun&, const Options&) = nullptr) {
-  Options options;
-  StageDefinition stage(spec);
-  declare(stage, &options);
-  StageWork work;
-  work.compute = [&](const StageRun& run) { return compute(run, options); };
-  if (reuse) work.reuse = [&](const StageRun& run) { return reuse(run, options); };
-  if (stale) work.stale = [&](const StageRun& run) { return stale(run, options); };
-  return stage.Run(argc, argv, work);
+  return RunDeclaredStage(argc, argv, spec, declare, [&](const Options& options) {
+    StageWork work;
+    work.compute = [&](const StageRun& run) { return compute(run, options); };
+    if (reuse) work.reuse = [&](const StageRun& run) { return reuse(run, options); };
+    if (stale) work.stale = [&](const StageRun& run) { return stale(run, options); };
+    return work;
+  });
+}
+
+// An artifact with one entry per vertex of D (Artifact::VertexCount()) and
+// two views of it that its stage writes on request, also when the artifact
+// is up to date: --csv (x,y,z,value per vertex) and --ply (D coloured by the
+// value), each empty when not asked for (ausbau-medial-spheres,
+// ausbau-pbd-label). The library's writer, reader and views writer.
+template <class Artifact>
+struct PerVertexArtifact {
+  void (*write)(const std::filesystem::path& file, const Artifact& artifact, const Provenance& provenance);
+  Artifact (*read)(const std::filesystem::path& file);
+  void (*write_views)(const Scene& scene, const Artifact& artifact, const std::string& csv, const std::string& ply);
+};
+
+// The main of a stage whose work is to compute such an artifact (its
+// `Options` have the members `csv` and `ply`, declared by ExtraOutput):
+// computed, it is written, logged ("wrote <output> (<n> vertices of D)")
+// and its views written; up to date, it is read back for its views.
+template <class Options, class Artifact>
+int RunStageMain(int argc, char** argv, const StageSpec& spec, void (*declare)(StageDefinition&, Options*),
+                 Artifact (*compute)(const StageRun&, const Options&), const PerVertexArtifact<Artifact>& artifact) {
+  return RunDeclaredStage(argc, argv, spec, declare, [&](const Options& options) {
+    StageWork work;
+    work.compute = [&](const StageRun& run) {
+      const Artifact computed = compute(run, options);
+      artifact.write(run.output, computed, run.provenance);
+      LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), computed.VertexCount());
+      artifact.write_views(run.scene, computed, options.csv, options.ply);
+      return static_cast<int>(kExitOk);
+    };
+    work.reuse = [&](const StageRun& run) {
+      artifact.write_views(run.scene, artifact.read(run.output), options.csv, options.ply);
+      return static_cast<int>(kExitOk);
+    };
+    return work;
+  });
 }
 
 }  // namespace ausbau

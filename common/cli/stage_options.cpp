@@ -82,16 +82,12 @@ void AddClearanceOption(StageDefinition& stage, double* clearance) {
 
 void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
   AddPlannerOptions(stage, &plan->planner);
-  stage
-      .Option("--collision", &plan->collision, "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)",
-              CacheKey::kYes)
-      ->check(CLI::IsMember({"fcl", "farr"}));
-  stage
-      .Option("--validity", &plan->validity,
-              "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
-              "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
-              CacheKey::kYes)
-      ->check(CLI::IsMember(PlanValidityNames()));
+  stage.Choice("--collision", &plan->collision, CollisionModeNames(), ParseCollisionMode, CollisionModeName,
+               "fcl | farr (FARR rays in front of FCL, same answers; docs/farr.md)", CacheKey::kYes);
+  stage.Choice("--validity", &plan->validity, ValidityModeNames(), ParseValidityMode, ValidityModeName,
+               "rigid-exact | collision | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (all but "
+               "collision: the start may collide; docs/inistate.md, docs/rigid-exact.md)",
+               CacheKey::kYes);
   AddVolumeInputOptions(stage, &plan->volume);
   stage.app()
       .add_option("--tau", plan->tau,

@@ -350,7 +350,7 @@ void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau,
   w.WriteInts("rounds", {e.rounds}, {});
   w.WriteInts("solved", {e.solved ? 1 : 0}, {});
   w.WriteDoubles("seconds", {e.seconds}, {});
-  w.SetAttribute("", "validity", tau.validity);
+  w.SetAttribute("", "validity", ValidityModeName(tau.validity));
   w.SetAttribute("", "units", tau.units);
   const std::size_t n = e.trace.size();
   std::vector<double> taus, speeds, seconds, targets;
@@ -419,7 +419,7 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
     e.local_seed = static_cast<std::uint64_t>(r.ReadIntAttribute("sigma_1", "seed"));
     e.local_planner = r.ReadStringAttribute("sigma_1", "planner");
   }
-  out.validity = r.ReadStringAttribute("", "validity");
+  out.validity = ParseValidityMode(r.ReadStringAttribute("", "validity"), file.string() + ": attribute 'validity'");
   out.units = r.ReadStringAttribute("", "units");
   if (!(e.tau >= 0) || !std::isfinite(e.tau) || !(e.psi > 0) || !std::isfinite(e.psi)) {
     throw InputErrorAt(file.string(), "tau must be >= 0 and psi > 0");

@@ -43,6 +43,7 @@
 #include "artifact/artifact.h"
 #include "inistate/intersection_volume.h"
 #include "planning/planner.h"
+#include "planning/validity_mode.h"
 
 namespace ausbau {
 
@@ -106,7 +107,7 @@ inline constexpr int kTauSchemaVersion = 1;
 
 struct TauArtifact {
   TauEstimate estimate;
-  std::string validity;  // the mode the estimate is for (iv, mliv, labeled-mliv, labeled-mliv-unguarded, shrink)
+  ValidityMode validity = ValidityMode::kLabeledMliv;  // the volume mode the estimate is for
   std::string units;
 };
 void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau, const Provenance& provenance);

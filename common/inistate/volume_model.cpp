@@ -13,24 +13,6 @@
 
 namespace ausbau {
 
-const std::vector<std::string>& ValidityModeNames() {
-  static const std::vector<std::string> names = {"collision", "shrink",       "iv",
-                                                 "mliv",      "labeled-mliv", "labeled-mliv-unguarded"};
-  return names;
-}
-
-ValidityMode ParseValidityMode(const std::string& name) {
-  const auto& names = ValidityModeNames();
-  const auto it = std::find(names.begin(), names.end(), name);
-  if (it == names.end()) {
-    throw InputError("--validity: unknown mode '" + name +
-                     "' (expected collision, shrink, iv, mliv, labeled-mliv or labeled-mliv-unguarded)");
-  }
-  return static_cast<ValidityMode>(it - names.begin());
-}
-
-std::string ValidityModeName(ValidityMode mode) { return ValidityModeNames()[static_cast<int>(mode)]; }
-
 VolumeMeasure MeasureOf(ValidityMode mode) {
   switch (mode) {
     case ValidityMode::kMliv: return VolumeMeasure::kMliv;
@@ -181,7 +163,8 @@ void GuardFasteners(const VoxelGrid& grid, IntersectionVolume& volume, const Pos
 VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dynamic_mesh, SceneVoxels voxels,
                          const std::vector<double>& deformability, ValidityMode mode)
     : mode_(mode), voxels_(std::move(voxels)) {
-  if (mode == ValidityMode::kCollision) throw std::logic_error("VolumeModel: collision is not a volume mode");
+  if (!IsVolumeValidity(mode))
+    throw std::logic_error("VolumeModel: " + ValidityModeName(mode) + " is not a volume mode");
   if (NeedsLabels(mode) && deformability.empty()) {
     throw InputError("--validity " + ValidityModeName(mode) + " needs D's labels (ausbau-pbd-label, --labels)");
   }

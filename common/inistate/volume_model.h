@@ -44,15 +44,11 @@
 #include "inistate/intersection_volume.h"
 #include "inistate/voxel_grid.h"
 #include "planning/state_space.h"
+#include "planning/validity_mode.h"
 
 namespace ausbau {
 
-enum class ValidityMode { kCollision, kShrink, kIv, kMliv, kLabeledMliv, kLabeledMlivUnguarded };
-
-// collision, shrink, iv, mliv, labeled-mliv, labeled-mliv-unguarded
-const std::vector<std::string>& ValidityModeNames();
-ValidityMode ParseValidityMode(const std::string& name);  // throws InputError naming --validity
-std::string ValidityModeName(ValidityMode mode);
+// The volume modes of ValidityMode (planning/validity_mode.h):
 VolumeMeasure MeasureOf(ValidityMode mode);  // shrink and iv: IV; both labeled modes: Labeled-MLIV
 bool NeedsLabels(ValidityMode mode);         // the two labeled modes
 

@@ -97,6 +97,7 @@ struct SpheresArtifact {
   std::vector<std::uint8_t> valid;
   std::vector<std::uint8_t> contact;
   std::string units;  // the scene's units, informative ("" if not given)
+  std::size_t VertexCount() const { return radii.size(); }
 };
 
 // Expands per-welded-vertex results to the original vertices.

@@ -199,6 +199,7 @@ struct LabelsArtifact {
   double density = 0.0;
   std::string measure;
   std::int64_t load_cases = 0;
+  std::size_t VertexCount() const { return deformability.size(); }
 };
 
 LabelsArtifact ToLabelsArtifact(const MeshTopology& topology, const PbdLabels& labels, const std::string& measure);

@@ -117,7 +117,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   writer.WriteDoubles("stats/clearance", {path.clearance}, {});
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
-  writer.SetAttribute("", "validity", path.validity);
+  writer.SetAttribute("", "validity", ValidityModeName(path.validity));
   if (IsVolumeValidity(path.validity)) {
     const std::size_t n = path.waypoints.size();
     if (path.waypoint_volume.size() != n || path.waypoint_part.size() != n || path.waypoint_deformability.size() != n) {
@@ -187,7 +187,8 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   }
   path.planner = reader.ReadStringAttribute("", "planner");
   path.scene = reader.ReadStringAttribute("", "scene");
-  path.validity = reader.ReadStringAttribute("", "validity");
+  path.validity =
+      ParseValidityMode(reader.ReadStringAttribute("", "validity"), file.string() + ": attribute 'validity'");
   if (reader.Has("inistate/volume")) {
     path.tau = ReadScalar(reader, "inistate/tau");
     path.psi = ReadScalar(reader, "inistate/psi");

@@ -8,6 +8,7 @@
 #include "artifact/artifact.h"
 #include "core/atomic_file.h"
 #include "planning/planner.h"
+#include "planning/validity_mode.h"
 
 namespace ausbau {
 
@@ -36,7 +37,7 @@ struct PathArtifact {
   // rigid planning): the validity mode and threshold, psi, the index of
   // c_inter (end of sigma_1), and per waypoint the mode's volume, the part
   // of D it belongs to and that component's mean deformability.
-  std::string validity = "collision";
+  ValidityMode validity = ValidityMode::kCollision;
   double tau = 0, psi = 0;
   int inter_index = -1;
   std::vector<double> waypoint_volume;
@@ -51,15 +52,6 @@ struct PathArtifact {
   std::vector<Pose> partial_waypoints;
   bool stopped_by_budget = false;
 };
-
-// The validity of a path planned under the exact rigid check
-// (collision/rigid_depth.h); such paths carry no volumes.
-inline constexpr const char* kRigidExactValidity = "rigid-exact";
-// Whether a path's validity is a volume mode (shrink, iv, mliv, labeled-...):
-// then the artifact carries tau, psi and per-waypoint volumes.
-inline bool IsVolumeValidity(const std::string& validity) {
-  return validity != "collision" && validity != kRigidExactValidity;
-}
 
 // The one pose convention of every file Ausbau writes (path.h5, path.csv,
 // path-smooth.*, profile.csv, the OMPL path): schemas/scene.md "Pose

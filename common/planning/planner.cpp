@@ -15,12 +15,21 @@ namespace ausbau {
 
 namespace {
 
-PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options,
+                          bool randomize_parameters) {
   RrtConnectSettings settings;
-  settings.randomize_parameters = options.planner == "cr-rrtc";
+  settings.randomize_parameters = randomize_parameters;
   settings.u = options.u;
   settings.range_max = options.range_max;
   return RunRrtConnect(problem, motion, settings, options);
+}
+
+PlanResult RunRrtc(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  return RunRrtcVariant(problem, motion, options, false);
+}
+
+PlanResult RunCrRrtc(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
+  return RunRrtcVariant(problem, motion, options, true);
 }
 
 PlanResult RunEstPlanner(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
@@ -41,11 +50,11 @@ struct PlannerEntry {
   PlanResult (*run)(const PlanningProblem&, const MotionChecker&, const PlannerOptions&);
 };
 const PlannerEntry kPlanners[] = {
-    {"rrt", RunRrt},              // single-tree RRT (single_tree_planners.h)
-    {"rrtc", RunRrtcVariant},     // RRT-Connect with fixed u and range (rrt_connect.h)
-    {"cr-rrtc", RunRrtcVariant},  // RRT-Connect with randomized parameters (thesis ch. 3)
-    {"est", RunEstPlanner},       // EST (single_tree_planners.h)
-    {"prm", RunPrmPlanner},       // PRM (prm.h)
+    {"rrt", RunRrt},         // single-tree RRT (single_tree_planners.h)
+    {"rrtc", RunRrtc},       // RRT-Connect with fixed u and range (rrt_connect.h)
+    {"cr-rrtc", RunCrRrtc},  // RRT-Connect with randomized parameters (thesis ch. 3)
+    {"est", RunEstPlanner},  // EST (single_tree_planners.h)
+    {"prm", RunPrmPlanner},  // PRM (prm.h)
 };
 
 const PlannerEntry* FindPlanner(const std::string& name) {

@@ -53,7 +53,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   attempt.folder = folder.string();
   const Scene scene = AttemptScene(part, others, round, options, folder);
   PlanSceneOptions plan = options.plan;
-  plan.validity = "rigid-exact";
+  plan.validity = ValidityMode::kRigidExact;
   // The verdict's share after planning, as pipelines/inistate.mk leaves it.
   plan.deadline = begin + 0.75 * options.part_budget_s;
   const PlannedPath planned = PlanScene(scene, plan);
@@ -116,7 +116,7 @@ void DisassemblyOrderOptions::Check() const {
     throw InputErrorAt(out.string(), "--output-dir: exists and is not a folder");
   }
   PlanSceneOptions rigid = plan;
-  rigid.validity = "rigid-exact";
+  rigid.validity = ValidityMode::kRigidExact;
   rigid.Check();
 }
 
@@ -276,7 +276,8 @@ std::string DisassemblyOrderJson(const DisassemblyOrder& order, const Disassembl
   } else {
     json.Add("cycle", names(order.cycle));
   }
-  json.Number("part_budget_seconds", options.part_budget_s).String("validity", "rigid-exact");
+  json.Number("part_budget_seconds", options.part_budget_s)
+      .String("validity", ValidityModeName(ValidityMode::kRigidExact));
   json.Add("attempts", attempts + "]");
   return json.Text() + "\n";
 }

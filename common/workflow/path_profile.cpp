@@ -27,9 +27,9 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
   return out;
 }
 
-TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, const std::string& validity,
+TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, ValidityMode validity,
                                 double rigid_tolerance_mm) {
-  if (validity != kRigidExactValidity) return problem.robot;
+  if (validity != ValidityMode::kRigidExact) return problem.robot;
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
   return ClearanceRobot(problem, parts.get());

@@ -30,7 +30,7 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
 // The part of D whose clearance a path of `validity` reports and keeps
 // (planning convention): the rigid shells for rigid-exact (its fasteners
 // bend through S by design; classified at the tolerance, mm), else all of D.
-TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, const std::string& validity,
+TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, ValidityMode validity,
                                 double rigid_tolerance_mm);
 
 // Per dense pose along a path: the pose, its path parameter s (normalized

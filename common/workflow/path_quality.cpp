@@ -20,7 +20,7 @@ PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, dou
   quality.rotation = length.rotation;
   quality.straight = poses.empty() ? 0 : (poses.back().t - poses.front().t).norm();
   quality.ratio = quality.straight > 0 ? quality.translation / quality.straight : std::nan("");
-  quality.measured_part = path.validity == kRigidExactValidity ? "rigid shells of D" : "D";
+  quality.measured_part = path.validity == ValidityMode::kRigidExact ? "rigid shells of D" : "D";
   quality.first_rigid_segment = IsVolumeValidity(path.validity) ? std::max(0, path.inter_index) : 0;
   quality.clearance_kept = path.clearance;
   if (poses.size() < 2) return quality;

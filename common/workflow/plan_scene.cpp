@@ -23,13 +23,11 @@
 namespace ausbau {
 namespace {
 
-constexpr const char* kRigidExact = kRigidExactValidity;
-
 // FCL, or FARR in front of FCL with the distance fields of S and D (given,
 // or built / reused through the cache beside the scene).
 std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const Scene& scene,
                                           const PlanningProblem& problem) {
-  if (options.collision != "farr") {
+  if (options.collision != CollisionMode::kFarr) {
     if (!options.distfield.empty()) LogWarn("--distfield is ignored with --collision fcl");
     return std::make_unique<FclCollisionChecker>(problem.robot, problem.environment);
   }
@@ -167,7 +165,7 @@ void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
 // reach, sigma_2 rigid (thesis 5.4.4).
 PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene, const PlanningProblem& problem,
                             const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
-  const ValidityMode mode = ParseValidityMode(options.validity);
+  const ValidityMode mode = options.validity;
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
   double tau = options.tau, psi = options.psi;
   TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
@@ -175,8 +173,8 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
     const TauArtifact stored = ReadTauArtifact(options.tau_file);
     CheckMadeFrom(options.tau_file, kTauSchema, kTauSchemaVersion, scene, MadeFrom::kMeshes);
     if (stored.validity != options.validity) {
-      throw InputErrorAt(options.tau_file,
-                         "tau was estimated for --validity " + stored.validity + ", not " + options.validity);
+      throw InputErrorAt(options.tau_file, "tau was estimated for --validity " + ValidityModeName(stored.validity) +
+                                               ", not " + ValidityModeName(options.validity));
     }
     estimate = stored.estimate;
     if (tau < 0) tau = stored.estimate.tau;
@@ -196,11 +194,11 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
       tau = estimate.tau;
     }
   }
-  LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", options.validity.c_str(), tau, scene.units.c_str(),
-          start_volume, psi, scene.units.c_str());
+  LogInfo("validity %s: tau %.6g %s^3 (start: %.6g), psi %.6g %s", ValidityModeName(mode).c_str(), tau,
+          scene.units.c_str(), start_volume, psi, scene.units.c_str());
   if (start_volume > tau) {
     throw InputError("--tau " + std::to_string(tau) + " is below the start's volume " + std::to_string(start_volume) +
-                     " under --validity " + options.validity + ": the start would be invalid");
+                     " under --validity " + ValidityModeName(mode) + ": the start would be invalid");
   }
   const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
   InIStateOptions inistate;
@@ -255,7 +253,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
           parts->static_shells.size(), tolerance, scene.units.c_str());
   PlannedPath planned;
   PathArtifact& artifact = planned.artifact;
-  artifact.validity = kRigidExact;
+  artifact.validity = ValidityMode::kRigidExact;
   artifact.reference_point = problem.reference_point;
   artifact.dynamic_origin = problem.dynamic_origin;
   artifact.scene = scene.name;
@@ -347,14 +345,21 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
 
 }  // namespace
 
-std::vector<std::string> PlanValidityNames() {
-  std::vector<std::string> names = ValidityModeNames();
-  names.insert(names.begin(), kRigidExact);
+const std::vector<std::string>& CollisionModeNames() {
+  static const std::vector<std::string> names = {"fcl", "farr"};  // in the enum's order
   return names;
 }
 
+CollisionMode ParseCollisionMode(const std::string& name) {
+  if (name == "fcl") return CollisionMode::kFcl;
+  if (name == "farr") return CollisionMode::kFarr;
+  throw InputError("--collision: unknown mode '" + name + "' (expected fcl or farr)");
+}
+
+std::string CollisionModeName(CollisionMode mode) { return CollisionModeNames().at(static_cast<std::size_t>(mode)); }
+
 std::vector<std::string> DistfieldPaths(const PlanSceneOptions& options) {
-  if (options.collision != "farr" || options.distfield.empty()) return {};
+  if (options.collision != CollisionMode::kFarr || options.distfield.empty()) return {};
   const auto comma = options.distfield.find(',');
   if (comma == std::string::npos || comma == 0 || comma + 1 == options.distfield.size() ||
       options.distfield.find(',', comma + 1) != std::string::npos) {
@@ -367,7 +372,7 @@ void PlanSceneOptions::Check() const {
   if (!(clearance == -1 || (clearance >= 0 && std::isfinite(clearance)))) {
     throw OptionError(&clearance, "clearance", "must be a finite number >= 0 (scene units)");
   }
-  if (validity == kRigidExact) {
+  if (validity == ValidityMode::kRigidExact) {
     if (tau >= 0 || !tau_file.empty() || psi > 0) {
       throw InputError("--tau, --tau-file and --psi do not apply to --validity rigid-exact");
     }
@@ -378,7 +383,7 @@ void PlanSceneOptions::Check() const {
     ResolvedPlanner(*this, false).Check();
     return;
   }
-  const bool volume_mode = ParseValidityMode(validity) != ValidityMode::kCollision;
+  const bool volume_mode = IsVolumeValidity(validity);
   if (!volume_mode && (tau >= 0 || !tau_file.empty() || psi > 0)) {
     throw InputError(
         "--tau, --tau-file and --psi need a volume --validity (shrink, iv, mliv, labeled-mliv, "
@@ -398,15 +403,15 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   // A hand-written scene whose start is far off S plans a task nobody meant (scene/scene_check.h).
   const std::string far_start = FarStartWarning(scene);
   if (!far_start.empty()) LogWarn("%s: %s", scene.file.string().c_str(), far_start.c_str());
-  if (options.validity == kRigidExact) return PlanRigidExact(options, scene);
-  const bool volume_mode = ParseValidityMode(options.validity) != ValidityMode::kCollision;
+  if (options.validity == ValidityMode::kRigidExact) return PlanRigidExact(options, scene);
+  const bool volume_mode = IsVolumeValidity(options.validity);
   const PlanningProblem problem = MakePlanningProblem(scene);
   bool budget_bound = false;
   const PlannerOptions planner = WithinDeadline(ResolvedPlanner(options, volume_mode), options.deadline, &budget_bound);
   LogInfo("scene %s: S %zu triangles, D %zu triangles, validity %s, planner %s, seed %llu, time limit %.1f s",
           scene.name.c_str(), problem.environment.triangles.size(), problem.robot.triangles.size(),
-          options.validity.c_str(), planner.planner.c_str(), static_cast<unsigned long long>(planner.seed),
-          planner.time_limit_s);
+          ValidityModeName(options.validity).c_str(), planner.planner.c_str(),
+          static_cast<unsigned long long>(planner.seed), planner.time_limit_s);
   const std::unique_ptr<PoseValidity> checker_owner = MakeChecker(options, scene, problem);
   const PoseValidity& checker = *checker_owner;
 
@@ -462,7 +467,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   return planned;
 }
 
-std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
+ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
@@ -472,7 +477,7 @@ std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
     LogInfo("%s of D intersects S at the installed pose where the depth is not measured: labeled-mliv",
             parts->Describe(parts->rigid_interference.front(), true).c_str());
   }
-  return unmeasured ? "labeled-mliv" : kRigidExact;
+  return unmeasured ? ValidityMode::kLabeledMliv : ValidityMode::kRigidExact;
 }
 
 }  // namespace ausbau

@@ -18,6 +18,15 @@
 
 namespace ausbau {
 
+// How ausbau-plan checks collisions in the modes that do (--collision):
+//   fcl   FCL alone
+//   farr  FARR's rays in front of FCL, with distance fields (same answers)
+enum class CollisionMode { kFcl, kFarr };
+const std::vector<std::string>& CollisionModeNames();  // fcl, farr
+// Throws InputError "--collision: unknown mode '<name>' (expected fcl or farr)".
+CollisionMode ParseCollisionMode(const std::string& name);
+std::string CollisionModeName(CollisionMode mode);
+
 struct PlanSceneOptions {
   // "auto": CR-RRTC, or EST for sigma_1 in the volume modes.
   PlannerOptions planner = [] {
@@ -25,12 +34,12 @@ struct PlanSceneOptions {
     p.planner = "auto";
     return p;
   }();
-  std::string collision = "fcl";       // fcl | farr
-  std::string distfield;               // farr: "S.h5,D.h5"; empty: built or reused through the cache
-  std::string validity = "collision";  // rigid-exact | collision | shrink | iv | mliv | labeled-mliv | ...
-  double tau = -1;                     // < 0: from tau_file, else estimated here (shrink: 0)
-  std::string tau_file;                // ausbau-tau-estimate artifact
-  double psi = 0;                      // 0: from tau_file, else from the labels
+  CollisionMode collision = CollisionMode::kFcl;
+  std::string distfield;  // farr: "S.h5,D.h5"; empty: built or reused through the cache
+  ValidityMode validity = ValidityMode::kCollision;
+  double tau = -1;       // < 0: from tau_file, else estimated here (shrink: 0)
+  std::string tau_file;  // ausbau-tau-estimate artifact
+  double psi = 0;        // 0: from tau_file, else from the labels
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
   bool verify = true;  // the independent dense (or exact) re-check of the result
@@ -50,9 +59,6 @@ struct PlanSceneOptions {
   void Check() const;
 };
 
-// Every --validity ausbau-plan takes.
-std::vector<std::string> PlanValidityNames();
-
 // The two files of `distfield`, or none (collision fcl, or not given).
 std::vector<std::string> DistfieldPaths(const PlanSceneOptions& options);
 
@@ -70,6 +76,6 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options);
 // installed pose where the exact check cannot measure the depth (a
 // non-convex or open shell, such as a plate with holes welded into one
 // mesh): that interference needs the volume model, labeled-mliv.
-std::string ChooseValidity(const Scene& scene, double rigid_tolerance_mm);
+ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm);
 
 }  // namespace ausbau

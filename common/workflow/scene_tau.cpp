@@ -11,20 +11,20 @@ namespace ausbau {
 
 void SceneTauOptions::Check() const {
   estimate.Check();
-  if (ParseValidityMode(validity) == ValidityMode::kCollision) {
-    throw InputError("--validity collision has no tau; pick a volume mode");
+  if (!IsVolumeValidity(validity)) {
+    throw InputError("--validity " + ValidityModeName(validity) + " has no tau; pick a volume mode");
   }
   if (!(psi >= 0) || !std::isfinite(psi)) throw OptionError(&psi, "psi", "must be >= 0");
 }
 
 TauArtifact EstimateSceneTau(const Scene& scene, const SceneTauOptions& options) {
   options.Check();
-  const ValidityMode mode = ParseValidityMode(options.validity);
+  const ValidityMode mode = options.validity;
   const PlanningProblem problem = MakePlanningProblem(scene);
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
   const double psi = options.psi > 0 ? options.psi : model->EstimatePsi();
-  LogInfo("scene %s: validity %s, psi %.6g %s (%s), voxel %.4g %s", scene.name.c_str(), options.validity.c_str(), psi,
-          scene.units.c_str(), options.psi > 0 ? "given" : "largest deformable component", model->voxel_size(),
+  LogInfo("scene %s: validity %s, psi %.6g %s (%s), voxel %.4g %s", scene.name.c_str(), ValidityModeName(mode).c_str(),
+          psi, scene.units.c_str(), options.psi > 0 ? "given" : "largest deformable component", model->voxel_size(),
           scene.units.c_str());
 
   TauArtifact artifact;

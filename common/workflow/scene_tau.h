@@ -12,8 +12,8 @@
 namespace ausbau {
 
 struct SceneTauOptions {
-  std::string validity = "labeled-mliv";  // a volume mode (shrink | iv | mliv | labeled-mliv | ...)
-  double psi = 0;                         // scene units; 0 = from the labels (largest deformable component)
+  ValidityMode validity = ValidityMode::kLabeledMliv;  // a volume mode (shrink | iv | mliv | labeled-mliv | ...)
+  double psi = 0;  // scene units; 0 = from the labels (largest deformable component)
   VolumeInputs volume;
   TauEstimateOptions estimate;
   // Throws InputError naming the flag of a value that does not fit.

@@ -163,7 +163,7 @@ bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionCheck
 int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
                    const FclCollisionChecker& checker, int first_rigid, const SmoothPlannedPathOptions& options,
                    SmoothedPath* out) {
-  out->model = LoadVolumeModel(scene, problem, ParseValidityMode(input.validity), options.volume);
+  out->model = LoadVolumeModel(scene, problem, input.validity, options.volume);
   const std::vector<Pose>& path = out->planning_path;
   const std::vector<Pose> sigma1(path.begin(), path.begin() + first_rigid + 1);
   const std::vector<Pose> sigma2(path.begin() + first_rigid, path.end());
@@ -176,8 +176,8 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   LogInfo(
       "sigma_1: %zu -> %zu waypoints, largest %s %.6g -> %.6g %s^3 (tau %.6g), %d shortcuts (%d partial) in %d "
       "attempts",
-      sigma1.size(), first.path.size(), input.validity.c_str(), first.max_before, first.max_after, scene.units.c_str(),
-      input.tau, first.shortcuts, first.partial_shortcuts, first.attempts);
+      sigma1.size(), first.path.size(), ValidityModeName(input.validity).c_str(), first.max_before, first.max_after,
+      scene.units.c_str(), input.tau, first.shortcuts, first.partial_shortcuts, first.attempts);
   SmoothOptions second_options = options.smooth;
   second_options.seed = options.smooth.seed + 1;
   const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
@@ -238,9 +238,9 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   if ((problem.reference_point - input.reference_point).norm() > 1e-9 * (1.0 + problem.robot_diagonal)) {
     throw InputErrorAt(input_file, "was planned about another reference point than this scene's");
   }
-  if (input.validity == kRigidExactValidity) return SmoothRigidExact(scene, problem, input, input_file, options);
+  if (input.validity == ValidityMode::kRigidExact) return SmoothRigidExact(scene, problem, input, input_file, options);
 
-  const bool volume_mode = input.validity != "collision";
+  const bool volume_mode = input.validity != ValidityMode::kCollision;
   const int first_rigid = volume_mode ? std::max(0, input.inter_index) : 0;
   const std::vector<Pose> input_rigid(input.waypoints.begin() + first_rigid, input.waypoints.end());
   const DenseCheckReport input_check = DenseCheckPath(scene, input.reference_point, input_rigid, 0.01);

@@ -153,7 +153,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     CheckMadeFrom(options.tau, kTauSchema, kTauSchemaVersion, scene, MadeFrom::kMeshes);
     if (IsVolumeValidity(path.validity) && tau->validity != path.validity) {
       LogWarn("%s was estimated for --validity %s, the path was planned under %s", options.tau.c_str(),
-              tau->validity.c_str(), path.validity.c_str());
+              ValidityModeName(tau->validity).c_str(), ValidityModeName(path.validity).c_str());
     }
   }
   if (!options.times.empty()) v.stage_seconds = ReadStageSeconds(options.times);
@@ -235,7 +235,7 @@ void AddTauEstimate(const Verdict& v, JsonWriter& json) {
     const TauEstimate& e = tau->estimate;
     json.Add("tau_estimate", JsonWriter()
                                  .String("file", options.tau)
-                                 .String("validity", tau->validity)
+                                 .String("validity", ValidityModeName(tau->validity))
                                  .Number("tau", e.tau)
                                  .Number("tau_lowest", e.tau_lowest)
                                  .Number("psi", e.psi)
@@ -310,7 +310,7 @@ std::string VerdictJson(const Verdict& v) {
            JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
   json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
   AddWhyNotRemovable(v, json);
-  json.String("validity", path.validity).Number("tau", v.tau_value).Number("psi", v.psi_value);
+  json.String("validity", ValidityModeName(path.validity)).Number("tau", v.tau_value).Number("psi", v.psi_value);
   AddTauEstimate(v, json);
   JsonWriter path_json;
   path_json.String("file", options.path);
@@ -323,7 +323,7 @@ std::string VerdictJson(const Verdict& v) {
   json.Add("path", path_json.Text());
   if (max) {
     json.Add("max_labeled_mliv", JsonWriter()
-                                     .String("measure", path.validity)
+                                     .String("measure", ValidityModeName(path.validity))
                                      .Number("value", max->value)
                                      .Int("waypoint", max->index)
                                      .Int("part", max->part)
@@ -367,8 +367,8 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
   std::fprintf(out, "%s: %s%s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE",
                v.stopped_by_budget ? " (budget: the time budget ended the search)" : "");
   if (max) {
-    std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", path.validity.c_str(), max->value, units, max->index,
-                 path.waypoints.size());
+    std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", ValidityModeName(path.validity).c_str(), max->value,
+                 units, max->index, path.waypoints.size());
     if (max->part >= 0) std::fprintf(out, " (part %d, deformability %.2f)", max->part, max->deformability);
     std::fprintf(out, ", %s sigma_1 (tau %.6g)\n", max->in_sigma_1 ? "in" : "outside", v.tau_value);
   }

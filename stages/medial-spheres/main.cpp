@@ -5,7 +5,6 @@
 #include <string>
 
 #include "cli/stage_options.h"
-#include "core/log.h"
 #include "workflow/part_spheres.h"
 
 namespace ausbau {
@@ -31,20 +30,13 @@ void DeclareSpheres(StageDefinition& stage, SpheresStageOptions* options) {
   AddPartSpheresOptions(stage, &options->spheres);
 }
 
-int ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
-  const SpheresArtifact artifact = ComputePartSpheres(run.scene, options.spheres);
-  WriteSpheresArtifact(run.output, artifact, run.provenance);
-  LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.radii.size());
-  WriteSpheresExtras(run.scene, artifact, options.csv, options.ply);
-  return kExitOk;
-}
-
-int ReuseSpheres(const StageRun& run, const SpheresStageOptions& options) {
-  WriteSpheresExtras(run.scene, ReadSpheresArtifact(run.output), options.csv, options.ply);
-  return kExitOk;
+// The spheres; the runner writes them, logs and writes --csv/--ply.
+SpheresArtifact ComputeSpheres(const StageRun& run, const SpheresStageOptions& options) {
+  return ComputePartSpheres(run.scene, options.spheres);
 }
 
 }  // namespace
 }  // namespace ausbau
 
-AUSBAU_STAGE_MAIN(kMedialSpheresStage, DeclareSpheres, ComputeSpheres, ReuseSpheres)
+AUSBAU_STAGE_MAIN(kMedialSpheresStage, DeclareSpheres, ComputeSpheres,
+                  PerVertexArtifact<SpheresArtifact>{WriteSpheresArtifact, ReadSpheresArtifact, WriteSpheresExtras})

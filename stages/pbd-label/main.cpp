@@ -6,7 +6,6 @@
 #include <string>
 
 #include "cli/stage_options.h"
-#include "core/log.h"
 #include "labeling/pbd_label.h"
 #include "workflow/label_part.h"
 
@@ -39,21 +38,14 @@ void DeclareLabel(StageDefinition& stage, LabelStageOptions* options) {
   AddLabelPartOptions(stage, &options->label);
 }
 
-int Label(const StageRun& run, const LabelStageOptions& options) {
-  // D's content hash: hashed once, by the runner, for the provenance.
-  const LabelsArtifact artifact = LabelPart(run.scene, run.DynamicMeshHash(), options.spheres, options.label);
-  WriteLabelsArtifact(run.output, artifact, run.provenance);
-  LogInfo("wrote %s (%zu vertices of D)", run.output.c_str(), artifact.deformability.size());
-  WriteLabelsExtras(run.scene, artifact, options.csv, options.ply);
-  return kExitOk;
-}
-
-int ReuseLabels(const StageRun& run, const LabelStageOptions& options) {
-  WriteLabelsExtras(run.scene, ReadLabelsArtifact(run.output), options.csv, options.ply);
-  return kExitOk;
+// The labels (D's content hash: hashed once, by the runner, for the
+// provenance); the runner writes them, logs and writes --csv/--ply.
+LabelsArtifact Label(const StageRun& run, const LabelStageOptions& options) {
+  return LabelPart(run.scene, run.DynamicMeshHash(), options.spheres, options.label);
 }
 
 }  // namespace
 }  // namespace ausbau
 
-AUSBAU_STAGE_MAIN(kPbdLabelStage, DeclareLabel, Label, ReuseLabels)
+AUSBAU_STAGE_MAIN(kPbdLabelStage, DeclareLabel, Label,
+                  PerVertexArtifact<LabelsArtifact>{WriteLabelsArtifact, ReadLabelsArtifact, WriteLabelsExtras})

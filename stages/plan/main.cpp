@@ -27,7 +27,7 @@ struct PlanStageOptions {
 // --choose-validity: the pipeline's VALIDITY=auto asks this before it runs
 // any stage.
 int PrintValidity(const StageRun& run, const PlanStageOptions& options) {
-  std::printf("%s\n", ChooseValidity(run.scene, options.plan.volume.rigid_tolerance_mm).c_str());
+  std::printf("%s\n", ValidityModeName(ChooseValidity(run.scene, options.plan.volume.rigid_tolerance_mm)).c_str());
   return kExitOk;
 }
 

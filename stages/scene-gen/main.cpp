@@ -1,12 +1,8 @@
 // ausbau-scene-gen: writes a generated scene (meshes + scene.yaml).
-#include <algorithm>
+#include <cstdio>
 
 #include "cli/stage_main.h"
-#include "core/log.h"
-#include "fixtures/box_scenes.h"
-#include "fixtures/clip_scenes.h"
-#include "fixtures/generators.h"
-#include "fixtures/vehicle.h"
+#include "fixtures/scene_families.h"
 
 namespace ausbau {
 namespace {
@@ -43,66 +39,35 @@ void DeclareSceneGen(CLI::App& app, SceneGenOptions* options) {
   app.add_option("-o,--output", options->output, "output folder");
 }
 
-// The families' generators (common/fixtures/): the scene.yaml written, or
-// for the vehicle one line per part scene.
-int GenerateSceneFamily(const SceneGenOptions& options) {
-  const std::string& family = options.family;
+// Which flags fit the family (checked in the order the errors were always
+// reported), then its generator (fixtures/scene_families.h); prints the
+// scene.yaml written, or for the vehicle one line per part scene.
+int GenerateFamily(const SceneGenOptions& options) {
+  const SceneFamilyKind kind = KindOfSceneFamily(options.family);
   const bool box_options = options.Given("--tessellation") || options.Given("--world");
-  if ((options.Given("--parts") || options.Given("--cell")) && family != "vehicle") {
+  if ((options.Given("--parts") || options.Given("--cell")) && kind != SceneFamilyKind::kVehicle) {
     throw InputError("--parts, --cell: apply only to the vehicle family");
   }
-  std::filesystem::path yaml;
-  if (family == "vehicle") {
-    if (options.triangles != 0 || box_options) {
-      throw InputError("--triangles, --tessellation, --world: not for vehicle");
-    }
-    VehicleOptions vehicle = options.vehicle;
-    vehicle.seed = options.seed;
-    const VehicleFiles files = GenerateVehicle(vehicle, options.output);
-    LogInfo("wrote %s (%lld triangles) and %zu part scenes", files.shell_obj.string().c_str(),
-            static_cast<long long>(files.shell_triangles), files.parts.size());
-    for (const auto& part : files.parts) {
-      std::printf("%s %s\n", part.scene_yaml.string().c_str(), part.riveted ? "riveted" : "clipped");
-    }
-    return kExitOk;
-  } else if (IsBoxSceneFamily(family)) {
-    if (options.triangles != 0) throw InputError("--triangles: does not apply to the panel-* families");
-    BoxSceneOptions box;
-    box.seed = options.seed;
-    box.tessellation = ParseBoxTessellation(options.tessellation);
-    box.world = ParseBoxWorld(options.world);
-    const BoxSceneFiles files = GenerateBoxScene(family, box, options.output);
-    LogInfo("wrote %s, %s and %s", files.scene_yaml.string().c_str(), files.boxes_json.string().c_str(),
-            files.known_path.string().c_str());
-    yaml = files.scene_yaml;
-  } else if (box_options) {
-    throw InputError("--tessellation, --world: apply only to the panel-* families");
-  } else if (IsClipSceneFamily(family)) {
-    ClipSceneOptions clip;
-    clip.seed = options.seed;
-    clip.triangles = options.triangles;
-    const ClipSceneFiles files = GenerateClipScene(family, clip, options.output);
-    LogInfo("wrote %s, %s and %s", files.scene_yaml.string().c_str(), files.ground_truth_yaml.string().c_str(),
-            files.ground_truth_path.string().c_str());
-    yaml = files.scene_yaml;
-  } else {
-    const auto known = GeneratedSceneFamilies();
-    if (std::find(known.begin(), known.end(), family) == known.end()) {
-      std::string all;
-      for (const auto& families : {known, ClipSceneFamilies(), BoxSceneFamilies()}) {
-        for (const auto& f : families) all += f + ", ";
-      }
-      throw InputError("--family: unknown family '" + family + "' (expected one of " + all + "vehicle)");
-    }
-    if (options.triangles != 0) throw InputError("--triangles: applies only to the clips-ds* families");
-    yaml = GenerateScene(family, options.seed, options.output);
-    LogInfo("wrote %s", yaml.string().c_str());
+  if (kind == SceneFamilyKind::kVehicle && (options.triangles != 0 || box_options)) {
+    throw InputError("--triangles, --tessellation, --world: not for vehicle");
   }
-  std::printf("%s\n", yaml.string().c_str());
+  SceneFamilyOptions family{options.family, options.seed, options.triangles, {}, options.vehicle};
+  if (kind == SceneFamilyKind::kBox) {
+    if (options.triangles != 0) throw InputError("--triangles: does not apply to the panel-* families");
+    family.box.tessellation = ParseBoxTessellation(options.tessellation);
+    family.box.world = ParseBoxWorld(options.world);
+  } else if (box_options && kind != SceneFamilyKind::kVehicle) {
+    throw InputError("--tessellation, --world: apply only to the panel-* families");
+  } else if (kind == SceneFamilyKind::kUnknown) {
+    throw InputError("--family: unknown family '" + options.family + "' (expected one of " + SceneFamilyNames() + ")");
+  } else if (kind == SceneFamilyKind::kGenerated && options.triangles != 0) {
+    throw InputError("--triangles: applies only to the clips-ds* families");
+  }
+  for (const std::string& line : GenerateSceneFamily(family, options.output)) std::printf("%s\n", line.c_str());
   return kExitOk;
 }
 
 }  // namespace
 }  // namespace ausbau
 
-AUSBAU_STAGE_MAIN(kSceneGenStage, DeclareSceneGen, GenerateSceneFamily)
+AUSBAU_STAGE_MAIN(kSceneGenStage, DeclareSceneGen, GenerateFamily)

@@ -69,7 +69,7 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
     const PlanningProblem problem = MakePlanningProblemHolding(run.scene, cached.waypoints);
     std::unique_ptr<VolumeModel> model;
     if (IsVolumeValidity(cached.validity)) {
-      model = LoadVolumeModel(run.scene, problem, ParseValidityMode(cached.validity), options.smooth.volume);
+      model = LoadVolumeModel(run.scene, problem, cached.validity, options.smooth.volume);
     }
     std::vector<Pose> path;
     for (const Pose& pose : cached.waypoints) path.push_back(problem.SceneToPlanning(pose));

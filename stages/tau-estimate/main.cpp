@@ -23,10 +23,8 @@ struct TauStageOptions {
 
 void DeclareTau(StageDefinition& stage, TauStageOptions* options) {
   stage.ExtraOutput("--csv", &options->csv, "also write the search's trace as CSV");
-  stage
-      .Option("--validity", &options->tau.validity, "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded",
-              CacheKey::kYes)
-      ->check(CLI::IsMember(ValidityModeNames()));
+  stage.Choice("--validity", &options->tau.validity, InIStateValidityNames(), ParseValidityMode, ValidityModeName,
+               "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded", CacheKey::kYes);
   stage.Option("--psi", &options->tau.psi, "scene units; 0 = from the labels (largest deformable component)",
                CacheKey::kYes);
   AddVolumeInputOptions(stage, &options->tau.volume);
