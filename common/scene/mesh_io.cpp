@@ -404,6 +404,14 @@ void CheckPlyBody(const fs::path& path, const std::string& name, const PlyLayout
   unsigned long long left = size > layout.header_bytes ? size - layout.header_bytes : 0;  // binary bytes not yet read
   std::string line;
   for (const PlyElement& e : layout.elements) {
+    const bool has_list =
+        std::any_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.list; });
+    if (!layout.ascii && !has_list) {  // fixed-size instances (vertices): skipped in one step
+      if (e.count > left / std::max<unsigned long long>(1, e.min_binary_bytes)) fail(e, 0, "the file ends before it");
+      left -= e.count * e.min_binary_bytes;
+      in.ignore(static_cast<std::streamsize>(e.count * e.min_binary_bytes));
+      continue;
+    }
     for (unsigned long long i = 0; i < e.count; ++i) {
       if (layout.ascii) {
         std::vector<std::string> words;
