@@ -230,14 +230,16 @@ bench-vehicle: build
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints
 # per harness the executions and the findings (crash files under
 # FUZZ_BUILD/fuzz-out/<harness>/findings/). Fails when any harness has a
-# finding. FUZZ_HARNESSES picks some, e.g. FUZZ_HARNESSES="scene mesh".
+# finding. FUZZ_HARNESSES picks some, e.g. FUZZ_HARNESSES="scene mesh";
+# FUZZ_RUNS=1000000 also stops each after that many executions.
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD ?= build-fuzz
 FUZZ_HARNESSES ?=
+FUZZ_RUNS ?=
 
 fuzz:
 	@scripts/install-deps.sh fuzz
 	@cmake -S . -B $(FUZZ_BUILD) -DAUSBAU_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ > /dev/null
 	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target ausbau_fuzzers
-	@fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_HARNESSES)
+	@FUZZ_RUNS=$(FUZZ_RUNS) fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_HARNESSES)

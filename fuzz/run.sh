@@ -7,7 +7,9 @@
 # corpus in <build>/fuzz-out/<harness>/corpus from the seeds in
 # fuzz/corpus/<harness>/; findings (crash-*, leak-*, timeout-*, oom-*) go to
 # <build>/fuzz-out/<harness>/findings/. Exit status 1 when any harness has a
-# finding.
+# finding. FUZZ_RUNS=<n> (environment) also stops each harness after n
+# executions, e.g. FUZZ_RUNS=1000000 with a generous time: the target of
+# 10^6 executions, whatever the machine's load.
 set -uo pipefail
 build=${1:?usage: fuzz/run.sh <build dir> <seconds> [harness ...]}
 seconds=${2:?usage: fuzz/run.sh <build dir> <seconds> [harness ...]}
@@ -36,10 +38,12 @@ for h in "${harnesses[@]}"; do
   # of this process (fuzz_util.h: AUSBAU_FUZZ_TMP, /dev/shm or the temp folder).
   # The CPU seconds the harness got (user + system) beside the wall time:
   # on a shared machine the rate per CPU second is what the harness costs.
+  runs_flag=()
+  [ -z "${FUZZ_RUNS:-}" ] || runs_flag=(-runs="$FUZZ_RUNS")
   start=$(date +%s)
   TIMEFORMAT='%U %S'
   { time "$exe" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$out/findings/" "$out/corpus" "$source_dir/fuzz/corpus/$h" > "$log" 2>&1; } 2> "$out/cpu"
+    "${runs_flag[@]}" -artifact_prefix="$out/findings/" "$out/corpus" "$source_dir/fuzz/corpus/$h" > "$log" 2>&1; } 2> "$out/cpu"
   rc=$?
   elapsed=$(( $(date +%s) - start ))
   cpu=$(awk '{printf "%.0f", $1 + $2}' "$out/cpu" 2>/dev/null)
@@ -48,8 +52,9 @@ for h in "${harnesses[@]}"; do
   [ "$rc" -eq 0 ] && [ "$findings" -eq 0 ] || status=1
   rate=$(awk -v n="${runs:-0}" -v s="$elapsed" -v c="${cpu:-0}" \
     'BEGIN { printf "%7.0f/s %7.0f/CPU-s", n / (s > 0 ? s : 1), n / (c > 0 ? c : 1) }')
-  line=$(printf '%-10s %12s executions %6s s (%5s CPU-s) %s %3s findings' "$h" "${runs:-?}" "$elapsed" "${cpu:-?}" \
-    "$rate" "$findings")
+  load=$(cut -d' ' -f1 /proc/loadavg 2>/dev/null)
+  line=$(printf '%-10s %12s executions %6s s (%5s CPU-s) %s %3s findings, load %s' "$h" "${runs:-?}" "$elapsed" \
+    "${cpu:-?}" "$rate" "$findings" "${load:-?}")
   [ "$findings" -eq 0 ] || line="$line in $out/findings/"
   [ "$rc" -eq 0 ] || [ "$findings" -gt 0 ] || line="$line (exit $rc, see $log)"
   summary+=("$line")

@@ -315,6 +315,37 @@ TEST_F(Readers, MalformedPlyHeaderIsRefusedBeforeAssimpReadsIt) {
   EXPECT_EQ(LoadMesh(Write("good.ply", PlyWithFace("3 0 1 2"))).triangles.size(), 1u);
 }
 
+TEST_F(Readers, PlyListCountsTheFileCannotHoldAreRefused) {
+  // Found by fuzz_mesh: assimp 5.2 sizes a PLY list by its count before
+  // reading it; an ASCII face "7777...73 0 1 3" made it allocate 15 GB.
+  const fs::path huge = Write("huge.ply", PlyWithFace(std::string(40, '7') + "3 0 1 2"));
+  ExpectInputError([&] { LoadMesh(huge); },
+                   {huge.string(), "malformed PLY file (face 0: a list count '7777", "that its line does not hold"});
+  const fs::path more = Write("more.ply", PlyWithFace("4 0 1 2"));
+  ExpectInputError([&] { LoadMesh(more); }, {more.string(), "face 0: a list count '4' that its line does not hold"});
+  const fs::path negative = Write("negative-count.ply", PlyWithFace("-3 0 1 2"));
+  ExpectInputError([&] { LoadMesh(negative); }, {negative.string(), "face 0: a list count '-3'"});
+  std::string truncated = PlyWithFace("3 0 1 2");
+  truncated.replace(truncated.find("face 1"), 6, "face 2");
+  const fs::path ended = Write("ended.ply", truncated + "\n\n\n\n\n\n\n\n");
+  ExpectInputError([&] { LoadMesh(ended); }, {ended.string(), "malformed PLY file (face 1: the file ends before it)"});
+  // Binary: a uint count of 4 billion in a 60-byte body.
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
+  std::string body;
+  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) body.append(reinterpret_cast<const char*>(&v), 4);
+  std::string face;
+  for (const std::uint32_t i : {3u, 0u, 1u, 2u}) face.append(reinterpret_cast<const char*>(&i), 4);
+  EXPECT_EQ(LoadMesh(Write("uint.ply", header + body + face)).triangles.size(), 1u);
+  const std::uint32_t billions = 4000000000u;
+  face.replace(0, 4, reinterpret_cast<const char*>(&billions), 4);
+  const fs::path binary = Write("billions.ply", header + body + face);
+  ExpectInputError([&] { LoadMesh(binary); }, {binary.string(), "face 0: a list count of 4000000000"});
+  // Blank lines and extra values (colours) are allowed, as before.
+  EXPECT_EQ(LoadMesh(Write("blank.ply", PlyWithFace("\n3 0 1 2 255 0 0\n"))).triangles.size(), 1u);
+}
+
 TEST_F(Readers, MeshVertexAbsurdlyFarOutIsRefused) {
   // assimp reads float: 1e20 is finite there, 1e300 would be inf.
   const fs::path far = Write("far.obj", "v 1e20 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

@@ -17,6 +17,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -239,6 +240,50 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
   }
 }
 
+// A PLY file's layout, from its header (ReadPlyHeader).
+struct PlyProperty {
+  bool list = false;
+  int bytes = 0;       // a scalar's size, or a list count's
+  int item_bytes = 0;  // a list item's size
+  bool float_count = false;
+};
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  unsigned long long min_binary_bytes = 0;  // per instance
+  std::vector<PlyProperty> properties;
+};
+struct PlyLayout {
+  bool ascii = false;
+  bool big_endian = false;
+  std::size_t header_bytes = 0;
+  std::vector<PlyElement> elements;
+};
+
+bool IsPlyFloat(const std::string& type) {
+  return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
+// A binary list count (1, 2, 4 or 8 bytes) as a double; an integer count
+// read as unsigned (a negative signed count becomes a huge one, which the
+// caller refuses, as it refuses a negative or NaN float count).
+double DecodePlyCount(const unsigned char* raw, int bytes, bool is_float, bool big_endian) {
+  std::uint64_t bits = 0;
+  for (int k = 0; k < bytes; ++k) bits |= std::uint64_t{raw[big_endian ? bytes - 1 - k : k]} << (8 * k);
+  if (is_float && bytes == 4) {
+    float f;
+    const std::uint32_t b32 = static_cast<std::uint32_t>(bits);
+    std::memcpy(&f, &b32, 4);
+    return f;
+  }
+  if (is_float) {
+    double d;
+    std::memcpy(&d, &bits, 8);
+    return d;
+  }
+  return static_cast<double>(bits);
+}
+
 // The header of a PLY file, checked before assimp reads it: assimp 5.2's
 // PLY importer loops forever at the end of a file without an end_header line
 // (fuzz_mesh found it), and loops once per declared element, reading past the
@@ -248,7 +293,7 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
 // element counts whose instances cannot fit in the bytes after the header
 // (binary: the sizes of the properties, a list at least its count; ASCII: a
 // property at least one character and one separator).
-void CheckPlyHeader(const fs::path& path, const std::string& name) {
+PlyLayout ReadPlyHeader(const fs::path& path, const std::string& name) {
   constexpr std::size_t kMaxHeaderBytes = std::size_t{1} << 20;
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
@@ -271,13 +316,8 @@ void CheckPlyHeader(const fs::path& path, const std::string& name) {
     }
     return 0;
   };
-  struct Element {
-    unsigned long long count = 0;
-    unsigned long long min_binary_bytes = 0;  // per instance
-    unsigned long long properties = 0;
-  };
-  std::vector<Element> elements;
-  bool ascii = false, format = false, ended = false;
+  std::vector<PlyElement> elements;
+  bool ascii = false, big_endian = false, format = false, ended = false;
   std::size_t header_bytes = 0;
   std::string line;
   for (int number = 0; !ended && std::getline(in, line); ++number) {
@@ -302,6 +342,7 @@ void CheckPlyHeader(const fs::path& path, const std::string& name) {
         fail("unknown format line '" + line + "'");
       }
       ascii = words[1] == "ascii";
+      big_endian = words[1] == "binary_big_endian";
       format = true;
     } else if (words[0] == "element") {
       char* end = nullptr;
@@ -310,29 +351,115 @@ void CheckPlyHeader(const fs::path& path, const std::string& name) {
       if (words.size() != 3 || words[2][0] == '-' || errno != 0 || end != words[2].c_str() + words[2].size()) {
         fail("element line '" + line + "' has no count");
       }
-      elements.push_back({count, 0, 0});
+      elements.push_back({words[1], count, 0, {}});
     } else if (words[0] == "property") {
       const bool list = words.size() == 5 && words[1] == "list";
       const int bytes = list ? scalar_bytes(words[2]) : words.size() == 3 ? scalar_bytes(words[1]) : 0;
       if (bytes == 0 || (list && scalar_bytes(words[3]) == 0)) fail("unknown property line '" + line + "'");
       if (elements.empty()) fail("property line '" + line + "' before any element line");
       elements.back().min_binary_bytes += static_cast<unsigned long long>(bytes);
-      elements.back().properties += 1;
+      elements.back().properties.push_back(
+          {list, bytes, list ? scalar_bytes(words[3]) : 0, list && IsPlyFloat(words[2])});
     }
   }
   if (!ended) fail("no end_header line");
   if (!format) fail("no format line");
   const unsigned long long body = size > header_bytes ? size - header_bytes : 0;
   unsigned long long needed = 0;
-  for (const Element& e : elements) {
+  for (const PlyElement& e : elements) {
     // An instance takes at least one byte (an element without properties
     // would otherwise be free to declare any count).
-    const unsigned long long each =
-        std::max<unsigned long long>(1, ascii ? 2 * e.properties - (e.properties > 0 ? 1 : 0) : e.min_binary_bytes);
+    const unsigned long long each = std::max<unsigned long long>(
+        1, ascii ? 2 * e.properties.size() - (e.properties.empty() ? 0 : 1) : e.min_binary_bytes);
     if (e.count > body / each || needed > body - e.count * each) {
       fail("declares more elements than its " + std::to_string(body) + " bytes after the header can hold");
     }
     needed += e.count * each;
+  }
+  PlyLayout layout;
+  layout.ascii = ascii;
+  layout.big_endian = big_endian;
+  layout.header_bytes = header_bytes;
+  layout.elements = std::move(elements);
+  return layout;
+}
+
+// The list counts of a PLY body, checked before assimp reads it: assimp 5.2
+// sizes a list by its count before reading it (fuzz_mesh found an ASCII face
+// "7777...73 0 1 3" making it allocate 15 GB; a binary uint count can
+// declare 4 billion). ASCII: one instance per line (blank lines skipped), a
+// token per property, each list count a non-negative integer with at least
+// that many tokens after it on its line. Binary: the instances walked byte by
+// byte, each list count non-negative and its items within the file.
+void CheckPlyBody(const fs::path& path, const std::string& name, const PlyLayout& layout) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || !in.ignore(static_cast<std::streamsize>(layout.header_bytes))) {
+    throw InputErrorAt(name, "cannot read mesh (cannot open file)");
+  }
+  auto fail = [&](const PlyElement& e, unsigned long long i, const std::string& what) {
+    throw InputErrorAt(name, "malformed PLY file (" + e.name + " " + std::to_string(i) + ": " + what + ")");
+  };
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  unsigned long long left = size > layout.header_bytes ? size - layout.header_bytes : 0;  // binary bytes not yet read
+  std::string line;
+  for (const PlyElement& e : layout.elements) {
+    const bool has_list =
+        std::any_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.list; });
+    if (!layout.ascii && !has_list) {  // fixed-size instances (vertices): skipped in one step
+      if (e.count > left / std::max<unsigned long long>(1, e.min_binary_bytes)) fail(e, 0, "the file ends before it");
+      left -= e.count * e.min_binary_bytes;
+      in.ignore(static_cast<std::streamsize>(e.count * e.min_binary_bytes));
+      continue;
+    }
+    for (unsigned long long i = 0; i < e.count; ++i) {
+      if (layout.ascii) {
+        std::vector<std::string> words;
+        while (words.empty() || words[0] == "comment") {
+          if (!std::getline(in, line)) fail(e, i, "the file ends before it");
+          words.clear();
+          std::istringstream tokens(line);
+          for (std::string word; tokens >> word;) words.push_back(word);
+        }
+        std::size_t next = 0;
+        for (const PlyProperty& p : e.properties) {
+          if (next >= words.size()) fail(e, i, "fewer values than properties");
+          if (!p.list) {
+            ++next;
+            continue;
+          }
+          char* end = nullptr;
+          errno = 0;
+          const std::string& word = words[next++];
+          const unsigned long long count = std::strtoull(word.c_str(), &end, 10);
+          if (word[0] == '-' || errno != 0 || end != word.c_str() + word.size() || count > words.size() - next) {
+            fail(e, i, "a list count '" + word.substr(0, 24) + "' that its line does not hold");
+          }
+          next += static_cast<std::size_t>(count);
+        }
+        continue;
+      }
+      for (const PlyProperty& p : e.properties) {
+        const unsigned long long bytes = static_cast<unsigned long long>(p.bytes);
+        if (bytes > left) fail(e, i, "the file ends before it");
+        left -= bytes;
+        if (!p.list) {
+          in.ignore(static_cast<std::streamsize>(bytes));
+          continue;
+        }
+        unsigned char raw[8] = {};
+        in.read(reinterpret_cast<char*>(raw), static_cast<std::streamsize>(bytes));
+        const double count = DecodePlyCount(raw, p.bytes, p.float_count, layout.big_endian);
+        const unsigned long long item = static_cast<unsigned long long>(p.item_bytes);
+        if (!(count >= 0) || count > static_cast<double>(left / item)) {
+          fail(e, i, "a list count of " + std::to_string(count) + " items that the file does not hold");
+        }
+        const unsigned long long items = static_cast<unsigned long long>(count) * item;
+        in.ignore(static_cast<std::streamsize>(items));
+        left -= items;
+      }
+      if (!in) fail(e, i, "the file ends before it");
+    }
   }
 }
 
@@ -357,7 +484,7 @@ MeshFile LoadMeshFile(const fs::path& path) {
   std::string lower = extension;
   for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (lower == ".off") CheckOffStructure(path, name);
-  if (lower == ".ply") CheckPlyHeader(path, name);
+  if (lower == ".ply") CheckPlyBody(path, name, ReadPlyHeader(path, name));
   // Read without post-processing first: the raw vertices are checked before
   // aiProcess_JoinIdenticalVertices, which mangles NaN vertices (NaN never
   // compares equal, so they get merged into or dropped for others).
