@@ -247,6 +247,17 @@ TEST_F(Readers, MeshOfUnknownFormatFailsFast) {
   ExpectInputError([&] { LoadMesh(bare); }, {bare.string(), "unknown format ''"});
 }
 
+// A binary little-endian PLY header for 3 float vertices and 1 face whose
+// list count has type `count_type`, and the 36 bytes of those vertices.
+std::string BinaryPlyHeaderAndVertices(const std::string& count_type) {
+  std::string out =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement face 1\nproperty list " +
+      count_type + " int vertex_indices\nend_header\n";
+  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) out.append(reinterpret_cast<const char*>(&v), 4);
+  return out;
+}
+
 std::string PlyWithFace(const std::string& face) {
   return "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" +
@@ -299,14 +310,13 @@ TEST_F(Readers, MalformedPlyHeaderIsRefusedBeforeAssimpReadsIt) {
   ExpectInputError([&] { LoadMesh(ascii); }, {ascii.string(), "declares more elements than its 26 bytes"});
   // Binary: 3 vertices of 3 floats and 1 face of a uchar count and 3 ints
   // need 3 * 12 + 13 = 49 bytes; one byte short is refused, 49 load.
-  const std::string header =
-      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
-  std::string body;
-  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) body.append(reinterpret_cast<const char*>(&v), 4);
+  const std::string header_and_vertices = BinaryPlyHeaderAndVertices("uchar");
+  const std::size_t header_bytes = header_and_vertices.size() - 36;
+  std::string body = header_and_vertices.substr(header_bytes);
   body.push_back('\3');
   for (const std::int32_t i : {0, 1, 2}) body.append(reinterpret_cast<const char*>(&i), 4);
   ASSERT_EQ(body.size(), 49u);
+  const std::string header = header_and_vertices.substr(0, header_bytes);
   const fs::path short_binary = Write("short.ply", header + body.substr(0, 36));
   ExpectInputError([&] { LoadMesh(short_binary); },
                    {short_binary.string(), "declares more elements than its 36 bytes"});
@@ -330,17 +340,13 @@ TEST_F(Readers, PlyListCountsTheFileCannotHoldAreRefused) {
   const fs::path ended = Write("ended.ply", truncated + "\n\n\n\n\n\n\n\n");
   ExpectInputError([&] { LoadMesh(ended); }, {ended.string(), "malformed PLY file (face 1: the file ends before it)"});
   // Binary: a uint count of 4 billion in a 60-byte body.
-  const std::string header =
-      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n";
-  std::string body;
-  for (const float v : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f}) body.append(reinterpret_cast<const char*>(&v), 4);
+  const std::string header_and_vertices = BinaryPlyHeaderAndVertices("uint");
   std::string face;
   for (const std::uint32_t i : {3u, 0u, 1u, 2u}) face.append(reinterpret_cast<const char*>(&i), 4);
-  EXPECT_EQ(LoadMesh(Write("uint.ply", header + body + face)).triangles.size(), 1u);
+  EXPECT_EQ(LoadMesh(Write("uint.ply", header_and_vertices + face)).triangles.size(), 1u);
   const std::uint32_t billions = 4000000000u;
   face.replace(0, 4, reinterpret_cast<const char*>(&billions), 4);
-  const fs::path binary = Write("billions.ply", header + body + face);
+  const fs::path binary = Write("billions.ply", header_and_vertices + face);
   ExpectInputError([&] { LoadMesh(binary); }, {binary.string(), "face 0: a list count of 4000000000"});
   // Blank lines and extra values (colours) are allowed, as before.
   EXPECT_EQ(LoadMesh(Write("blank.ply", PlyWithFace("\n3 0 1 2 255 0 0\n"))).triangles.size(), 1u);

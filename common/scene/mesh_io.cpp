@@ -384,6 +384,63 @@ PlyLayout ReadPlyHeader(const fs::path& path, const std::string& name) {
   return layout;
 }
 
+[[noreturn]] void FailPlyInstance(const std::string& name, const PlyElement& e, unsigned long long i,
+                                  const std::string& what) {
+  throw InputErrorAt(name, "malformed PLY file (" + e.name + " " + std::to_string(i) + ": " + what + ")");
+}
+
+// One ASCII instance: its line (blank and comment lines skipped), a token per
+// property, each list count a non-negative integer its line holds.
+void CheckAsciiPlyInstance(std::istream& in, const std::string& name, const PlyElement& e, unsigned long long i) {
+  std::vector<std::string> words;
+  std::string line;
+  while (words.empty() || words[0] == "comment") {
+    if (!std::getline(in, line)) FailPlyInstance(name, e, i, "the file ends before it");
+    words.clear();
+    std::istringstream tokens(line);
+    for (std::string word; tokens >> word;) words.push_back(word);
+  }
+  std::size_t next = 0;
+  for (const PlyProperty& p : e.properties) {
+    if (next >= words.size()) FailPlyInstance(name, e, i, "fewer values than properties");
+    const std::string& word = words[next++];
+    if (!p.list) continue;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long count = std::strtoull(word.c_str(), &end, 10);
+    if (word[0] == '-' || errno != 0 || end != word.c_str() + word.size() || count > words.size() - next) {
+      FailPlyInstance(name, e, i, "a list count '" + word.substr(0, 24) + "' that its line does not hold");
+    }
+    next += static_cast<std::size_t>(count);
+  }
+}
+
+// One binary instance, byte by byte: each list count non-negative and its
+// items within the `left` bytes of the file not yet read.
+void CheckBinaryPlyInstance(std::istream& in, const std::string& name, const PlyElement& e, unsigned long long i,
+                            bool big_endian, unsigned long long* left) {
+  for (const PlyProperty& p : e.properties) {
+    const unsigned long long bytes = static_cast<unsigned long long>(p.bytes);
+    if (bytes > *left) FailPlyInstance(name, e, i, "the file ends before it");
+    *left -= bytes;
+    if (!p.list) {
+      in.ignore(static_cast<std::streamsize>(bytes));
+      continue;
+    }
+    unsigned char raw[8] = {};
+    in.read(reinterpret_cast<char*>(raw), static_cast<std::streamsize>(bytes));
+    const double count = DecodePlyCount(raw, p.bytes, p.float_count, big_endian);
+    const unsigned long long item = static_cast<unsigned long long>(p.item_bytes);
+    if (!(count >= 0) || count > static_cast<double>(*left / item)) {
+      FailPlyInstance(name, e, i, "a list count of " + std::to_string(count) + " items that the file does not hold");
+    }
+    const unsigned long long items = static_cast<unsigned long long>(count) * item;
+    in.ignore(static_cast<std::streamsize>(items));
+    *left -= items;
+  }
+  if (!in) FailPlyInstance(name, e, i, "the file ends before it");
+}
+
 // The list counts of a PLY body, checked before assimp reads it: assimp 5.2
 // sizes a list by its count before reading it (fuzz_mesh found an ASCII face
 // "7777...73 0 1 3" making it allocate 15 GB; a binary uint count can
@@ -396,69 +453,26 @@ void CheckPlyBody(const fs::path& path, const std::string& name, const PlyLayout
   if (!in || !in.ignore(static_cast<std::streamsize>(layout.header_bytes))) {
     throw InputErrorAt(name, "cannot read mesh (cannot open file)");
   }
-  auto fail = [&](const PlyElement& e, unsigned long long i, const std::string& what) {
-    throw InputErrorAt(name, "malformed PLY file (" + e.name + " " + std::to_string(i) + ": " + what + ")");
-  };
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(path, ec);
   unsigned long long left = size > layout.header_bytes ? size - layout.header_bytes : 0;  // binary bytes not yet read
-  std::string line;
   for (const PlyElement& e : layout.elements) {
     const bool has_list =
         std::any_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) { return p.list; });
     if (!layout.ascii && !has_list) {  // fixed-size instances (vertices): skipped in one step
-      if (e.count > left / std::max<unsigned long long>(1, e.min_binary_bytes)) fail(e, 0, "the file ends before it");
+      if (e.count > left / std::max<unsigned long long>(1, e.min_binary_bytes)) {
+        FailPlyInstance(name, e, 0, "the file ends before it");
+      }
       left -= e.count * e.min_binary_bytes;
       in.ignore(static_cast<std::streamsize>(e.count * e.min_binary_bytes));
       continue;
     }
     for (unsigned long long i = 0; i < e.count; ++i) {
       if (layout.ascii) {
-        std::vector<std::string> words;
-        while (words.empty() || words[0] == "comment") {
-          if (!std::getline(in, line)) fail(e, i, "the file ends before it");
-          words.clear();
-          std::istringstream tokens(line);
-          for (std::string word; tokens >> word;) words.push_back(word);
-        }
-        std::size_t next = 0;
-        for (const PlyProperty& p : e.properties) {
-          if (next >= words.size()) fail(e, i, "fewer values than properties");
-          if (!p.list) {
-            ++next;
-            continue;
-          }
-          char* end = nullptr;
-          errno = 0;
-          const std::string& word = words[next++];
-          const unsigned long long count = std::strtoull(word.c_str(), &end, 10);
-          if (word[0] == '-' || errno != 0 || end != word.c_str() + word.size() || count > words.size() - next) {
-            fail(e, i, "a list count '" + word.substr(0, 24) + "' that its line does not hold");
-          }
-          next += static_cast<std::size_t>(count);
-        }
-        continue;
+        CheckAsciiPlyInstance(in, name, e, i);
+      } else {
+        CheckBinaryPlyInstance(in, name, e, i, layout.big_endian, &left);
       }
-      for (const PlyProperty& p : e.properties) {
-        const unsigned long long bytes = static_cast<unsigned long long>(p.bytes);
-        if (bytes > left) fail(e, i, "the file ends before it");
-        left -= bytes;
-        if (!p.list) {
-          in.ignore(static_cast<std::streamsize>(bytes));
-          continue;
-        }
-        unsigned char raw[8] = {};
-        in.read(reinterpret_cast<char*>(raw), static_cast<std::streamsize>(bytes));
-        const double count = DecodePlyCount(raw, p.bytes, p.float_count, layout.big_endian);
-        const unsigned long long item = static_cast<unsigned long long>(p.item_bytes);
-        if (!(count >= 0) || count > static_cast<double>(left / item)) {
-          fail(e, i, "a list count of " + std::to_string(count) + " items that the file does not hold");
-        }
-        const unsigned long long items = static_cast<unsigned long long>(count) * item;
-        in.ignore(static_cast<std::streamsize>(items));
-        left -= items;
-      }
-      if (!in) fail(e, i, "the file ends before it");
     }
   }
 }

@@ -122,19 +122,19 @@ bool FreezeRotationAcrossInter(const PlanningProblem& problem, const MotionCheck
     // measured on it.
     const std::vector<Pose> old = WithWaypointAt(problem, *path, *inter_index, fraction, &k);
     const std::size_t inter = *inter_index + (old.size() - path->size());
-    // A pose inside a segment may fail sigma_1's volume between the poses
-    // its smoothing checked (a rigid solid grazing S): not a waypoint then.
-    if (!sigma1_validity.IsValid(old[k])) return false;
     std::vector<Pose> next = old;
     for (std::size_t m = k + 1; m < next.size(); ++m) next[m].q = old[k].q;
     if (!(MeasurePath(problem, next).rotation < old_rotation - 1e-9) || !problem.InGoalRegion(next.back())) {
       return false;
     }
-    // c_inter ends sigma_1 and starts the rigid part: valid under both.
-    if (!rigid.IsValid(next[inter])) return false;
-    for (std::size_t m = k + 1; m <= inter; ++m) {
+    // Every waypoint from k to c_inter valid under sigma_1's volume (k
+    // itself may be a pose inside a segment, which can fail it between the
+    // poses sigma_1's smoothing checked: a rigid solid grazing S), and
+    // c_inter, where the rigid part starts, also under collision.
+    for (std::size_t m = k; m <= inter; ++m) {
       if (!sigma1_validity.IsValid(next[m])) return false;
     }
+    if (!rigid.IsValid(next[inter])) return false;
     for (std::size_t m = inter; m + 1 < next.size(); ++m) {
       if (!rigid.MotionValid(next[m], next[m + 1])) return false;
     }
