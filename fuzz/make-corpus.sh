@@ -18,7 +18,7 @@ printf 'format: ausbau-scene/2\nunits: mm\nassembly: {file: s.off, units: cm}\ns
 printf '# a comment\nformat: "ausbau-scene/1"\nstatic:\n  - s.off\ndynamic: d.off\nstart:\n  t: [1e3, -2.5, 0x10]\n' > scene/block.yaml
 
 # Meshes: the first byte picks the extension (fuzz_mesh.cpp): 0 .obj, 1 .stl,
-# 2 .ply, 3 .off, 4 .dae.
+# 2 .ply, 3 .off, 4 .OBJ (capitals), 5 .txt, 6 none.
 tetra_obj='v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n'
 printf "\x00$tetra_obj" > mesh/tetra.obj
 printf '\x00o quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1/1 3/1/1 4/1/1\nf -1 -2 -3\n' > mesh/quad.obj
@@ -30,8 +30,14 @@ printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty 
 # A list count no line holds (fuzz_mesh found assimp asking for 15 GB for it).
 printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n%s3 0 1 3\n' "$(printf '7%.0s' $(seq 40))" > mesh/ply-huge-list-count.ply
 printf '\x03OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > mesh/tetra.off
-printf '\x04<?xml version="1.0"?>\n<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">\n<asset><up_axis>Z_UP</up_axis></asset>\n<library_geometries><geometry id="g"><mesh>\n<source id="p"><float_array id="a" count="9">0 0 0 1 0 0 0 1 0</float_array>\n<technique_common><accessor source="#a" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>\n<vertices id="v"><input semantic="POSITION" source="#p"/></vertices>\n<triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles>\n</mesh></geometry></library_geometries>\n<library_visual_scenes><visual_scene id="s"><node id="n"><matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</matrix><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>\n<scene><instance_visual_scene url="#s"/></scene>\n</COLLADA>\n' > mesh/tri.dae
+printf "\x04$tetra_obj" > mesh/tetra-capitals.OBJ
 printf "\x05$tetra_obj" > mesh/tetra.txt
+# OBJ as exporters write it (CRLF, a byte order mark, objects, groups,
+# materials, every corner form, relative indices, a free-form section), and
+# the face line with NUL bytes and mixed corner forms that corrupted assimp's
+# heap (fuzz_mesh; now refused by CheckObjStructure).
+printf '\x00\xEF\xBB\xBF# exported\r\nmtllib m.mtl mesh.obj\r\no part\r\ng a b\r\nusemtl steel\r\ns 1\r\nv 0 0 0\r\nv 1.5e+0 0 0\r\nv 0 1. 0 1\r\nv 0 0 1 0.5 0.5 0.5\r\nvt 0 0\r\nvt 1 0 0\r\nvn 0 0 1\r\nf 1 2 3\r\nf 1/1 2/2 4/1\r\nf 1//1 3//1 4//1\r\nf -3/-2/-1 -2/-1/-1 -1/-2/-1\r\nl 1 2\r\np 1\r\ncstype bspline\r\ndeg 3\r\nend\r\n' > mesh/exporter.obj
+printf '\x00v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1\x00\x00\x00 3/1/1\n' > mesh/obj-mixed-corners-nul.obj
 
 printf 'x,y,z,qw,qx,qy,qz\n0,0,0,1,0,0,0\n1.5,2,-3,0.7071067811865476,0,0.7071067811865476,0\n' > path_csv/plain.csv
 printf '# written by a tool\r\nqw, qx, qy, qz, x, y, z, extra\r\n1, 0, 0, 0, 1e3, 0, 0, note\r\n' > path_csv/reordered.csv

@@ -273,6 +273,30 @@ std::vector<Case> MeshCases() {
        "part\\.ply", nullptr, "fuzz"},
       {"MeshFaceIndexOutOfRangePlyInPlan", ply("3 0 1 9\n3 0 2 3\n"), "ausbau-plan --scene scene.yaml", 2, "part\\.ply",
        nullptr, "fuzz"},
+      // OBJ that assimp 5.2 reads as another mesh without an error
+      // (scene/obj_check.h), and a COLLADA file that crashes its importer.
+      {"MeshObjNumberStartingWithDot", part("v .5 0 0\n" + tetra), check, 2, "part\\.obj: malformed OBJ file"},
+      {"MeshObjVertexOfFiveNumbers", part("v 0 0 0 1 2\n" + tetra), check, 2,
+       "part\\.obj: malformed OBJ file \\(line 1: a vertex of 5 numbers"},
+      {"MeshObjIndexWithLeadingZero", part(tetra + "f 01 2 3\n"), check, 2, "part\\.obj: .*line 9: '01'"},
+      {"MeshObjWordTakenForAFace", part(tetra + "foo 1 2 3\n"), check, 2, "part\\.obj: .*unknown statement 'foo'"},
+      {"MeshObjIndentedStatement", part(tetra + " f 1 2 3\n"), check, 2, "part\\.obj: .*after leading blanks"},
+      {"MeshObjNulInFace", part(tetra + std::string("f 1 2\0 3\n", 10)), check, 2, "part\\.obj: .*control character"},
+      {"MeshColladaCrashingTheImporter",
+       [](const fs::path& d) {
+         Write(d / "part.dae",
+               "<?xml version=\"1.0\"?>\n<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" "
+               "version=\"1.4.1\"><library_geometries><geometry id=\"g\"><mesh><source id=\"p\"><float_array "
+               "id=\"a\" count=\"0\">0 0 0 1 0 0 0 1 0</float_array><technique_common><accessor source=\"#a\" "
+               "count=\"3\" stride=\"3\"><param name=\"X\" type=\"float\"/><param name=\"Y\" type=\"float\"/><param "
+               "name=\"Z\" type=\"float\"/></accessor></technique_common></source><vertices id=\"v\"><input "
+               "semantic=\"POSITION\" source=\"#p\"/></vertices><triangles count=\"1\"><input semantic=\"VERTEX\" "
+               "source=\"#v\" offset=\"0\"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries>"
+               "<library_visual_scenes><visual_scene id=\"s\"><node id=\"n\"><instance_geometry url=\"#g\"/></node>"
+               "</visual_scene></library_visual_scenes><scene><instance_visual_scene url=\"#s\"/></scene></COLLADA>\n");
+         SetSceneKey(d, "dynamic", "\"part.dae\"");
+       },
+       "ausbau-plan --scene scene.yaml", 2, "part\\.dae: the dae importer of assimp crashed \\(signal 11, SIGSEGV\\)"},
       {"MeshNaNVertex", part("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), check, 2, "part\\.obj"},
       {"MeshInfiniteVertex", part("v inf 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"), check, 2, "part\\.obj"},
       {"MeshHugeCoordinates", part("v 1e300 0 0\nv -1e300 0 0\nv 0 1e300 0\nf 1 2 3\n"),
