@@ -197,7 +197,12 @@ void CheckOffStructure(const fs::path& path, const std::string& name) {
   if (!in) throw InputErrorAt(name, "cannot read mesh (cannot open file)");
   std::vector<std::vector<std::string>> lines;  // tokens of the lines that matter
   std::string line;
-  while (std::getline(in, line)) {
+  for (long number = 1; std::getline(in, line); ++number) {
+    const std::string control = FirstControlCharacter(line);
+    if (!control.empty()) {
+      throw InputErrorAt(
+          name, "malformed OFF file (line " + std::to_string(number) + ": a control character (" + control + "))");
+    }
     const std::size_t hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::istringstream tokens(line);
@@ -345,6 +350,8 @@ PlyLayout ReadPlyHeader(const fs::path& path, const std::string& name) {
     if (header_bytes > prefix.size() && prefix.size() == kMaxHeaderBytes) {
       fail("no end_header line in the first 1 MiB");
     }
+    const std::string control = FirstControlCharacter(line);
+    if (!control.empty()) fail("a control character (" + control + ") in header line " + std::to_string(number + 1));
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream tokens(line);
     std::vector<std::string> words;
@@ -380,6 +387,8 @@ PlyLayout ReadPlyHeader(const fs::path& path, const std::string& name) {
       elements.back().min_binary_bytes += static_cast<unsigned long long>(bytes);
       elements.back().properties.push_back(
           {list, bytes, list ? scalar_bytes(words[3]) : 0, list && IsPlyFloat(words[2])});
+    } else if (words[0] != "comment" && words[0] != "obj_info") {
+      fail("unknown header line '" + line.substr(0, 40) + "'");
     }
   }
   if (!ended) fail("no end_header line");
@@ -416,6 +425,8 @@ void CheckAsciiPlyInstance(std::istream& in, const std::string& name, const PlyE
   std::string line;
   while (words.empty() || words[0] == "comment") {
     if (!std::getline(in, line)) FailPlyInstance(name, e, i, "the file ends before it");
+    const std::string control = FirstControlCharacter(line);
+    if (!control.empty()) FailPlyInstance(name, e, i, "a control character (" + control + ")");
     words.clear();
     std::istringstream tokens(line);
     for (std::string word; tokens >> word;) words.push_back(word);

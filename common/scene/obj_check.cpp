@@ -98,14 +98,8 @@ class ObjChecker {
   void Line(std::string_view line) {
     ++line_number_;
     if (line_number_ == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 byte order mark
-    for (char c : line) {
-      const unsigned char u = static_cast<unsigned char>(c);
-      if ((u < 0x20 && c != '\t') || u == 0x7f) {
-        char hex[8];
-        std::snprintf(hex, sizeof hex, "0x%02X", u);
-        Fail(std::string("a control character (") + hex + ")");
-      }
-    }
+    const std::string control = FirstControlCharacter(line);
+    if (!control.empty()) Fail("a control character (" + control + ")");
     const std::size_t last = line.find_last_not_of(" \t");
     if (last != std::string_view::npos && line[last] == '\\') Fail("a line continuation ('\\' at the end of the line)");
     const std::size_t hash = line.find('#');
@@ -224,6 +218,19 @@ class ObjChecker {
 };
 
 }  // namespace
+
+std::string FirstControlCharacter(std::string_view line) {
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  for (char c : line) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if ((u < 0x20 && c != '\t') || u == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02X", u);
+      return hex;
+    }
+  }
+  return "";
+}
 
 void CheckObjStructure(const std::filesystem::path& path, const std::string& name) {
   std::ifstream in(path, std::ios::binary);

@@ -19,6 +19,7 @@
 
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 namespace ausbau {
 
@@ -34,5 +35,13 @@ namespace ausbau {
 // the file has. Materials, groups, objects, smoothing groups, comments and
 // free-form sections ("cstype" ... "end") are not checked further.
 void CheckObjStructure(const std::filesystem::path& path, const std::string& name);
+
+// The first control character of a line of a text mesh format (OBJ, ASCII
+// PLY, OFF), as "0x0C"; empty when there is none. Tab is allowed, and '\r'
+// at the end (CRLF files). Our checks split words at every blank that
+// std::isspace knows, assimp's parsers only at ' ' and '\t': a form feed or
+// NUL would make the two read different words (a PLY header with
+// "\fend_header" passed our check, and assimp never found its end).
+std::string FirstControlCharacter(std::string_view line);
 
 }  // namespace ausbau
