@@ -29,6 +29,9 @@ printf '\x01solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\
 printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > mesh/tetra.ply
 # A list count no line holds (fuzz_mesh found assimp asking for 15 GB for it).
 printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n%s3 0 1 3\n' "$(printf '7%.0s' $(seq 40))" > mesh/ply-huge-list-count.ply
+# A form feed before end_header (fuzz_mesh: it passed our header check and
+# assimp never found the header's end).
+printf '\x02ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\fend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n' > mesh/ply-form-feed-header.ply
 printf '\x03OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n' > mesh/tetra.off
 printf "\x04$tetra_obj" > mesh/tetra-capitals.OBJ
 printf "\x05$tetra_obj" > mesh/tetra.txt
