@@ -41,6 +41,9 @@ printf "\x05$tetra_obj" > mesh/tetra.txt
 # heap (fuzz_mesh; now refused by CheckObjStructure).
 printf '\x00\xEF\xBB\xBF# exported\r\nmtllib m.mtl mesh.obj\r\no part\r\ng a b\r\nusemtl steel\r\ns 1\r\nv 0 0 0\r\nv 1.5e+0 0 0\r\nv 0 1. 0 1\r\nv 0 0 1 0.5 0.5 0.5\r\nvt 0 0\r\nvt 1 0 0\r\nvn 0 0 1\r\nf 1 2 3\r\nf 1/1 2/2 4/1\r\nf 1//1 3//1 4//1\r\nf -3/-2/-1 -2/-1/-1 -1/-2/-1\r\nl 1 2\r\np 1\r\ncstype bspline\r\ndeg 3\r\nend\r\n' > mesh/exporter.obj
 printf '\x00v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1/1 2/1\x00\x00\x00 3/1/1\n' > mesh/obj-mixed-corners-nul.obj
+# An mtllib naming the file itself (the harness writes mesh.obj): assimp
+# parsed the mesh as a material library and crashed on "map_emissive".
+printf '\x00mtllib mesh.obj\nmap_emissive x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > mesh/obj-mtllib-itself.obj
 
 printf 'x,y,z,qw,qx,qy,qz\n0,0,0,1,0,0,0\n1.5,2,-3,0.7071067811865476,0,0.7071067811865476,0\n' > path_csv/plain.csv
 printf '# written by a tool\r\nqw, qx, qy, qz, x, y, z, extra\r\n1, 0, 0, 0, 1e3, 0, 0, note\r\n' > path_csv/reordered.csv

@@ -438,6 +438,16 @@ TEST_F(Readers, ObjAsExportersWriteItLoads) {
   ExpectInputError([&] { LoadMesh(nan); }, {nan.string(), "vertex 1 is not finite"});
 }
 
+// Found by fuzz_mesh: an OBJ file whose `mtllib` names the file itself made
+// assimp 5.2 parse it as a material library, and its MTL parser wrote
+// through a wild pointer on "map_emissive" (a segmentation fault in plain
+// Debian assimp too). assimp may open no file during the parse, so this
+// loads as the triangle it holds.
+TEST_F(Readers, ObjNamingItselfAsMaterialLibraryLoads) {
+  const fs::path self = Write("self.obj", "mtllib self.obj\nmap_emissive x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(LoadMesh(self).triangles.size(), 1u);
+}
+
 TEST(ChildProcess, ReturnsTheBytesRethrowsErrorsAndReportsACrash) {
   EXPECT_EQ(RunInChildProcess([] { return std::string("a\0b", 3); }, "f", "x"), std::string("a\0b", 3));
   EXPECT_EQ(RunInChildProcess([] { return std::string(1 << 20, 'z'); }, "f", "x").size(),

@@ -171,15 +171,21 @@ void CollectNode(const aiScene& scene, const aiNode& node, const Eigen::Matrix4d
 
 // The OBJ importer also opens every file an `mtllib` line names and parses
 // it as a material library. Materials are not used here, and that parser
-// would be more unchecked input (a fuzzed "mtllib mesh.obj" makes it parse
-// the mesh itself), so for an OBJ file assimp may open only that file; a
-// material library it cannot open is only a warning to it.
+// is more unchecked input: fuzz_mesh found "mtllib mesh.obj", which names
+// the mesh itself, crashing it (the MTL parser wrote through a wild
+// pointer). So for an OBJ file assimp may open only that file, and only
+// before the parse: the importer opens the file, then pushes its folder
+// onto the IO system's directory stack and parses; a library is opened
+// during the parse (stack not empty), whatever its name. One it cannot open
+// is only a warning to it.
 class OnlyThisFile : public Assimp::DefaultIOSystem {
  public:
   explicit OnlyThisFile(std::string file) : file_(std::move(file)) {}
-  bool Exists(const char* path) const override { return file_ == path && DefaultIOSystem::Exists(path); }
+  bool Exists(const char* path) const override {
+    return StackSize() == 0 && file_ == path && DefaultIOSystem::Exists(path);
+  }
   Assimp::IOStream* Open(const char* path, const char* mode) override {
-    return file_ == path ? DefaultIOSystem::Open(path, mode) : nullptr;
+    return StackSize() == 0 && file_ == path ? DefaultIOSystem::Open(path, mode) : nullptr;
   }
 
  private:
@@ -566,7 +572,7 @@ void PutTexts(std::string& out, const std::vector<std::string>& texts) {
 template <typename T>
 void PutArray(std::string& out, const std::vector<T>& items) {
   PutCount(out, items.size());
-  out.append(reinterpret_cast<const char*>(items.data()), items.size() * sizeof(T));
+  if (!items.empty()) out.append(reinterpret_cast<const char*>(items.data()), items.size() * sizeof(T));
 }
 
 std::string MeshFileBytes(const MeshFile& file) {
@@ -617,6 +623,7 @@ class MeshFileBytesReader {
   }
   void Take(void* to, std::size_t size) {
     if (size > bytes_.size() - pos_) throw std::runtime_error("mesh import: truncated result from the child process");
+    if (size == 0) return;  // `to` may be null (an empty vector's data)
     std::memcpy(to, bytes_.data() + pos_, size);
     pos_ += size;
   }
