@@ -228,18 +228,6 @@ void AddSceneInputs(const Scene& scene, Provenance* provenance) {
   provenance->inputs.emplace_back("dynamic", DynamicContentHash(scene));
 }
 
-std::string DynamicContentHash(const Scene& scene) {
-  const std::string file_hash = HashFile(scene.dynamic_file);
-  const MeshSource& source = scene.dynamic_source;
-  if (source.file != scene.dynamic_file || (source.picks.empty() && source.scale == 1.0)) return file_hash;
-  char scale[40];
-  std::snprintf(scale, sizeof scale, "%.17g", source.scale);
-  std::string selection = file_hash + "\nparts:";
-  for (int part : source.parts) selection += " " + std::to_string(part);
-  selection += std::string("\nscale: ") + scale + "\n";
-  return HashString(selection);
-}
-
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded) {
   std::string text;
   for (const CLI::Option* option : app.get_options()) {

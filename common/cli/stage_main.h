@@ -133,11 +133,7 @@ struct Scene;
 // (several), "dynamic".
 void AddSceneInputs(const Scene& scene, Provenance* provenance);
 
-// D's content hash, the role "dynamic" of every provenance: the hash of D's
-// file, and for a D picked from a file (format /2: `part:`, `units:`) the
-// hash of that and of the parts and scale, so that two parts of one
-// assembly file never share a cached artifact (the medial spheres hash D
-// alone). A plain D keeps the plain file hash, as before /2.
-std::string DynamicContentHash(const Scene& scene);
+// DynamicContentHash (the role "dynamic") is in scene/scene.h: CheckMadeFrom
+// compares it too.
 
 }  // namespace ausbau

@@ -1,6 +1,9 @@
 // Simple closed meshes built in code, for generated scenes and tests.
 #pragma once
 
+#include <Eigen/Core>
+#include <vector>
+
 #include "geometry/mesh.h"
 
 namespace ausbau {
@@ -39,5 +42,16 @@ inline TriangleMesh MakePlateWithRectHole(double ox, double oy, double hx, doubl
 inline TriangleMesh MakePlateWithHole(double outer, double hole, double z0, double z1) {
   return MakePlateWithRectHole(outer, outer, hole, hole, 0, 0, z0, z1);
 }
+
+// A closed solid of revolution about the z axis: `profile` is a simple
+// polygon in the (r, z) half-plane (r >= 0; corners on the axis, r = 0, are
+// shared by all segments), turned in `segments` steps. Outward-facing
+// triangles whichever way the profile runs. Caps on posts, rings, bores.
+TriangleMesh MakeSolidOfRevolution(const std::vector<Eigen::Vector2d>& profile, int segments);
+
+// A closed prism: the simple polygon `outline` (x, y; either orientation)
+// extruded over z in [z0, z1], its ends triangulated by ear clipping.
+// L- and U-shaped channels, brackets.
+TriangleMesh MakePrism(const std::vector<Eigen::Vector2d>& outline, double z0, double z1);
 
 }  // namespace ausbau

@@ -165,6 +165,32 @@ TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, const s
   return Search(q, Nearest{}, skip);
 }
 
+void TriangleBvh::ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
+                                      const std::function<void(int)>& visit) const {
+  if (nodes_.empty()) return;
+  const auto overlaps = [&](const double* lo, const double* hi) {
+    for (int k = 0; k < 3; ++k)
+      if (hi[k] < min[k] || max[k] < lo[k]) return false;
+    return true;
+  };
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!overlaps(node.min, node.max)) continue;
+    if (node.count == 0) {
+      stack[top++] = node.first + 1;
+      stack[top++] = node.first;
+      continue;
+    }
+    for (int s = node.first; s < node.first + node.count; ++s) {
+      const Eigen::Vector3d lo = a_[s].cwiseMin(b_[s]).cwiseMin(c_[s]), hi = a_[s].cwiseMax(b_[s]).cwiseMax(c_[s]);
+      if (overlaps(lo.data(), hi.data())) visit(id_[s]);
+    }
+  }
+}
+
 int TriangleBvh::CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
                                 const std::function<bool(int)>& skip) const {
   if (nodes_.empty()) return 0;

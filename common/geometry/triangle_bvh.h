@@ -38,6 +38,11 @@ class TriangleBvh {
   int CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
                      const std::function<bool(int)>& skip = nullptr) const;
 
+  // Calls visit(triangle) for every triangle whose bounding box meets the
+  // box [min, max] (touching counts), in the tree's order (deterministic).
+  void ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
+                           const std::function<void(int)>& visit) const;
+
   int TriangleCount() const { return static_cast<int>(a_.size()); }
 
  private:

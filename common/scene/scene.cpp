@@ -18,6 +18,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/input_file.h"
 #include "scene/mesh_io.h"
 #include "scene/scene_parts.h"
@@ -669,6 +670,18 @@ std::string SceneYamlText(const Scene& scene, const fs::path& path) {
          ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
   }
   return y;
+}
+
+std::string DynamicContentHash(const Scene& scene) {
+  const std::string file_hash = HashFile(scene.dynamic_file);
+  const MeshSource& source = scene.dynamic_source;
+  if (source.file != scene.dynamic_file || (source.picks.empty() && source.scale == 1.0)) return file_hash;
+  char scale[40];
+  std::snprintf(scale, sizeof scale, "%.17g", source.scale);
+  std::string selection = file_hash + "\nparts:";
+  for (int part : source.parts) selection += " " + std::to_string(part);
+  selection += std::string("\nscale: ") + scale + "\n";
+  return HashString(selection);
 }
 
 }  // namespace ausbau

@@ -109,4 +109,12 @@ void SaveSceneYaml(const Scene& scene, const std::filesystem::path& path);
 // The text SaveSceneYaml writes at `path` (paths relative to its folder).
 std::string SceneYamlText(const Scene& scene, const std::filesystem::path& path);
 
+// D's content hash, the role "dynamic" of every provenance (cli/stage_main.h) and
+// what CheckMadeFrom compares (workflow/made_from.h): the hash of D's
+// file, and for a D picked from a file (format /2: `part:`, `units:`) the
+// hash of that and of the parts and scale, so that two parts of one
+// assembly file never share a cached artifact (the medial spheres hash D
+// alone). A plain D keeps the plain file hash, as before /2.
+std::string DynamicContentHash(const Scene& scene);
+
 }  // namespace ausbau

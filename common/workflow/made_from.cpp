@@ -51,7 +51,10 @@ void CheckMadeFrom(const std::string& artifact, const std::string& schema, int s
   for (const auto& [role, file] : files) {
     const auto it = recorded.find(role);
     if (it == recorded.end()) continue;
-    if (it->second != HashFile(file)) {
+    // D picked by name or given units (format /2) is recorded by its
+    // selection's hash, not the file's.
+    const std::string hash = role == "dynamic" ? DynamicContentHash(scene) : HashFile(file);
+    if (it->second != hash) {
       throw InputErrorAt(artifact, "was made from another " + std::string(role == "dynamic" ? "D" : "S") +
                                        " than this scene's " + file +
                                        " (content hash differs: an artifact of "

@@ -1,0 +1,162 @@
+// The surface depth of non-convex and open shells (collision/mesh_depth.h)
+// against depths computed by hand: an L in a U, a cap on a post, a ring on
+// a shaft, a block with a hole (closed, and with boundary edges).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "collision/mesh_depth.h"
+#include "geometry/primitives.h"
+#include "geometry/shells.h"
+
+namespace ausbau {
+namespace {
+
+Shell OneShell(const TriangleMesh& mesh) {
+  auto shells = SplitIntoShells(mesh);
+  EXPECT_EQ(shells.size(), 1u);
+  return shells.front();
+}
+
+SurfaceDepth Measure(const TriangleMesh& a, const TriangleMesh& b, double resolution = 1e-3) {
+  const DepthSurface sa(OneShell(a)), sb(OneShell(b));
+  SurfaceDepthOptions options;
+  options.resolution = resolution;
+  return MeasureSurfaceDepth(sa, Eigen::Isometry3d::Identity(), sb, options);
+}
+
+// A cap (bore radius 4, outer radius 6, 10 high, roof 2 thick) of n segments.
+TriangleMesh Cap(int n) { return MakeSolidOfRevolution({{0, 8}, {4, 8}, {4, 0}, {6, 0}, {6, 10}, {0, 10}}, n); }
+TriangleMesh Post(double radius, int n) { return MakeSolidOfRevolution({{0, -5}, {radius, -5}, {radius, 7}, {0, 7}}, n); }
+
+TEST(MeshDepth, PrimitivesAreClosedAndOriented) {
+  EXPECT_TRUE(DepthSurface(OneShell(Post(4, 48))).oriented());
+  for (const TriangleMesh& mesh : {Cap(64), MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5)}) {
+    const Shell shell = OneShell(mesh);
+    EXPECT_TRUE(shell.closed);
+    EXPECT_FALSE(shell.convex);
+    EXPECT_TRUE(DepthSurface(shell).oriented());
+  }
+  // The U's area is 10 x 10 - 6 x 8 = 52, times 5 high.
+  EXPECT_NEAR(OneShell(MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5)).volume,
+              260, 1e-9);
+}
+
+TEST(MeshDepth, SignedDistanceOfACap) {
+  const DepthSurface cap(OneShell(Cap(64)));
+  // In the wall, 0.5 from the bore and 1.5 from the outside; in the bore
+  // (outside the solid) 1 from the wall; in the roof 1 from both faces.
+  EXPECT_NEAR(cap.SignedDistance({4.5, 0, 5}), 0.5, 0.01);
+  EXPECT_NEAR(cap.SignedDistance({0, 3, 4}), -1, 0.01);
+  EXPECT_NEAR(cap.SignedDistance({0, 0, 9}), 1, 1e-9);
+  EXPECT_NEAR(cap.SignedDistance({0, 0, 12}), -2, 1e-9);
+}
+
+TEST(MeshDepth, ConvexBoxesAgreeWithTheSeparatingAxisDepth) {
+  const TriangleMesh a = MakeBox({0, 0, 0}, {1, 1, 1});
+  const TriangleMesh b = MakeBox({0.9, 0.2, 0.3}, {2, 0.8, 0.7});
+  const SurfaceDepth depth = Measure(a, b);
+  const double sat = ConvexSignedDepth(OneShell(a), Eigen::Isometry3d::Identity(), OneShell(b));
+  EXPECT_NEAR(sat, 0.1, 1e-12);
+  EXPECT_GE(depth.upper, 0.1 - 1e-12);
+  EXPECT_LE(depth.upper, 0.1 + 1e-3 + 1e-12);
+  EXPECT_NEAR(depth.lower, 0.1, 1e-3);
+}
+
+TEST(MeshDepth, SeparatedAndTouchingShellsAreNotDeep) {
+  EXPECT_EQ(Measure(Cap(32), Post(3.5, 32)).upper, 0);  // 0.5 radial clearance, post top 1 below the roof
+  const SurfaceDepth touching = Measure(MakeBox({0, 0, 0}, {1, 1, 1}), MakeBox({1, 0.2, 0.2}, {2, 0.8, 0.8}));
+  EXPECT_LE(touching.upper, 1e-3);
+}
+
+TEST(MeshDepth, CapOnAPostOverlappingByAThirdOfAMillimetre) {
+  // Post radius 4.3 in a bore of radius 4: the faces of a 64-gon lie at
+  // r cos(pi / 64), so the radial overlap is 4.3 - 4 cos(pi / 64) at most
+  // (corner of the post against a face of the bore) and at least
+  // 4.3 cos(pi / 64) - 4 (face against face).
+  const double c = std::cos(M_PI / 64);
+  const SurfaceDepth depth = Measure(Cap(64), Post(4.3, 64), 1e-3);
+  EXPECT_GE(depth.upper, 4.3 * c - 4 - 1e-9);
+  EXPECT_LE(depth.upper, 4.3 - 4 * c + 1e-3);
+  EXPECT_GE(depth.upper - depth.lower, 0);
+  EXPECT_LE(depth.upper - depth.lower, 1e-3 + 1e-12);
+}
+
+TEST(MeshDepth, RingOnAShaft) {
+  const TriangleMesh ring = MakeSolidOfRevolution({{5, 0}, {7, 0}, {7, 2}, {5, 2}}, 96);
+  const TriangleMesh shaft = MakeSolidOfRevolution({{0, -10}, {5.2, -10}, {5.2, 10}, {0, 10}}, 96);
+  const double c = std::cos(M_PI / 96);
+  const SurfaceDepth depth = Measure(ring, shaft);
+  EXPECT_GE(depth.upper, 5.2 * c - 5 - 1e-9);
+  EXPECT_LE(depth.upper, 5.2 - 5 * c + 1e-3);
+  // Moved by the pose: the ring 0.1 off centre overlaps 0.1 more on one side.
+  const DepthSurface sr(OneShell(ring)), ss(OneShell(shaft));
+  SurfaceDepthOptions options;
+  options.resolution = 1e-3;
+  const SurfaceDepth off =
+      MeasureSurfaceDepth(sr, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0, 3)), ss, options);
+  EXPECT_GE(off.upper, 5.3 * c - 5 - 1e-9);
+  EXPECT_LE(off.upper, 5.3 - 5 * c + 1e-3);
+}
+
+TEST(MeshDepth, LFootInTheWallOfAU) {
+  const TriangleMesh u = MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5);
+  // The foot of the L reaches x = 8.4: 0.4 into the wall at x = 8 .. 10.
+  const TriangleMesh l = MakePrism({{3, 3}, {8.4, 3}, {8.4, 4}, {4, 4}, {4, 12}, {3, 12}}, 1, 4);
+  const SurfaceDepth depth = Measure(l, u);
+  EXPECT_NEAR(depth.upper, 0.4, 1e-3 + 1e-12);
+  EXPECT_NEAR(depth.lower, 0.4, 1e-3 + 1e-12);
+  // A yes/no question stops as soon as it is answered.
+  const DepthSurface sl(OneShell(l)), su(OneShell(u));
+  SurfaceDepthOptions decide;
+  decide.decide = 0.3;
+  EXPECT_GT(MeasureSurfaceDepth(sl, Eigen::Isometry3d::Identity(), su, decide).lower, 0.3);
+  decide.decide = 0.5;
+  EXPECT_LE(MeasureSurfaceDepth(sl, Eigen::Isometry3d::Identity(), su, decide).upper, 0.5);
+}
+
+TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
+  // Four segments turn the profile into a square block with a square hole,
+  // both rotated 45 degrees: the hole's sides lie on |x| + |y| = 2. A square
+  // pin of half-width 1.5 reaches |x| + |y| = 3 at its edges: 1 / sqrt(2)
+  // into the block's material (the hole's sides' points inside the pin are
+  // at most 0.5 from the pin's faces).
+  TriangleMesh block = MakeSolidOfRevolution({{2, 0}, {5, 0}, {5, 3}, {2, 3}}, 4);
+  const TriangleMesh pin = MakeBox({-1.5, -1.5, -5}, {1.5, 1.5, 10});
+  const SurfaceDepth closed = Measure(pin, block);
+  EXPECT_NEAR(closed.upper, std::sqrt(0.5), 1e-3 + 1e-12);
+  // An export with a gap: one triangle of the outer wall missing.
+  Shell open = OneShell(block);
+  int outer = -1;
+  for (int t = 0; t < static_cast<int>(open.triangles.size()) && outer < 0; ++t) {
+    const auto& tri = open.triangles[t];
+    if (open.vertices[tri[0]].head<2>().norm() > 4.9 && open.vertices[tri[1]].head<2>().norm() > 4.9 &&
+        open.vertices[tri[2]].head<2>().norm() > 4.9)
+      outer = t;
+  }
+  ASSERT_GE(outer, 0);
+  block.triangles.erase(block.triangles.begin() + open.source_triangles[outer]);
+  const Shell gap = OneShell(block);
+  EXPECT_FALSE(gap.closed);
+  const DepthSurface surface(gap);
+  EXPECT_FALSE(surface.oriented());
+  EXPECT_GT(surface.SignedDistance({3, 0, 1.5}), 0);  // in the material: the winding number
+  EXPECT_LT(surface.SignedDistance({0, 0, 1.5}), 0);  // in the hole
+  SurfaceDepthOptions options;
+  options.resolution = 1e-3;
+  const SurfaceDepth depth =
+      MeasureSurfaceDepth(DepthSurface(OneShell(pin)), Eigen::Isometry3d::Identity(), surface, options);
+  EXPECT_NEAR(depth.upper, std::sqrt(0.5), 1e-3 + 1e-12);
+}
+
+TEST(MeshDepth, ThickFeaturesCannotPassThroughEachOther) {
+  // A pin of radius 1 halfway through a wall 2 thick (no hole): deep, though
+  // no vertex of either is inside the other.
+  const TriangleMesh wall = MakeBox({-20, -20, -1}, {20, 20, 1});
+  const TriangleMesh pin = MakeSolidOfRevolution({{0, -30}, {1, -30}, {1, 30}, {0, 30}}, 32);
+  const SurfaceDepth depth = Measure(pin, wall, 1e-3);
+  EXPECT_GT(depth.lower, 0.9);  // the wall's faces inside the pin: up to its radius deep
+}
+
+}  // namespace
+}  // namespace ausbau
