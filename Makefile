@@ -225,6 +225,18 @@ VEHICLE_BUDGET ?= 120
 bench-vehicle: build
 	@scripts/vehicle-bench.sh $(BUILD)/bin $(VEHICLE_OUT) $(VEHICLE_PARTS) $(VEHICLE_RUN) $(VEHICLE_BUDGET)
 
+# The real-mesh benchmark (scripts/real-bench.sh): every bench/real/*/scene.yaml
+# (public CAD and robot-assembly meshes: pegs in holes with tens of micrometres
+# of clearance, caps on posts, a nut on a bolt, parts in m, cm, inch; see
+# bench/real/README.md) through the InIState pipeline, one after the other,
+# compared with its expected.yaml; prints a table (BENCH_REAL_OUT/real-bench.md).
+# Fails only when a scene is wrongly removable. TIME_LIMIT=s is passed on.
+BENCH_REAL_OUT ?= out/bench-real
+
+.PHONY: bench-real
+bench-real: build
+	@scripts/real-bench.sh $(BUILD)/bin $(BENCH_REAL_OUT) bench/real
+
 # libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints
