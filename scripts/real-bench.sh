@@ -17,7 +17,9 @@
 # then the counts and the median time. A scene whose expected.yaml has
 # `removable: false` and `accept_removable: true` (a nut on a bolt: a helical
 # unscrewing is a rigid motion too) counts as right either way, provided a
-# removable verdict's exact check passed.
+# removable verdict's exact check passed with no fastener deeper than the
+# tolerance either (the tool may take the nut's thread for snap fasteners that
+# give way: a straight pull through the thread is no unscrewing).
 # Exits 1 when any scene is wrongly removable, 0 otherwise (wrong NOT
 # REMOVABLE answers are reported, not failed: see bench/real/README.md).
 set -u
@@ -71,19 +73,22 @@ for scene_yaml in "$SCENES"/*/scene.yaml; do
     removable=$(json_value removable "$verdict_json")
     valid=$(json_value valid "$verdict_json")
     depth=$(json_value max_rigid_penetration "$verdict_json")
+    fdepth=$(json_value max_fastener_penetration "$verdict_json")
+    tol=$(json_value rigid_tolerance "$verdict_json")
+    rigid_only=$(awk -v f="${fdepth:-x}" -v t="${tol:-x}" 'BEGIN { print (f ~ /^[0-9.eE+-]+$/ && t ~ /^[0-9.eE+-]+$/ && f + 0 <= t + 0) ? "yes" : "no" }')
     case $removable in
       true) verdict=REMOVABLE ;;
       false) verdict="NOT REMOVABLE" ;;
       *) verdict="failed($code)" ;;
     esac
   else
-    removable=? valid=? verdict="failed($code)"
+    removable=? valid=? rigid_only=no verdict="failed($code)"
   fi
   case $verdict in
     failed*) result=failed; failed=$((failed + 1)) ;;
     *)
       if [ "$removable" = "$expected" ]; then result=right; right=$((right + 1))
-      elif [ "$removable" = true ] && [ "$accept" = true ] && [ "$valid" = true ]; then
+      elif [ "$removable" = true ] && [ "$accept" = true ] && [ "$valid" = true ] && [ "$rigid_only" = yes ]; then
         result="right (accepted removable)"; right=$((right + 1))
       elif [ "$removable" = true ]; then result=WRONGLY-REMOVABLE; wrongly=$((wrongly + 1))
       else result=wrong; wrong=$((wrong + 1)); fi ;;
