@@ -2,6 +2,8 @@
 // hand-checkable boxes.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "collision/rigid_depth.h"
 #include "fixtures/box_scenes.h"
 #include "geometry/primitives.h"
@@ -185,20 +187,71 @@ TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   EXPECT_EQ(checker.Measure(PoseAt(-1.5, 0, 0)).rigid_shell, 3);
 }
 
-TEST(RigidDepth, ASolidBlockInterferingIsRigid) {
-  // A solid peg pressed 0.3 mm into a hole's wall: the peg is the anchor.
+TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
+  // A solid peg pressed 0.3 mm into a hole's wall: the peg is the anchor,
+  // and the overlap a layer of 0.3 x 10 x 2 mm (area 20 >= 100 x 0.3^2,
+  // 0.3 <= 5% of the peg's 24 mm diagonal): a fit interference. The peg
+  // may be drawn out along it, never pushed deeper.
   const TriangleMesh peg = MakeBox({-5, -5, -10}, {5.3, 5, 10});
   TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
   plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
   const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
   EXPECT_EQ(parts->FastenerCount(), 0);
-  ASSERT_EQ(parts->rigid_interference.size(), 1u);
-  EXPECT_EQ(parts->rigid_interference[0], 0);
+  EXPECT_TRUE(parts->rigid_interference.empty());
+  ASSERT_EQ(parts->fits.size(), 1u);
+  EXPECT_EQ(parts->fits[0].robot_shell, 0);
+  EXPECT_EQ(parts->fits[0].static_shell, 0);
+  EXPECT_NEAR(parts->fits[0].installed_depth, 0.3, 0.005 + 1e-12);
+  EXPECT_NEAR(parts->fits[0].area, 20, 6);  // of sub-triangles whose centres are deep: approximate
+  const RigidDepthChecker checker(parts, 0.05, 0.01);
+  EXPECT_TRUE(checker.IsValid(Pose{}));
+  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 5)));      // drawn along the fit
+  EXPECT_TRUE(checker.IsValid(PoseAt(-0.2, 0, 0)));   // released a little
+  EXPECT_FALSE(checker.IsValid(PoseAt(0.1, 0, 0)));   // pushed 0.1 deeper
+  EXPECT_NEAR(checker.Measure(PoseAt(0.1, 0, 0)).rigid_depth, 0.1, 0.005 + 1e-12);
+  EXPECT_NEAR(checker.Measure(PoseAt(0.1, 0, 0)).fit_depth, 0.4, 1e-12);
 }
 
-TEST(RigidDepth, ANonConvexShellInterferingIsRigid) {
-  // A panel with a dented (non-convex) lug that intersects S at the installed
-  // pose: its depth is not measured, so it cannot be a fastener.
+TEST(RigidDepth, ASolidBlockDeepInAWallClashes) {
+  // 3 mm into the wall: more than 5% of the peg's size: a clash.
+  const TriangleMesh peg = MakeBox({-5, -5, -10}, {8, 5, 10});
+  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
+  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
+  const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
+  EXPECT_TRUE(parts->fits.empty());
+  ASSERT_EQ(parts->rigid_interference.size(), 1u);
+  EXPECT_EQ(parts->rigid_interference[0], 0);
+  // The scene key fit_interference (FitRule::max_depth) decides alone.
+  FitRule rule;
+  rule.max_depth = 3.5;
+  EXPECT_TRUE(ClassifyParts(peg, plate, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)->rigid_interference.empty());
+  rule.max_depth = 0;
+  const TriangleMesh light = MakeBox({-5, -5, -10}, {5.3, 5, 10});
+  EXPECT_EQ(ClassifyParts(light, plate, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)->rigid_interference.size(),
+            1u);
+}
+
+TEST(RigidDepth, ACapOnAPostOverlappingLiftsOffButCannotBeTurnedIntoIt) {
+  // A cap (bore 4, non-convex) on a post of radius 4.3: 0.3 mm of overlap
+  // all round the bore, as a CAD export of a press fit has.
+  const TriangleMesh cap = MakeSolidOfRevolution({{0, 8}, {4, 8}, {4, 0}, {6, 0}, {6, 10}, {0, 10}}, 64);
+  const TriangleMesh post = MakeSolidOfRevolution({{0, -5}, {4.3, -5}, {4.3, 7}, {0, 7}}, 64);
+  const auto parts = ClassifyParts(cap, post, Pose{}, 0.05);
+  EXPECT_TRUE(parts->rigid_interference.empty());
+  ASSERT_EQ(parts->fits.size(), 1u);
+  EXPECT_NEAR(parts->fits[0].installed_depth, 0.3, 0.01);
+  const RigidDepthChecker checker(parts, 0.05, 0.01);
+  for (double z : {0.0, 2.0, 5.0, 8.0, 12.0}) EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, z))) << z;
+  EXPECT_FALSE(checker.IsValid(PoseAt(0.2, 0, 0)));  // sideways: 0.2 deeper on one side
+  Pose tilted;
+  tilted.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(checker.IsValid(tilted));
+}
+
+TEST(RigidDepth, ANonConvexShellInterferingIsMeasured) {
+  // A panel with a dented (non-convex) lug through S at the installed pose:
+  // its depth is measured (the surface depth), so it is a fastener like a
+  // convex clip.
   TriangleMesh robot = MakeBox({-20, -20, 0}, {20, 20, 2});
   const int base = static_cast<int>(robot.vertices.size());
   for (const Eigen::Vector3d& v :
@@ -212,9 +265,10 @@ TEST(RigidDepth, ANonConvexShellInterferingIsRigid) {
   const auto parts = ClassifyParts(robot, plate, Pose{}, 0.05);
   ASSERT_EQ(parts->robot_shells.size(), 2u);
   EXPECT_FALSE(parts->robot_shells[1].convex);
-  EXPECT_EQ(parts->FastenerCount(), 0);
-  ASSERT_EQ(parts->rigid_interference.size(), 1u);
-  EXPECT_EQ(parts->rigid_interference[0], 1);
+  EXPECT_TRUE(std::isfinite(parts->installed_depth[1]));
+  EXPECT_GT(parts->installed_depth[1], 0.05);
+  EXPECT_EQ(parts->FastenerCount(), 1);
+  EXPECT_TRUE(parts->rigid_interference.empty());
 }
 
 TEST(RigidDepth, RotatedAndMovedSceneGivesTheSameClassificationAndDepths) {

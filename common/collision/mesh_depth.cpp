@@ -25,12 +25,99 @@ double AngleAt(const Eigen::Vector3d& at, const Eigen::Vector3d& u, const Eigen:
   return std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0));
 }
 
+double SegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d d = b - a;
+  const double length_squared = d.squaredNorm();
+  const double u = length_squared > 0 ? std::clamp((p - a).dot(d) / length_squared, 0.0, 1.0) : 0.0;
+  return (a + u * d - p).norm();
+}
+
 }  // namespace
+
+// The convex planar patches (mesh_depth.h): regions of coplanar triangles
+// connected through shared edges; a region whose boundary leaves every one
+// of its vertices on its inner side is a convex polygon, kept as its plane
+// and boundary edges (at most kMaxPatchEdges).
+void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
+                              const std::vector<std::array<int, 3>>& triangles, int max_edges,
+                              std::vector<DepthSurface::Patch>* patches, std::vector<int>* patch_of) {
+  const int n = static_cast<int>(triangles.size());
+  patch_of->assign(n, -1);
+  std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero());
+  Aabb box;
+  for (const auto& v : vertices) box.Extend(v);
+  const double flat = 1e-9 * std::max(1.0, box.Diagonal());
+  for (int t = 0; t < n; ++t) {
+    const auto& tri = triangles[t];
+    const Eigen::Vector3d cross = (vertices[tri[1]] - vertices[tri[0]]).cross(vertices[tri[2]] - vertices[tri[0]]);
+    if (cross.norm() > 0) normal[t] = cross.normalized();
+  }
+  std::map<std::pair<int, int>, std::vector<int>> edge_triangles;
+  for (int t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+      edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(t);
+    }
+  std::vector<bool> seen(n, false);
+  for (int seed = 0; seed < n; ++seed) {
+    if (seen[seed] || normal[seed].isZero()) continue;
+    const Eigen::Vector3d nn = normal[seed];
+    const Eigen::Vector3d origin = vertices[triangles[seed][0]];
+    std::vector<int> members, open = {seed};
+    seen[seed] = true;
+    while (!open.empty()) {
+      const int t = open.back();
+      open.pop_back();
+      members.push_back(t);
+      for (int k = 0; k < 3; ++k) {
+        const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+        for (int u : edge_triangles[{std::min(a, b), std::max(a, b)}]) {
+          if (seen[u] || normal[u].dot(nn) < 1 - 1e-12) continue;
+          bool coplanar = true;
+          for (int v : triangles[u]) coplanar = coplanar && std::abs((vertices[v] - origin).dot(nn)) <= flat;
+          if (!coplanar) continue;
+          seen[u] = true;
+          open.push_back(u);
+        }
+      }
+    }
+    if (members.size() < 2) continue;
+    std::map<std::pair<int, int>, int> uses;
+    for (int t : members)
+      for (int k = 0; k < 3; ++k) {
+        const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+        ++uses[{std::min(a, b), std::max(a, b)}];
+      }
+    DepthSurface::Patch patch;
+    patch.normal = nn;
+    patch.origin = origin;
+    bool convex = true;
+    for (int t : members) {
+      for (int k = 0; k < 3 && convex; ++k) {
+        const int a = triangles[t][k], b = triangles[t][(k + 1) % 3], c = triangles[t][(k + 2) % 3];
+        if (uses[{std::min(a, b), std::max(a, b)}] != 1) continue;
+        Eigen::Vector3d inward = nn.cross(vertices[b] - vertices[a]);
+        if (inward.norm() == 0) continue;
+        inward.normalize();
+        if ((vertices[c] - vertices[a]).dot(inward) < 0) inward = -inward;
+        for (int m : members)
+          for (int v : triangles[m]) convex = convex && (vertices[v] - vertices[a]).dot(inward) >= -flat;
+        patch.edge_a.push_back(vertices[a]);
+        patch.edge_b.push_back(vertices[b]);
+        patch.inward.push_back(inward);
+      }
+    }
+    if (!convex || static_cast<int>(patch.edge_a.size()) > max_edges) continue;
+    for (int t : members) (*patch_of)[t] = static_cast<int>(patches->size());
+    patches->push_back(std::move(patch));
+  }
+}
 
 DepthSurface::DepthSurface(const Shell& shell)
     : vertices_(shell.vertices), triangles_(shell.triangles), bvh_(shell.vertices, shell.triangles) {
   for (const auto& v : vertices_) box_.Extend(v);
   const int n = static_cast<int>(triangles_.size());
+  BuildConvexPlanarPatches(vertices_, triangles_, kMaxPatchEdges, &patches_, &patch_of_);
   // Consistently oriented: every directed edge once, its reverse once.
   std::map<std::pair<int, int>, int> directed;
   for (const auto& tri : triangles_)
@@ -73,6 +160,26 @@ DepthSurface::DepthSurface(const Shell& shell)
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
   }
+}
+
+double DepthSurface::PatchDistance(const Eigen::Vector3d& p, int triangle) const {
+  const int index = patch_of_[triangle];
+  if (index < 0) {
+    const auto& f = triangles_[triangle];
+    return (ClosestPointOnTriangle(p, vertices_[f[0]], vertices_[f[1]], vertices_[f[2]], kDegenerate, kWeights) - p)
+        .norm();
+  }
+  // The distance to a convex polygon: to its plane where p projects inside,
+  // else to its nearest boundary edge.
+  const Patch& patch = patches_[index];
+  const double height = (p - patch.origin).dot(patch.normal);
+  const Eigen::Vector3d q = p - height * patch.normal;
+  bool inside = true;
+  for (std::size_t e = 0; e < patch.edge_a.size() && inside; ++e) inside = (q - patch.edge_a[e]).dot(patch.inward[e]) >= 0;
+  if (inside) return std::abs(height);
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t e = 0; e < patch.edge_a.size(); ++e) best = std::min(best, SegmentDistance(p, patch.edge_a[e], patch.edge_b[e]));
+  return best;
 }
 
 double DepthSurface::WindingNumber(const Eigen::Vector3d& p) const {
@@ -135,6 +242,7 @@ class SurfaceDepthSearch {
                               (corner & 4) ? b.box_.max.z() : b.box_.min.z());
       query.Extend(b_to_a * p);
     }
+    area_ = 0;
     std::vector<int> candidates;
     a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) { candidates.push_back(t); });
     for (int t : candidates) {
@@ -142,6 +250,7 @@ class SurfaceDepthSearch {
       stack_.push_back({a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]});
       if (!Refine(b, b_to_world)) return false;
     }
+    result.region_area = std::max(result.region_area, area_);
     return true;
   }
 
@@ -154,6 +263,7 @@ class SurfaceDepthSearch {
     while (!stack_.empty()) {
       const Corners t = stack_.back();
       stack_.pop_back();
+      ++result.sub_triangles;
       const Eigen::Vector3d m = (t[0] + t[1] + t[2]) / 3.0;
       double radius = 0;
       for (const auto& c : t) radius = std::max(radius, (c - m).norm());
@@ -163,33 +273,37 @@ class SurfaceDepthSearch {
       const double d = std::sqrt(nearest.distance_squared);
       const bool inside = b.Inside(m, nearest);
       if (!inside && d >= radius) continue;  // wholly outside b
+      const bool deep = inside && d > options_.region_depth;
       if (inside) {
         result.lower = std::max(result.lower, d);
         if (d > options_.region_depth) result.region.Extend(b_to_world * m);
         if (result.lower > options_.decide) return false;
       }
       double upper = inside ? d + radius : radius;
-      const auto& f = b.triangles_[nearest.triangle];
       double face_bound = 0;
-      for (const auto& c : t) {
-        const Eigen::Vector3d x =
-            ClosestPointOnTriangle(c, b.vertices_[f[0]], b.vertices_[f[1]], b.vertices_[f[2]], kDegenerate, kWeights);
-        face_bound = std::max(face_bound, (c - x).norm());
-      }
+      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
       upper = std::min(upper, face_bound);
       // Measuring (decide infinite): within the resolution of the best
       // lower bound. Deciding: also below the threshold.
-      const bool settled = upper <= result.lower + options_.resolution ||
+      const bool settled = upper <= result.lower + options_.resolution || upper <= options_.settle ||
                            (std::isfinite(options_.decide) && upper <= options_.decide);
       if (settled || radius < floor_ || ++made_ > kMaxSubTriangles) {
         result.upper = std::max(result.upper, upper);
+        if (deep) area_ += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
         continue;
       }
-      const Eigen::Vector3d ab = 0.5 * (t[0] + t[1]), bc = 0.5 * (t[1] + t[2]), ca = 0.5 * (t[2] + t[0]);
-      stack_.push_back({t[0], ab, ca});
-      stack_.push_back({ab, t[1], bc});
-      stack_.push_back({ca, bc, t[2]});
-      stack_.push_back({ab, bc, ca});
+      // Longest-edge bisection: a CAD sliver (a cylinder's facet, long and
+      // narrow) is cut across its length, where midpoint subdivision would
+      // quarter it into slivers again.
+      int longest = 0;
+      for (int k = 1; k < 3; ++k)
+        if ((t[(k + 1) % 3] - t[k]).squaredNorm() > (t[(longest + 1) % 3] - t[longest]).squaredNorm()) longest = k;
+      const Eigen::Vector3d& a = t[longest];
+      const Eigen::Vector3d& b = t[(longest + 1) % 3];
+      const Eigen::Vector3d& c = t[(longest + 2) % 3];
+      const Eigen::Vector3d mid = 0.5 * (a + b);
+      stack_.push_back({a, mid, c});
+      stack_.push_back({mid, b, c});
     }
     return true;
   }
@@ -199,6 +313,7 @@ class SurfaceDepthSearch {
   std::vector<Corners> stack_;
   int hint_ = -1;
   int made_ = 0;
+  double area_ = 0;
 };
 
 SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a, const DepthSurface& b,

@@ -21,8 +21,10 @@
 //   - an upper bound on the depth of any point of t: d(m) + R when m is
 //     inside, R when m is outside (a point of t inside B is within R of m,
 //     and the segment to m crosses B's surface), and max over the corners
-//     of d(corner, f) (the distance to one triangle is convex, so its
-//     maximum over t is at a corner, and d(p, surface) <= d(p, f));
+//     of d(corner, P) where P is f's convex planar patch (f, or the convex
+//     polygon of coplanar triangles around it: a CAD face, a cylinder's
+//     facet): the distance to a convex set is convex, so its maximum over t
+//     is at a corner, and d(p, surface) <= d(p, P);
 //   - t is wholly outside when m is outside and farther than R from B's
 //     surface.
 // A sub-triangle is refined until its upper bound is within `resolution` of
@@ -60,6 +62,12 @@ class DepthSurface {
   bool oriented() const { return oriented_; }  // closed and consistently oriented
   const Aabb& box() const { return box_; }
 
+  // A convex planar patch (see below).
+  struct Patch {
+    Eigen::Vector3d normal, origin;
+    std::vector<Eigen::Vector3d> edge_a, edge_b, inward;  // boundary edges, in-plane inward unit normals
+  };
+
  private:
   friend class SurfaceDepthSearch;
   bool Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
@@ -74,6 +82,15 @@ class DepthSurface {
   std::vector<Eigen::Vector3d> face_normal_;
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normal_;
   std::vector<Eigen::Vector3d> vertex_normal_;
+  // Convex planar patches: coplanar neighbours whose union is a convex
+  // polygon (a CAD face split into triangles, a cylinder's facet, the fan
+  // of a disc); the distance to a convex set is convex, so the bound at the
+  // corners holds for the patch, which straddles the triangles' shared
+  // edges. Per triangle the index of its patch, or -1 (the triangle alone).
+  static constexpr int kMaxPatchEdges = 256;
+  std::vector<Patch> patches_;
+  std::vector<int> patch_of_;
+  double PatchDistance(const Eigen::Vector3d& p, int triangle) const;
   Aabb box_;
 };
 
@@ -84,6 +101,10 @@ struct SurfaceDepth {
   // (world frame, B's coordinates): the box of the sub-triangle centres
   // found there. Empty when nowhere.
   Aabb region;
+  // The area of that surface (of the sub-triangles whose centres are that
+  // deep; the larger of the two surfaces).
+  double region_area = 0;
+  long long sub_triangles = 0;  // the work done: sub-triangles bounded
 };
 
 struct SurfaceDepthOptions {
@@ -93,6 +114,11 @@ struct SurfaceDepthOptions {
   // Infinite: measure.
   double decide = std::numeric_limits<double>::infinity();
   double region_depth = std::numeric_limits<double>::infinity();  // see SurfaceDepth::region
+  // Precision below this depth does not matter to the caller (a validity
+  // check's slack only sets a step, never shorter than its floor): a
+  // sub-triangle whose bound is below it is not refined. The answer's
+  // `upper` is then at most max(settle, true depth + resolution).
+  double settle = -std::numeric_limits<double>::infinity();
 };
 
 // The surface depth of A, moved by `pose_a` (A's coordinates -> B's), and B.

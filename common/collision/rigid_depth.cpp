@@ -9,6 +9,7 @@
 #include <queue>
 
 #include "collision/fcl_model.h"
+#include "collision/mesh_depth.h"
 #include "core/format.h"
 
 namespace ausbau {
@@ -76,22 +77,47 @@ class ShellTree {
 };
 
 // The pair depth of a robot shell at `pose` and a static shell: see
-// ConvexSignedDepth; for non-convex pairs +infinity when their triangles
-// intersect, else minus FCL's distance.
+// ConvexSignedDepth; for non-convex pairs the surface depth where their
+// surfaces meet (collision/mesh_depth.h), else minus FCL's distance.
 struct PairMeasure {
   const std::vector<Shell>* robot;
   const std::vector<Shell>* statics;
-  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;  // filled only for non-convex pairs' shells
+  // Filled only where a non-convex pair needs them (BuildFallbackModels).
+  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
+  std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
+  double resolution = 0;  // of the surface depth
 
-  double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap) const {
-    const Shell& a = (*robot)[r];
-    const Shell& b = (*statics)[s];
-    if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
+  // Whether the surfaces of a non-convex pair meet: their triangles
+  // intersect, or one shell holds the other (a vertex inside).
+  bool Meet(int r, const Eigen::Isometry3d& pose, int s) const {
     const fcl::Transform3d& tf = pose;  // FCL's transform is Eigen's isometry
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
     fcl::collide(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
-    if (result.isCollision()) return std::numeric_limits<double>::infinity();
+    if (result.isCollision()) return true;
+    const Shell& a = (*robot)[r];
+    const Shell& b = (*statics)[s];
+    if (a.vertices.empty() || b.vertices.empty()) return false;
+    return static_surface[s]->SignedDistance(pose * a.vertices.front()) > 0 ||
+           robot_surface[r]->SignedDistance(pose.inverse() * b.vertices.front()) > 0;
+  }
+
+  SurfaceDepth Surface(int r, const Eigen::Isometry3d& pose, int s, const SurfaceDepthOptions& options) const {
+    return MeasureSurfaceDepth(*robot_surface[r], pose, *static_surface[s], options);
+  }
+
+  // `settle`: a depth below which the caller needs no precision (mesh_depth.h).
+  double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle) const {
+    const Shell& a = (*robot)[r];
+    const Shell& b = (*statics)[s];
+    if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
+    if (Meet(r, pose, s)) {
+      SurfaceDepthOptions options;
+      options.resolution = resolution;
+      options.settle = settle;
+      return Surface(r, pose, s, options).upper;
+    }
+    const fcl::Transform3d& tf = pose;
     fcl::DistanceRequestd distance_request;
     fcl::DistanceResultd distance_result;
     fcl::distance(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), distance_request,
@@ -105,15 +131,21 @@ struct PairMeasure {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
-    const fcl::Transform3d& tf = pose;
-    fcl::CollisionRequestd request;
-    fcl::CollisionResultd result;
-    fcl::collide(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
-    return result.isCollision();
+    if (!Meet(r, pose, s)) return false;
+    SurfaceDepthOptions options;
+    options.resolution = resolution;
+    options.decide = allowed;
+    return Surface(r, pose, s, options).upper > allowed;
   }
 };
 
 }  // namespace
+
+double PartModel::FitDepth(int robot_shell, int static_shell) const {
+  for (const auto& fit : fits)
+    if (fit.robot_shell == robot_shell && fit.static_shell == static_shell) return fit.installed_depth;
+  return 0;
+}
 
 int PartModel::FastenerCount() const {
   return static_cast<int>(std::count(role.begin(), role.end(), ShellRole::kFastener));
@@ -143,15 +175,40 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
     return std::any_of(shells.begin(), shells.end(), [](const Shell& s) { return !s.convex; });
   };
   if (!any_non_convex(parts.robot_shells) && !any_non_convex(parts.static_shells)) return;
-  for (const auto& s : parts.robot_shells) measure->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
-  for (const auto& s : parts.static_shells) measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+  for (const auto& s : parts.robot_shells) {
+    measure->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+    measure->robot_surface.push_back(std::make_shared<DepthSurface>(s));
+  }
+  for (const auto& s : parts.static_shells) {
+    measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+    measure->static_surface.push_back(std::make_shared<DepthSurface>(s));
+  }
+}
+
+// Whether the installed interference of rigid shell r with static shell s,
+// `depth` deep, is a fit interference (FitRule in rigid_depth.h).
+bool IsFit(const PartModel& parts, int r, int s, double depth, const Eigen::Isometry3d& pose, const FitRule& rule,
+           FitInterference* fit) {
+  fit->robot_shell = r;
+  fit->static_shell = s;
+  fit->installed_depth = depth;
+  if (!std::isfinite(depth)) return false;
+  if (rule.max_depth >= 0) return depth <= rule.max_depth;
+  const Shell& a = parts.robot_shells[r];
+  const Shell& b = parts.static_shells[s];
+  if (depth > FitRule::kShareOfSize * std::min(a.box.Diagonal(), b.box.Diagonal())) return false;
+  SurfaceDepthOptions options;
+  options.resolution = parts.tolerance / 10;
+  options.region_depth = parts.tolerance;
+  fit->area = MeasureSurfaceDepth(DepthSurface(a), pose, DepthSurface(b), options).region_area;
+  return fit->area >= FitRule::kAreaPerDepthSquared * depth * depth;
 }
 
 }  // namespace
 
 std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
                                                const Pose& installed, double tolerance,
-                                               UnmeasuredInterference unmeasured) {
+                                               UnmeasuredInterference unmeasured, const FitRule& fit_rule) {
   auto parts = std::make_shared<PartModel>();
   parts->tolerance = tolerance;
   // D is often given about its own centre (the planners' frame) while its
@@ -177,24 +234,50 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   }
 
   // 2. Installed penetration of every shell of D.
-  PairMeasure measure{&parts->robot_shells, &parts->static_shells, {}, {}};
+  PairMeasure measure{&parts->robot_shells, &parts->static_shells};
+  measure.resolution = tolerance / 10;
   BuildFallbackModels(*parts, &measure);
   const ShellTree tree(parts->static_shells);
   const Eigen::Isometry3d pose = installed.ToIsometry();
+  std::vector<std::vector<std::pair<int, double>>> deep_pairs(n);  // (static shell, depth) deeper than the tolerance
   for (int i = 0; i < n; ++i) {
     const Shell& s = parts->robot_shells[i];
     tree.Query(pose * s.center, s.radius, [&](int j) {
-      parts->installed_depth[i] = std::max(parts->installed_depth[i], measure.Depth(i, pose, j, 0.0));
+      const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2);
+      parts->installed_depth[i] = std::max(parts->installed_depth[i], depth);
+      if (depth > tolerance) deep_pairs[i].emplace_back(j, depth);
     });
   }
 
-  // 3. Fasteners: interfering shells other than the anchor, grown through
+  // 3. Fit interferences (FitRule): the anchor's deep pairs, and those of
+  // any shell in a pair with a non-convex shell (a CAD part against a CAD
+  // part: a press fit or a tessellation overlap, where a box soup's clip
+  // would be a convex box). A shell all of whose deep pairs are fits is
+  // rigid: not a fastener.
+  std::vector<std::vector<FitInterference>> fits(n);
+  std::vector<bool> only_fits(n, false);
+  for (int i = 0; i < n; ++i) {
+    if (deep_pairs[i].empty()) continue;
+    only_fits[i] = true;
+    for (const auto& [j, depth] : deep_pairs[i]) {
+      const bool cad_pair = !parts->robot_shells[i].convex || !parts->static_shells[j].convex;
+      FitInterference fit;
+      if ((i == parts->anchor || cad_pair) && IsFit(*parts, i, j, depth, pose, fit_rule, &fit)) {
+        fits[i].push_back(fit);
+      } else {
+        only_fits[i] = false;
+      }
+    }
+  }
+
+  // 4. Fasteners: interfering shells other than the anchor, grown through
   // overlaps (touching counts) within D, never through the anchor.
   const double touch = 1e-6 * robot.Bounds().Diagonal();
   std::queue<int> open;
   int clusters = 0;
   for (int i = 0; i < n; ++i) {
     if (parts->installed_depth[i] <= tolerance || i == parts->anchor || parts->cluster[i] >= 0) continue;
+    if (only_fits[i]) continue;
     // Not measured (infinite: a non-convex pair that intersects): rigid, and
     // its interference reported, unless a volume model bounds it.
     if (std::isinf(parts->installed_depth[i]) && unmeasured == UnmeasuredInterference::kRigid) continue;
@@ -222,15 +305,19 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     parts->cluster_limit.push_back(std::numeric_limits<double>::infinity());
     ++clusters;
   }
-  for (int i = 0; i < n; ++i)
-    if (parts->role[i] == ShellRole::kRigid && parts->installed_depth[i] > tolerance)
-      parts->rigid_interference.push_back(i);
+  // 5. A rigid shell's installed interference: fits, or a clash.
+  for (int i = 0; i < n; ++i) {
+    if (parts->role[i] != ShellRole::kRigid || parts->installed_depth[i] <= tolerance) continue;
+    parts->fits.insert(parts->fits.end(), fits[i].begin(), fits[i].end());
+    if (!only_fits[i]) parts->rigid_interference.push_back(i);
+  }
   return parts;
 }
 
 RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, double limit, double min_step)
     : parts_(std::move(parts)), limit_(limit), min_step_(min_step), impl_(std::make_unique<Impl>(*parts_)) {
-  impl_->measure = PairMeasure{&parts_->robot_shells, &parts_->static_shells, {}, {}};
+  impl_->measure = PairMeasure{&parts_->robot_shells, &parts_->static_shells};
+  impl_->measure.resolution = limit_ / 10;
   BuildFallbackModels(*parts_, &impl_->measure);
   // Pairs farther apart than this are not measured; their slack is at least
   // this. A few percent of D's size keeps the pair count small near S and
@@ -257,7 +344,7 @@ bool RigidDepthChecker::CheckValid(const Pose& pose) const {
     const Shell& shell = parts.robot_shells[r];
     // Only pairs that can touch: those within the shell's radius.
     impl_->tree.Query(iso * shell.center, shell.radius, [&](int s) {
-      if (valid && impl_->measure.Exceeds(r, iso, s, allowed)) valid = false;
+      if (valid && impl_->measure.Exceeds(r, iso, s, allowed + (rigid ? parts.FitDepth(r, s) : 0.0))) valid = false;
     });
   }
   return valid;
@@ -275,7 +362,12 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
     // An unlimited fastener cannot lower the slack: measured for reports only.
     if (!rigid && !report_fasteners && std::isinf(allowed)) continue;
     impl_->tree.Query(iso * shell.center, shell.radius + margin_, [&](int s) {
-      const double depth = impl_->measure.Depth(r, iso, s, margin_);
+      // A fit pair counts only its depth beyond the installed fit. Below
+      // half the limit, the slack is no less than the advancement's floor.
+      const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
+      const double measured = impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2);
+      if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
+      const double depth = measured - fit;
       report.slack = std::min(report.slack, allowed - depth);
       if (!rigid) {
         report.fastener_depth = std::max(report.fastener_depth, depth);

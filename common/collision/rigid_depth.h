@@ -26,9 +26,18 @@
 //
 // Depth: for two convex shells, the exact separating-axis penetration depth
 // (the shortest translation that separates them; ConvexSignedDepth). A pair
-// with a non-convex or open shell is checked strictly: any intersection of
-// their triangles (FCL) counts as infinitely deep, so the tolerance does not
-// apply there (conservative).
+// with a non-convex or open shell: the surface depth of collision/mesh_depth.h
+// (how deep either surface reaches into the other), an upper bound within a
+// tenth of the limit; pairs whose triangles do not intersect (FCL) and that
+// do not contain one another are separated by FCL's distance.
+//
+// Fit interference (a press fit, or tessellation overlap in a CAD export):
+// a rigid shell of D that penetrates a shell of S deeper than the tolerance
+// at the installed pose, where the overlap is a thin layer along a surface
+// and small against the parts (FitRule), may stay that deep: that pair's
+// limit is its installed depth plus the checker's limit, so the part can be
+// drawn out along the fit but never pushed deeper. Any other rigid
+// interference is a clash: not removable without cutting.
 //
 // Poses are those of the frame the robot mesh is given in (the planning
 // convention for planners, the scene convention for the final check).
@@ -46,6 +55,28 @@ namespace ausbau {
 
 enum class ShellRole { kRigid, kFastener };
 
+// When a rigid shell's installed interference with a shell of S is a fit
+// interference (see above). Default (max_depth_mm < 0): the depth d is at
+// most 5% of the smaller shell's box diagonal ("small against the parts")
+// and the surface that overlaps deeper than the tolerance has an area of at
+// least 100 d^2 ("a thin layer along a surface": a press-fit or
+// tessellation overlap; a clip's hook or a part inside a wall is as deep as
+// it is wide). max_depth_mm >= 0 (the scene key `fit_interference`):
+// every interference up to that depth is a fit, deeper ones clashes (0: none
+// is a fit).
+struct FitRule {
+  double max_depth = -1;  // scene units; < 0: the default rule
+  static constexpr double kShareOfSize = 0.05;
+  static constexpr double kAreaPerDepthSquared = 100;
+};
+
+// A rigid pair allowed its installed depth.
+struct FitInterference {
+  int robot_shell = -1, static_shell = -1;
+  double installed_depth = 0;  // an upper bound (scene units)
+  double area = 0;             // of the surface overlapping deeper than the tolerance
+};
+
 struct PartModel {
   std::vector<Shell> robot_shells;      // D, in the frame its poses refer to
   std::vector<Shell> static_shells;     // S, world
@@ -54,8 +85,12 @@ struct PartModel {
   std::vector<double> cluster_limit;    // per cluster: the depth it may reach (infinite: not limited)
   std::vector<double> installed_depth;  // per robot shell: deepest penetration of S at the installed pose
   int anchor = -1;                      // index of the anchor shell
-  std::vector<int> rigid_interference;  // rigid shells deeper than the tolerance at the installed pose
+  std::vector<int> rigid_interference;  // rigid shells that clash with S at the installed pose
+  std::vector<FitInterference> fits;    // rigid pairs allowed their installed depth
   double tolerance = 0;                 // the one used to classify
+
+  // The installed depth a fit allows the pair, or 0.
+  double FitDepth(int robot_shell, int static_shell) const;
 
   int FastenerCount() const;
   // "shell 3 (convex, 12 triangles, centre [x, y, z])": how a report names a
@@ -75,7 +110,8 @@ enum class UnmeasuredInterference { kRigid, kFastener };
 // start pose, in the robot mesh's frame). `tolerance` in scene units.
 std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
                                                const Pose& installed, double tolerance,
-                                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+                                               UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
+                                               const FitRule& fit = {});
 
 struct DepthReport {
   // Deepest penetration of a rigid shell into S (> 0), or minus a lower bound
@@ -83,6 +119,10 @@ struct DepthReport {
   // is within the broad phase margin. +infinity: a non-convex pair intersects.
   double rigid_depth = -std::numeric_limits<double>::infinity();
   int rigid_shell = -1, rigid_static_shell = -1;
+  // A pair with an installed fit interference (PartModel::fits) counts in
+  // rigid_depth only by how far it is deeper than installed; its depth
+  // itself is fit_depth.
+  double fit_depth = 0;
   double fastener_depth = 0;  // deepest fastener penetration (reported, not judged)
   // min over measured pairs of (allowed depth - depth); >= 0 valid.
   double slack = 0;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "geometry/principal_axes.h"
 #include "planning/certify.h"
 #include "planning/prm.h"
 #include "planning/rrt_connect.h"
@@ -156,12 +157,65 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   return result;
 }
 
+PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
+                            const PlannerOptions& options) {
+  PlanResult result;
+  result.status = PlanStatus::kIterationLimit;
+  if (problem.goal) return result;
+  const auto begin = std::chrono::steady_clock::now();
+  const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
+  // D's principal axes in the world at the start, then the world's axes
+  // (CAD parts sit square to the vehicle), less those along an axis tried.
+  std::vector<Eigen::Vector3d> vertices;
+  for (const auto& v : problem.robot.vertices) vertices.push_back(problem.start.q * v);
+  const Eigen::Matrix3d principal = vertices.empty() ? Eigen::Matrix3d::Identity() : PrincipalAxes(vertices);
+  std::vector<Eigen::Vector3d> axes;
+  for (int k = 0; k < 3; ++k) axes.push_back(principal.col(k).normalized());
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d world = Eigen::Vector3d::Unit(k);
+    if (std::none_of(axes.begin(), axes.end(), [&](const Eigen::Vector3d& a) { return std::abs(a.dot(world)) > std::cos(0.01); }))
+      axes.push_back(world);
+  }
+  const double step = options.resolution * problem.robot_diagonal;
+  const MotionChecker motion(problem, validity, step);
+  const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
+  const double probe = 0.02 * problem.robot_diagonal;
+  for (const Eigen::Vector3d& axis : axes) {
+    for (double sign : {1.0, -1.0}) {
+      ++result.stats.iterations;
+      // The shortest pull (to a probe's step) that reaches the goal region.
+      Pose end = problem.start;
+      bool reached = false;
+      for (double s = probe; s <= reach && !reached; s += probe) {
+        end.t = problem.start.t + s * sign * axis;
+        reached = problem.InGoalRegion(end) && problem.InBounds(end);
+      }
+      if (!reached || !motion.MotionValid(problem.start, end)) continue;
+      std::vector<Pose> path = {problem.start, end};
+      PlannerOptions repair = options;
+      repair.time_limit_s = std::max(1.0, options.time_limit_s);
+      if (!CertifyPath(problem, validity, step, repair, &path).certified) continue;
+      result.path = std::move(path);
+      result.status = PlanStatus::kSolved;
+      break;
+    }
+    if (result.solved()) break;
+  }
+  result.stats.nodes = result.solved() ? 2 : 0;
+  result.stats.collision_checks = validity.checks() - checks;
+  result.stats.invalid_checks = validity.invalid_checks() - invalid;
+  result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return result;
+}
+
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options) {
   if (options.max_iterations > 0) return Plan(problem, validity, options);
   const auto begin = std::chrono::steady_clock::now();
+  const PlanResult pulled = TryStraightPulls(problem, validity, options);
+  if (pulled.solved()) return pulled;
   PlanResult result;
-  PlanStats total;
+  PlanStats total = pulled.stats;
   std::vector<Pose> best_partial;  // over the rounds
   double best_progress = -std::numeric_limits<double>::infinity();
   std::int64_t budget = kFirstRestartIterations;

@@ -95,8 +95,21 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 // seed only, not on the machine or its load (unless the time limit ends
 // the run). With options.max_iterations set, one round (the iteration cap is
 // the budget). Statistics are summed over the rounds.
+// Before the first round, for a disassembly (no goal pose): the straight
+// pulls of TryStraightPulls; the first that gets D out is the answer.
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
+                            const PlannerOptions& options);
+
+// Straight pulls from the start (a peg or a pin in a tight fit, a cap on a
+// post: what a sampler finds last, with a clearance of hundredths of a mm,
+// is a single straight motion): along D's principal axes at the start and
+// the world's axes, both ways, each as far as D needs to reach the goal
+// region, checked as a planner's edge (and certified). Solved with the
+// two-pose path of the first pull that is valid, in that order; otherwise
+// not solved (kIterationLimit), with the checks counted. Nothing is tried
+// where the problem has a goal pose.
+PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 
 // A goal pose (or the start) that is invalid makes the problem unsolvable;
