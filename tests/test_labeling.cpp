@@ -957,11 +957,12 @@ TEST(SolidLabels, ASolidBlockOrPegIsRigidAndNothingDeformableIsAnAnswer) {
   for (double d : labels.deformability) EXPECT_EQ(d, 0.0);
 }
 
-TEST(SolidLabels, AnUnmeasuredInstalledIntersectionLeavesItToPbd) {
-  // The depth of a non-convex pair is not measured, so the rule does not apply.
+TEST(SolidLabels, AWeldedSolidClashingWithSLeavesItToPbd) {
+  // One non-convex solid 1 mm into the plate (a clip moulded in): the rule
+  // cannot split it, so it does not apply.
   const SolidLabels labels = LabelBySolids(WeldedLInAPlate(), 0.05);
   EXPECT_FALSE(labels.applies);
-  EXPECT_NE(labels.reason.find("not measured"), std::string::npos) << labels.reason;
+  EXPECT_NE(labels.reason.find("cannot split a solid"), std::string::npos) << labels.reason;
 }
 
 TEST(MedialSpheres, AWalkThatLeavesDIsDroppedNotGrownWithoutBound) {

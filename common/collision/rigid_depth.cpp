@@ -261,8 +261,14 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     only_fits[i] = true;
     for (const auto& [j, depth] : deep_pairs[i]) {
       const bool cad_pair = !parts->robot_shells[i].convex || !parts->static_shells[j].convex;
+      if (cad_pair && i != parts->anchor &&
+          (parts->non_convex_interference.empty() || parts->non_convex_interference.back() != i))
+        parts->non_convex_interference.push_back(i);
+      // In the volume modes (unmeasured = kFastener) such a shell is a
+      // fastener, bounded by the volume model, as before depths were measured.
+      const bool may_fit = i == parts->anchor || (cad_pair && unmeasured == UnmeasuredInterference::kRigid);
       FitInterference fit;
-      if ((i == parts->anchor || cad_pair) && IsFit(*parts, i, j, depth, pose, fit_rule, &fit)) {
+      if (may_fit && IsFit(*parts, i, j, depth, pose, fit_rule, &fit)) {
         fits[i].push_back(fit);
       } else {
         only_fits[i] = false;

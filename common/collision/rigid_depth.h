@@ -87,6 +87,11 @@ struct PartModel {
   int anchor = -1;                      // index of the anchor shell
   std::vector<int> rigid_interference;  // rigid shells that clash with S at the installed pose
   std::vector<FitInterference> fits;    // rigid pairs allowed their installed depth
+  // Shells other than the anchor deeper than the tolerance at the installed
+  // pose in a pair with a non-convex shell (a clip in a plate with holes
+  // welded into one mesh, or a friction-fit rail there): ChooseValidity
+  // hands those scenes to the volume model.
+  std::vector<int> non_convex_interference;
   double tolerance = 0;                 // the one used to classify
 
   // The installed depth a fit allows the pair, or 0.
@@ -98,12 +103,14 @@ struct PartModel {
   std::string Describe(int shell, bool robot) const;
 };
 
-// An interference at the installed pose whose depth is not measured (a pair
-// with a non-convex or open shell, e.g. a plate with holes welded into one
-// mesh): nothing tells a snap clip there from a friction-fit rail that must
-// not be pushed deeper (clips-ds4). Alone, the exact check must refuse it
-// (kRigid); where a volume model bounded every intersection while planning
-// (the volume modes), the exact check leaves it to that model (kFastener).
+// An interference at the installed pose of a shell other than the anchor
+// in a pair with a non-convex shell (e.g. a plate with holes welded into one
+// mesh): a snap clip there, or a friction-fit rail that must not be pushed
+// deeper (clips-ds4)? Alone, the exact check tells them by FitRule (kRigid:
+// a fit stays rigid, the rest are fasteners); where a volume model bounded
+// every intersection while planning (the volume modes), the exact check
+// leaves all of them to that model as fasteners (kFastener). (The name is
+// from before such depths were measured.)
 enum class UnmeasuredInterference { kRigid, kFastener };
 
 // Splits D and S into shells and classifies D's shells at `installed` (the

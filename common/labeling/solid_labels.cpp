@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "collision/rigid_depth.h"
+#include "core/format.h"
 #include "planning/exact_check.h"
 
 namespace ausbau {
@@ -18,12 +19,15 @@ SolidLabels LabelBySolids(const Scene& scene, double tolerance) {
       return out;
     }
   }
-  for (int shell : parts->rigid_interference) {
-    if (std::isinf(parts->installed_depth[shell])) {
-      out.reason = parts->Describe(shell, true) +
-                   " intersects S at the installed pose where the depth is not measured (a non-convex solid)";
-      return out;
-    }
+  // A rigid solid that clashes with S at the installed pose (not a fit): a
+  // clip moulded into the part, or a part that cannot come out; the rule
+  // cannot split one solid, so it leaves the labels to PBD.
+  if (!parts->rigid_interference.empty()) {
+    const int shell = parts->rigid_interference.front();
+    out.reason = Fmt("%s intersects S %.4g deep at the installed pose as one solid (a clip moulded into it?): the "
+                     "rule cannot split a solid",
+                     parts->Describe(shell, true).c_str(), parts->installed_depth[shell]);
+    return out;
   }
   out.applies = true;
   out.fasteners = parts->FastenerCount();

@@ -471,13 +471,13 @@ ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance);
-  const bool unmeasured = std::any_of(parts->rigid_interference.begin(), parts->rigid_interference.end(),
-                                      [&](int shell) { return std::isinf(parts->installed_depth[shell]); });
-  if (unmeasured) {
-    LogInfo("%s of D intersects S at the installed pose where the depth is not measured: labeled-mliv",
-            parts->Describe(parts->rigid_interference.front(), true).c_str());
+  if (!parts->non_convex_interference.empty()) {
+    LogInfo("%s of D intersects a non-convex shell of S at the installed pose (a clip or a fit in a welded "
+            "plate?): labeled-mliv",
+            parts->Describe(parts->non_convex_interference.front(), true).c_str());
+    return ValidityMode::kLabeledMliv;
   }
-  return unmeasured ? ValidityMode::kLabeledMliv : ValidityMode::kRigidExact;
+  return ValidityMode::kRigidExact;
 }
 
 }  // namespace ausbau

@@ -72,10 +72,13 @@ struct PlannedPath {
 // a found path fails its independent re-check (a bug).
 PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options);
 
-// The validity this scene needs: rigid-exact, unless D intersects S at the
-// installed pose where the exact check cannot measure the depth (a
-// non-convex or open shell, such as a plate with holes welded into one
-// mesh): that interference needs the volume model, labeled-mliv.
+// The validity this scene needs: rigid-exact, unless a shell of D other
+// than its anchor intersects S at the installed pose in a pair with a
+// non-convex shell (a clip in a plate with holes welded into one mesh, where
+// a snap clip and a friction-fit rail look alike): that interference needs
+// the volume model, labeled-mliv. A single-solid part (a cap, a peg, a
+// bracket: the anchor alone) that overlaps S is rigid-exact: its overlap is
+// a fit interference or a clash (collision/rigid_depth.h).
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm);
 
 }  // namespace ausbau

@@ -253,6 +253,18 @@ void AddExactCheck(const Verdict& v, JsonWriter& json) {
   const auto& exact = v.exact;
   if (exact) {
     const PartModel& parts = *exact->parts;
+    // Installed fit interferences (collision/rigid_depth.h FitRule): drawn
+    // out along, never pushed deeper than installed plus the tolerance.
+    std::string fits = "[";
+    for (const FitInterference& fit : parts.fits) {
+      fits += std::string(fits.size() > 1 ? ", " : "") + JsonWriter()
+                                                           .String("rigid_part", parts.Describe(fit.robot_shell, true))
+                                                           .String("static_part", parts.Describe(fit.static_shell, false))
+                                                           .Number("installed_depth", fit.installed_depth)
+                                                           .Number("overlap_area", fit.area)
+                                                           .Text();
+    }
+    fits += "]";
     json.Add("exact_check", JsonWriter()
                                 .Bool("valid", exact->valid)
                                 .String("reason", exact->reason)
@@ -265,6 +277,7 @@ void AddExactCheck(const Verdict& v, JsonWriter& json) {
                                 .Int("at_segment", exact->worst_segment)
                                 .Number("max_fastener_penetration", exact->max_fastener_depth)
                                 .Int("fastener_shells", parts.FastenerCount())
+                                .Add("fit_interferences", fits)
                                 .Int("shells", static_cast<long long>(parts.robot_shells.size()))
                                 .Text());
   } else {
@@ -383,6 +396,13 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
                  options.csv.empty() ? options.path.c_str() : options.csv.c_str(),
                  exact->valid ? "passed" : ("FAILED: " + exact->reason).c_str(), exact->max_rigid_depth, units,
                  v.tolerance, exact->max_fastener_depth, units);
+    for (const FitInterference& fit : exact->parts->fits) {
+      std::fprintf(out,
+                   "  fit interference at the installed pose: %s in %s, %.4g %s deep (allowed: never deeper than "
+                   "that plus the tolerance)\n",
+                   exact->parts->Describe(fit.robot_shell, true).c_str(),
+                   exact->parts->Describe(fit.static_shell, false).c_str(), fit.installed_depth, units);
+    }
   }
   if (v.quality) std::fprintf(out, "  quality: %s\n", PathQualityLine(*v.quality, v.units).c_str());
   if (v.blocking) std::fprintf(out, "  what blocks: %s\n", v.blocking->summary.c_str());
