@@ -223,18 +223,21 @@ double DepthSurface::SignedDistance(const Eigen::Vector3d& p, int* triangle) con
   return Inside(p, nearest) ? d : -d;
 }
 
-// The branch and bound of mesh_depth.h for one direction: the triangles of
-// `a` (moved into b's coordinates by a_to_b) against `b`.
+// The branch and bound of mesh_depth.h, best first over both directions:
+// the sub-triangle with the largest upper bound is refined next, so the
+// deepest place is found first (a yes/no question stops there; a
+// measurement's lower bound rises early and settles the rest).
 class SurfaceDepthSearch {
  public:
   SurfaceDepthSearch(const SurfaceDepthOptions& options, double floor) : options_(options), floor_(floor) {}
 
-  // Returns false when the lower bound exceeded options.decide (stopped).
-  bool Run(const DepthSurface& a, const Eigen::Isometry3d& a_to_b, const DepthSurface& b,
-           const Eigen::Isometry3d& b_to_world) {
+  // Direction k: the triangles of `a`, moved into b's coordinates by a_to_b,
+  // against `b`; b_to_world maps b's coordinates to the world (for region).
+  void AddDirection(int k, const DepthSurface& a, const Eigen::Isometry3d& a_to_b, const DepthSurface& b,
+                    const Eigen::Isometry3d& b_to_world) {
+    target_[k] = &b;
+    to_world_[k] = b_to_world;
     const Eigen::Isometry3d b_to_a = a_to_b.inverse();
-    hint_ = -1;
-    stack_.clear();
     Aabb query;
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d p((corner & 1) ? b.box_.max.x() : b.box_.min.x(),
@@ -242,78 +245,106 @@ class SurfaceDepthSearch {
                               (corner & 4) ? b.box_.max.z() : b.box_.min.z());
       query.Extend(b_to_a * p);
     }
-    area_ = 0;
-    std::vector<int> candidates;
-    a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) { candidates.push_back(t); });
-    for (int t : candidates) {
+    a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) {
       const auto& tri = a.triangles_[t];
-      stack_.push_back({a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]});
-      if (!Refine(b, b_to_world)) return false;
-    }
-    result.region_area = std::max(result.region_area, area_);
-    return true;
+      Push(Node{std::numeric_limits<double>::infinity(),
+                {a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]}, k, -1});
+    });
   }
 
-  SurfaceDepth result;
+  SurfaceDepth Run() {
+    // Without a region to measure, once the best bound left is settled so
+    // is every other: the answer's upper bound is that bound.
+    const bool whole = std::isfinite(options_.region_depth);
+    while (!heap_.empty()) {
+      if (!whole && Settled(heap_.front().priority)) {
+        result_.upper = std::max(result_.upper, heap_.front().priority);
+        break;
+      }
+      std::pop_heap(heap_.begin(), heap_.end(), ByPriority);
+      const Node node = std::move(heap_.back());
+      heap_.pop_back();
+      if (!Evaluate(node)) break;
+    }
+    result_.region_area = std::max(area_[0], area_[1]);
+    result_.upper = std::max(result_.upper, result_.lower);
+    return result_;
+  }
 
  private:
   using Corners = std::array<Eigen::Vector3d, 3>;
+  struct Node {
+    double priority;  // the parent's upper bound
+    Corners t;
+    int direction;
+    int hint;  // the parent's nearest triangle
+  };
+  static bool ByPriority(const Node& x, const Node& y) { return x.priority < y.priority; }
 
-  bool Refine(const DepthSurface& b, const Eigen::Isometry3d& b_to_world) {
-    while (!stack_.empty()) {
-      const Corners t = stack_.back();
-      stack_.pop_back();
-      ++result.sub_triangles;
-      const Eigen::Vector3d m = (t[0] + t[1] + t[2]) / 3.0;
-      double radius = 0;
-      for (const auto& c : t) radius = std::max(radius, (c - m).norm());
-      const TriangleBvh::Nearest nearest = b.bvh_.NearestPoint(m, hint_);
-      if (nearest.triangle < 0) continue;
-      hint_ = nearest.triangle;
-      const double d = std::sqrt(nearest.distance_squared);
-      const bool inside = b.Inside(m, nearest);
-      if (!inside && d >= radius) continue;  // wholly outside b
-      const bool deep = inside && d > options_.region_depth;
-      if (inside) {
-        result.lower = std::max(result.lower, d);
-        if (d > options_.region_depth) result.region.Extend(b_to_world * m);
-        if (result.lower > options_.decide) return false;
-      }
-      double upper = inside ? d + radius : radius;
-      double face_bound = 0;
-      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
-      upper = std::min(upper, face_bound);
-      // Measuring (decide infinite): within the resolution of the best
-      // lower bound. Deciding: also below the threshold.
-      const bool settled = upper <= result.lower + options_.resolution || upper <= options_.settle ||
-                           (std::isfinite(options_.decide) && upper <= options_.decide);
-      if (settled || radius < floor_ || ++made_ > kMaxSubTriangles) {
-        result.upper = std::max(result.upper, upper);
-        if (deep) area_ += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
-        continue;
-      }
-      // Longest-edge bisection: a CAD sliver (a cylinder's facet, long and
-      // narrow) is cut across its length, where midpoint subdivision would
-      // quarter it into slivers again.
-      int longest = 0;
-      for (int k = 1; k < 3; ++k)
-        if ((t[(k + 1) % 3] - t[k]).squaredNorm() > (t[(longest + 1) % 3] - t[longest]).squaredNorm()) longest = k;
-      const Eigen::Vector3d& a = t[longest];
-      const Eigen::Vector3d& b = t[(longest + 1) % 3];
-      const Eigen::Vector3d& c = t[(longest + 2) % 3];
-      const Eigen::Vector3d mid = 0.5 * (a + b);
-      stack_.push_back({a, mid, c});
-      stack_.push_back({mid, b, c});
+  void Push(Node node) {
+    heap_.push_back(std::move(node));
+    std::push_heap(heap_.begin(), heap_.end(), ByPriority);
+  }
+
+  // Measuring (decide infinite): within the resolution of the best lower
+  // bound, or below `settle`. Deciding: also below the threshold.
+  bool Settled(double upper) const {
+    return upper <= result_.lower + options_.resolution || upper <= options_.settle ||
+           (std::isfinite(options_.decide) && upper <= options_.decide);
+  }
+
+  // Bounds one sub-triangle and splits it when unsettled; false when the
+  // lower bound exceeded options.decide (the question is answered).
+  bool Evaluate(const Node& node) {
+    const Corners& t = node.t;
+    const DepthSurface& b = *target_[node.direction];
+    ++result_.sub_triangles;
+    const Eigen::Vector3d m = (t[0] + t[1] + t[2]) / 3.0;
+    double radius = 0;
+    for (const auto& c : t) radius = std::max(radius, (c - m).norm());
+    const TriangleBvh::Nearest nearest = b.bvh_.NearestPoint(m, node.hint);
+    if (nearest.triangle < 0) return true;
+    const double d = std::sqrt(nearest.distance_squared);
+    const bool inside = b.Inside(m, nearest);
+    if (!inside && d >= radius) return true;  // wholly outside b
+    const bool deep = inside && d > options_.region_depth;
+    if (inside) {
+      result_.lower = std::max(result_.lower, d);
+      if (deep) result_.region.Extend(to_world_[node.direction] * m);
+      if (result_.lower > options_.decide) return false;
     }
+    double upper = inside ? d + radius : radius;
+    double face_bound = 0;
+    for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
+    upper = std::min(upper, face_bound);
+    if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
+      result_.upper = std::max(result_.upper, upper);
+      if (deep) area_[node.direction] += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
+      return true;
+    }
+    // Longest-edge bisection: a CAD sliver (a cylinder's facet, long and
+    // narrow) is cut across its length, where midpoint subdivision would
+    // quarter it into slivers again.
+    int longest = 0;
+    for (int k = 1; k < 3; ++k)
+      if ((t[(k + 1) % 3] - t[k]).squaredNorm() > (t[(longest + 1) % 3] - t[longest]).squaredNorm()) longest = k;
+    const Eigen::Vector3d& p = t[longest];
+    const Eigen::Vector3d& q = t[(longest + 1) % 3];
+    const Eigen::Vector3d& r = t[(longest + 2) % 3];
+    const Eigen::Vector3d mid = 0.5 * (p + q);
+    Push(Node{upper, {p, mid, r}, node.direction, nearest.triangle});
+    Push(Node{upper, {mid, q, r}, node.direction, nearest.triangle});
     return true;
   }
 
   SurfaceDepthOptions options_;
   double floor_;
-  std::vector<Corners> stack_;
-  int hint_ = -1;
+  const DepthSurface* target_[2] = {nullptr, nullptr};
+  Eigen::Isometry3d to_world_[2];
+  std::vector<Node> heap_;
+  SurfaceDepth result_;
   int made_ = 0;
-  double area_ = 0;
+  double area_[2] = {0, 0};
 };
 
 SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a, const DepthSurface& b,
@@ -322,10 +353,9 @@ SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d&
   const double scale = std::max(a.box().Diagonal(), b.box().Diagonal());
   const double floor = std::max(options.resolution / 8, 1e-9 * scale);
   SurfaceDepthSearch search(options, floor);
-  if (search.Run(a, pose_a, b, Eigen::Isometry3d::Identity())) search.Run(b, pose_a.inverse(), a, pose_a);
-  SurfaceDepth out = search.result;
-  out.upper = std::max(out.upper, out.lower);
-  return out;
+  search.AddDirection(0, a, pose_a, b, Eigen::Isometry3d::Identity());
+  search.AddDirection(1, b, pose_a.inverse(), a, pose_a);
+  return search.Run();
 }
 
 }  // namespace ausbau

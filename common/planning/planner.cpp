@@ -212,10 +212,8 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
                             const PlannerOptions& options) {
   if (options.max_iterations > 0) return Plan(problem, validity, options);
   const auto begin = std::chrono::steady_clock::now();
-  const PlanResult pulled = TryStraightPulls(problem, validity, options);
-  if (pulled.solved()) return pulled;
   PlanResult result;
-  PlanStats total = pulled.stats;
+  PlanStats total;
   std::vector<Pose> best_partial;  // over the rounds
   double best_progress = -std::numeric_limits<double>::infinity();
   std::int64_t budget = kFirstRestartIterations;

@@ -95,8 +95,6 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 // seed only, not on the machine or its load (unless the time limit ends
 // the run). With options.max_iterations set, one round (the iteration cap is
 // the budget). Statistics are summed over the rounds.
-// Before the first round, for a disassembly (no goal pose): the straight
-// pulls of TryStraightPulls; the first that gets D out is the answer.
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);

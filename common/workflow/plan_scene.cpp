@@ -106,14 +106,35 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
                                 const PlannerOptions& planner, const TriangleMesh& robot, double clearance,
                                 const std::string& units,
                                 const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan) {
-  if (!(clearance > 0)) return plan(validity, planner);
+  // Straight pulls first (planning/planner.h): a peg in a tight fit or a cap
+  // on its post comes out along one axis, which sampling finds last; no
+  // clearance is kept there (the straight way out bends nothing).
+  const PlanResult pulled = TryStraightPulls(problem, validity, planner);
+  if (pulled.solved()) {
+    const Eigen::Vector3d way = pulled.path.back().t - pulled.path.front().t;
+    LogInfo("straight pull: D comes out along [%.4f, %.4f, %.4f] (%.4g %s; %lld checks)", way.normalized().x(),
+            way.normalized().y(), way.normalized().z(), way.norm(), units.c_str(),
+            static_cast<long long>(pulled.stats.collision_checks));
+    return pulled;
+  }
+  if (!problem.goal) {
+    LogInfo("straight pulls: none of %lld gets D out (%lld checks); sampling",
+            static_cast<long long>(pulled.stats.iterations), static_cast<long long>(pulled.stats.collision_checks));
+  }
+  const auto with_pulls = [&](PlanResult result) {
+    result.stats.time_s += pulled.stats.time_s;
+    result.stats.collision_checks += pulled.stats.collision_checks;
+    result.stats.invalid_checks += pulled.stats.invalid_checks;
+    return result;
+  };
+  if (!(clearance > 0)) return with_pulls(plan(validity, planner));
   const ClearanceMeter meter(problem, robot);
   double floor = std::min(clearance, meter.At(problem.start).clearance);
   if (problem.goal) floor = std::min(floor, meter.At(*problem.goal).clearance);
   if (!(floor > 0)) {
     LogInfo("clearance: D starts in contact with S; the clearance of %.4g %s is left to smoothing", clearance,
             units.c_str());
-    return plan(validity, planner);
+    return with_pulls(plan(validity, planner));
   }
   PlannerOptions first = planner;
   constexpr std::int64_t kFirstTryIterations = 2048;
@@ -123,7 +144,7 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
   const PlanResult kept = plan(*keeping, first);
   if (kept.solved()) {
     LogInfo("clearance: planned keeping at least %.4g %s from S (--clearance %.4g)", floor, units.c_str(), clearance);
-    return kept;
+    return with_pulls(kept);
   }
   LogInfo("clearance: no path keeping %.4g %s from S within %lld iterations; planning without it", floor, units.c_str(),
           static_cast<long long>(first.max_iterations));
@@ -136,7 +157,7 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
   result.stats.nodes += kept.stats.nodes;
   result.stats.collision_checks += kept.stats.collision_checks;
   result.stats.invalid_checks += kept.stats.invalid_checks;
-  return result;
+  return with_pulls(result);
 }
 
 // Fills the waypoints (scene convention) and lengths of an artifact.
