@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include "collision/mesh_depth.h"
 #include "geometry/primitives.h"
@@ -23,6 +25,29 @@ SurfaceDepth Measure(const TriangleMesh& a, const TriangleMesh& b, double resolu
   SurfaceDepthOptions options;
   options.resolution = resolution;
   return MeasureSurfaceDepth(sa, Eigen::Isometry3d::Identity(), sb, options);
+}
+
+// Every triangle split into four at its edges' midpoints (shared between
+// neighbours, so the shell stays closed).
+TriangleMesh Subdivided(const TriangleMesh& mesh) {
+  TriangleMesh out;
+  out.vertices = mesh.vertices;
+  std::map<std::pair<int, int>, int> midpoint;
+  auto mid = [&](int a, int b) {
+    const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+    auto it = midpoint.find(key);
+    if (it != midpoint.end()) return it->second;
+    out.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
+    return midpoint[key] = static_cast<int>(out.vertices.size()) - 1;
+  };
+  for (const auto& t : mesh.triangles) {
+    const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    out.triangles.push_back({t[0], ab, ca});
+    out.triangles.push_back({ab, t[1], bc});
+    out.triangles.push_back({ca, bc, t[2]});
+    out.triangles.push_back({ab, bc, ca});
+  }
+  return out;
 }
 
 // A cap (bore radius 4, outer radius 6, 10 high, roof 2 thick) of n segments.
@@ -125,13 +150,15 @@ TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   const TriangleMesh pin = MakeBox({-1.5, -1.5, -5}, {1.5, 1.5, 10});
   const SurfaceDepth closed = Measure(pin, block);
   EXPECT_NEAR(closed.upper, std::sqrt(0.5), 1e-3 + 1e-12);
-  // An export with a gap: one triangle of the outer wall missing.
+  // An export with a gap: one small triangle of the outer wall missing
+  // (the block subdivided twice: the gap is 0.3% of its area).
+  block = Subdivided(Subdivided(block));
   Shell open = OneShell(block);
   int outer = -1;
   for (int t = 0; t < static_cast<int>(open.triangles.size()) && outer < 0; ++t) {
     const auto& tri = open.triangles[t];
-    if (open.vertices[tri[0]].head<2>().norm() > 4.9 && open.vertices[tri[1]].head<2>().norm() > 4.9 &&
-        open.vertices[tri[2]].head<2>().norm() > 4.9)
+    if (open.vertices[tri[0]].head<2>().lpNorm<1>() > 4.9 && open.vertices[tri[1]].head<2>().lpNorm<1>() > 4.9 &&
+        open.vertices[tri[2]].head<2>().lpNorm<1>() > 4.9)
       outer = t;
   }
   ASSERT_GE(outer, 0);
@@ -140,6 +167,7 @@ TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   EXPECT_FALSE(gap.closed);
   const DepthSurface surface(gap);
   EXPECT_FALSE(surface.oriented());
+  EXPECT_TRUE(surface.solid());  // a gap, not an opening
   EXPECT_GT(surface.SignedDistance({3, 0, 1.5}), 0);  // in the material: the winding number
   EXPECT_LT(surface.SignedDistance({0, 0, 1.5}), 0);  // in the hole
   SurfaceDepthOptions options;
@@ -147,6 +175,46 @@ TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   const SurfaceDepth depth =
       MeasureSurfaceDepth(DepthSurface(OneShell(pin)), Eigen::Isometry3d::Identity(), surface, options);
   EXPECT_NEAR(depth.upper, std::sqrt(0.5), 1e-3 + 1e-12);
+}
+
+TEST(MeshDepth, ABowlIsASheetNotASolid) {
+  // A sphere of radius 10 open above 35 degrees from the pole (9% of it
+  // missing: more than a gap): the air it holds is not material, a rod in
+  // it is not inside it, a box through its wall is as deep as the wall's
+  // points inside the box.
+  TriangleMesh bowl;
+  const int rings = 24, segments = 48;
+  for (int i = 0; i < rings; ++i) {
+    const double theta = (35.0 + 145.0 * i / rings) * M_PI / 180;
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2 * M_PI * j / segments;
+      bowl.vertices.emplace_back(10 * std::sin(theta) * std::cos(phi), 10 * std::sin(theta) * std::sin(phi),
+                                 10 * std::cos(theta));
+    }
+  }
+  bowl.vertices.emplace_back(0, 0, -10);  // the pole
+  const int pole = rings * segments;
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const int a = i * segments + j, b = i * segments + (j + 1) % segments;
+      if (i + 1 == rings) {
+        bowl.triangles.push_back({a, pole, b});
+        continue;
+      }
+      bowl.triangles.push_back({a, a + segments, b + segments});
+      bowl.triangles.push_back({a, b + segments, b});
+    }
+  const DepthSurface sheet(OneShell(bowl));
+  EXPECT_FALSE(sheet.solid());
+  EXPECT_LT(sheet.SignedDistance({0, 0, 0}), 0);
+  EXPECT_EQ(Measure(MakeBox({-2, -0.5, -0.5}, {2, 0.5, 0.5}), bowl).upper, 0);
+  // A box across the bottom of the wall, 1 below and 1 above it: the wall's
+  // points inside it are at most 1 from its faces (its half-height).
+  const SurfaceDepth through = Measure(MakeBox({-1, -1, -11}, {1, 1, -9}), bowl);
+  EXPECT_GT(through.upper, 0.9);
+  EXPECT_LE(through.upper, 1 + 1e-3 + 1e-12);
+  // The same sphere closed: a solid ball, the rod deep inside.
+  EXPECT_TRUE(DepthSurface(OneShell(MakeSolidOfRevolution({{0, -10}, {10, 0}, {0, 10}}, 16))).solid());
 }
 
 TEST(MeshDepth, ThickFeaturesCannotPassThroughEachOther) {

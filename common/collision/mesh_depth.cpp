@@ -127,7 +127,10 @@ DepthSurface::DepthSurface(const Shell& shell)
     const auto reverse = directed.find({edge.second, edge.first});
     if (count != 1 || reverse == directed.end() || reverse->second != 1) oriented_ = false;
   }
-  if (!oriented_) return;
+  if (!oriented_) {
+    solid_ = GapShare(directed) <= kMaxGapShare;
+    return;
+  }
   double signed_volume = 0;
   const Eigen::Vector3d c = box_.Center();
   for (const auto& tri : triangles_)
@@ -160,6 +163,39 @@ DepthSurface::DepthSurface(const Shell& shell)
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
   }
+}
+
+// The boundary loops' area (each loop filled: the norm of its vector area,
+// 0 for a crack between two unwelded faces) over the shell's area.
+double DepthSurface::GapShare(const std::map<std::pair<int, int>, int>& directed) const {
+  // Boundary edges: those whose reverse (and which themselves) occur once
+  // in all; chained by their start vertex.
+  std::multimap<int, int> next;
+  for (const auto& [edge, count] : directed) {
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (count == 1 && reverse == directed.end()) next.emplace(edge.first, edge.second);
+  }
+  double surface = 0;
+  for (const auto& tri : triangles_)
+    surface += 0.5 * (vertices_[tri[1]] - vertices_[tri[0]]).cross(vertices_[tri[2]] - vertices_[tri[0]]).norm();
+  if (next.empty()) return 0;
+  if (!(surface > 0)) return std::numeric_limits<double>::infinity();
+  double gaps = 0;
+  while (!next.empty()) {
+    const int first = next.begin()->first;
+    const Eigen::Vector3d& origin = vertices_[first];
+    Eigen::Vector3d vector_area = Eigen::Vector3d::Zero();
+    int at = first;
+    for (auto it = next.find(at); it != next.end(); it = next.find(at)) {
+      const int to = it->second;
+      next.erase(it);
+      vector_area += 0.5 * (vertices_[at] - origin).cross(vertices_[to] - origin);
+      at = to;
+      if (at == first) break;
+    }
+    gaps += vector_area.norm();
+  }
+  return gaps / surface;
 }
 
 double DepthSurface::PatchDistance(const Eigen::Vector3d& p, int triangle) const {
@@ -195,7 +231,7 @@ double DepthSurface::WindingNumber(const Eigen::Vector3d& p) const {
 }
 
 bool DepthSurface::Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const {
-  if (nearest.triangle < 0 || nearest.distance_squared == 0) return false;
+  if (nearest.triangle < 0 || nearest.distance_squared == 0 || !solid_) return false;
   if (!oriented_) return std::abs(WindingNumber(p)) > 0.5;
   const auto& tri = triangles_[nearest.triangle];
   Eigen::Vector3d weights;
@@ -289,7 +325,9 @@ class SurfaceDepthSearch {
   // Measuring (decide infinite): within the resolution of the best lower
   // bound, or below `settle`. Deciding: also below the threshold.
   bool Settled(double upper) const {
-    return upper <= result_.lower + options_.resolution || upper <= options_.settle ||
+    const double coarse =
+        result_.lower > options_.coarse_above ? SurfaceDepthOptions::kCoarseShare * result_.lower : 0.0;
+    return upper <= result_.lower + std::max(options_.resolution, coarse) || upper <= options_.settle ||
            (std::isfinite(options_.decide) && upper <= options_.decide);
   }
 

@@ -38,11 +38,17 @@
 // 2005; exact for such meshes); for an open shell (boundary edges: a hole
 // block exported with a gap), the generalized winding number (Jacobson et
 // al. 2013: inside where it exceeds 1/2), a sum over all its triangles, so
-// open shells cost more.
+// open shells cost more. Only where the openings are gaps (at most 1% of the
+// shell's area, DepthSurface::solid): a bowl or a surface model bounds no
+// volume, and its winding number would make the air it holds material.
+// Two such sheets have no depth at all: the caller decides what their
+// meeting means (collision/rigid_depth.cpp: not measured).
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "geometry/mesh.h"
@@ -60,6 +66,13 @@ class DepthSurface {
   // nearest triangle.
   double SignedDistance(const Eigen::Vector3d& p, int* triangle = nullptr) const;
   bool oriented() const { return oriented_; }  // closed and consistently oriented
+  // Whether the shell bounds a volume: closed, or open only by gaps (its
+  // boundary loops, filled, are at most kMaxGapShare of its area: cracks
+  // between unwelded faces, a missing sliver). Otherwise it is a sheet (a
+  // surface model, a bowl open at the top): nothing is inside it, and a
+  // depth against it comes from the other shell's volume alone.
+  static constexpr double kMaxGapShare = 0.01;
+  bool solid() const { return solid_; }
   const Aabb& box() const { return box_; }
 
   // A convex planar patch (see below).
@@ -77,6 +90,8 @@ class DepthSurface {
   std::vector<std::array<int, 3>> triangles_;
   TriangleBvh bvh_;
   bool oriented_ = false;
+  bool solid_ = true;
+  double GapShare(const std::map<std::pair<int, int>, int>& directed_edges) const;
   // Outward pseudo-normals (closed, oriented shells): per triangle, per
   // triangle edge (k: the edge opposite corner k), per vertex.
   std::vector<Eigen::Vector3d> face_normal_;
@@ -119,6 +134,14 @@ struct SurfaceDepthOptions {
   // sub-triangle whose bound is below it is not refined. The answer's
   // `upper` is then at most max(settle, true depth + resolution).
   double settle = -std::numeric_limits<double>::infinity();
+  // Precision above this depth does not matter either (the caller's answer
+  // is already "too deep"; only a report shows the number): once the lower
+  // bound exceeds it, the upper bound need only be within kCoarseShare of
+  // it. Without this a plate pushed through a plate is refined to
+  // `resolution` along every line where the nearest face changes, minutes
+  // per pose.
+  static constexpr double kCoarseShare = 1.0 / 16;
+  double coarse_above = std::numeric_limits<double>::infinity();
 };
 
 // The surface depth of A, moved by `pose_a` (A's coordinates -> B's), and B.

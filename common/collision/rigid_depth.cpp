@@ -102,12 +102,24 @@ struct PairMeasure {
            robot_surface[r]->SignedDistance(pose.inverse() * b.vertices.front()) > 0;
   }
 
+  // Two sheets (mesh_depth.h: neither bounds a volume) that meet have no
+  // depth to measure: not measured (infinitely deep), as any crossing of two
+  // surfaces must be.
+  bool BothSheets(int r, int s) const { return !robot_surface[r]->solid() && !static_surface[s]->solid(); }
+
   SurfaceDepth Surface(int r, const Eigen::Isometry3d& pose, int s, const SurfaceDepthOptions& options) const {
+    if (BothSheets(r, s)) {
+      SurfaceDepth unmeasured;
+      unmeasured.lower = unmeasured.upper = std::numeric_limits<double>::infinity();
+      return unmeasured;
+    }
     return MeasureSurfaceDepth(*robot_surface[r], pose, *static_surface[s], options);
   }
 
-  // `settle`: a depth below which the caller needs no precision (mesh_depth.h).
-  double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle) const {
+  // `settle`: a depth below which the caller needs no precision;
+  // `coarse_above`: one above which it needs only a share (mesh_depth.h).
+  double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
+               double coarse_above = std::numeric_limits<double>::infinity()) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
@@ -115,6 +127,7 @@ struct PairMeasure {
       SurfaceDepthOptions options;
       options.resolution = resolution;
       options.settle = settle;
+      options.coarse_above = coarse_above;
       return Surface(r, pose, s, options).upper;
     }
     const fcl::Transform3d& tf = pose;
@@ -243,7 +256,11 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   for (int i = 0; i < n; ++i) {
     const Shell& s = parts->robot_shells[i];
     tree.Query(pose * s.center, s.radius, [&](int j) {
-      const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2);
+      // Deeper than a fit may be (FitRule), the number is only reported.
+      const double fit_limit = fit_rule.max_depth >= 0 ? fit_rule.max_depth
+                                                       : FitRule::kShareOfSize * std::min(s.box.Diagonal(),
+                                                                                          parts->static_shells[j].box.Diagonal());
+      const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2, std::max(fit_limit, tolerance));
       parts->installed_depth[i] = std::max(parts->installed_depth[i], depth);
       if (depth > tolerance) deep_pairs[i].emplace_back(j, depth);
     });
@@ -371,7 +388,9 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       // A fit pair counts only its depth beyond the installed fit. Below
       // half the limit, the slack is no less than the advancement's floor.
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
-      const double measured = impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2);
+      // Beyond fit + limit the pose is invalid whatever the digits: the
+      // number is measured to a share of itself (still an upper bound).
+      const double measured = impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       const double depth = measured - fit;
       report.slack = std::min(report.slack, allowed - depth);

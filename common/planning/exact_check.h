@@ -43,7 +43,11 @@ struct ExactCheckReport {
   bool valid = false;
   std::string reason;  // empty when valid
   std::int64_t poses_checked = 0;
-  double max_rigid_depth = 0;  // >= 0; deepest rigid penetration along the path
+  // >= 0; deepest rigid penetration along the path. Where it exceeds the
+  // tolerance the path has failed and the stretch is sampled at steps of
+  // the excess: the number is then at least half way from the tolerance to
+  // the true deepest.
+  double max_rigid_depth = 0;
   int rigid_shell = -1, static_shell = -1;
   int worst_segment = -1;  // where the deepest rigid penetration is
   double worst_fraction = 0;
