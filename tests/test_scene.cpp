@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "geometry/primitives.h"
+#include "planning/exact_check.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 
@@ -359,6 +360,37 @@ TEST_F(SceneFiles, TranslationWithString) {
 TEST_F(SceneFiles, DynamicOriginWrongLength) {
   const fs::path yaml = WriteScene("dynamic_origin: [1, 2]\n");
   ExpectSceneError(yaml, {"dynamic_origin must be a list of 3"});
+}
+
+TEST_F(SceneFiles, FitInterferenceIsADepthInMillimetres) {
+  // Read, kept through SaveSceneYaml, and refused when it is not a depth.
+  Scene scene = LoadScene(WriteScene("units: cm\nfit_interference: 0.25\n"));
+  ASSERT_TRUE(scene.fit_interference_mm.has_value());
+  EXPECT_EQ(*scene.fit_interference_mm, 0.25);
+  EXPECT_NEAR(SceneFitRule(scene).max_depth, 0.025, 1e-15);  // in the scene's cm
+  EXPECT_LT(SceneFitRule(LoadScene(WriteScene(""))).max_depth, 0);  // absent: the default rule
+  const fs::path yaml = dir_ / "saved.yaml";
+  SaveSceneYaml(scene, yaml);
+  EXPECT_EQ(LoadScene(yaml).fit_interference_mm, scene.fit_interference_mm);
+  ExpectSceneError(WriteScene("fit_interference: -1\n"), {"fit_interference must be a depth in mm >= 0", "-1"});
+  ExpectSceneError(WriteScene("fit_interference: deep\n"), {"fit_interference must be a depth", "deep"});
+}
+
+TEST_F(SceneFiles, FitInterferenceDecidesTheExactCheck) {
+  // D pressed 0.07 mm into the floor at its start (1 mm^2 of it): a fit by
+  // the default rule, so lifting it out passes; `fit_interference: 0`
+  // makes every installed interference a clash.
+  const std::string start = "units: mm\nstart: {t: [0, 0, -0.32]}\n";
+  Pose lifted;
+  lifted.t = {0, 0, 5};
+  Pose installed;
+  installed.t = {0, 0, -0.32};
+  const Scene fit = LoadScene(WriteScene(start));
+  EXPECT_TRUE(ExactCheckPath(fit, {installed, lifted}, 0.05).valid);
+  const Scene none = LoadScene(WriteScene(start + "fit_interference: 0\n"));
+  const ExactCheckReport clash = ExactCheckPath(none, {installed, lifted}, 0.05);
+  EXPECT_FALSE(clash.valid);
+  EXPECT_NE(clash.reason.find("installed"), std::string::npos) << clash.reason;
 }
 
 TEST_F(SceneFiles, DuplicateKey) {

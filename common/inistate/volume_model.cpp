@@ -220,9 +220,9 @@ VolumeModel::VolumeModel(const PlanningProblem& problem, const TriangleMesh& dyn
 
 VolumeModel::~VolumeModel() = default;
 
-int VolumeModel::GuardRigidParts(const PlanningProblem& problem, double tolerance) {
-  const auto parts =
-      ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kFastener);
+int VolumeModel::GuardRigidParts(const PlanningProblem& problem, double tolerance, const FitRule& fit) {
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kFastener, fit);
   if (!parts->rigid_interference.empty()) {
     LogWarn(
         "rigid guard off: %s of D already penetrates S %.4g deep at the start (the verdict's exact check will "

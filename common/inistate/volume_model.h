@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/rigid_depth.h"
 #include "inistate/intersection_volume.h"
 #include "inistate/voxel_grid.h"
 #include "planning/state_space.h"
@@ -119,7 +120,7 @@ class VolumeModel {
   // few tenths of a mm (under a voxel); this does. Returns the number of
   // rigid solids guarded (0: none; also when a rigid solid already
   // penetrates S at the start, which the verdict then refuses).
-  int GuardRigidParts(const PlanningProblem& problem, double tolerance);
+  int GuardRigidParts(const PlanningProblem& problem, double tolerance, const FitRule& fit = {});
 
  private:
   ValidityMode mode_;

@@ -19,6 +19,12 @@ double RigidToleranceInSceneUnits(double millimetres, const std::string& units, 
   return per_unit ? millimetres / *per_unit : millimetres;
 }
 
+FitRule SceneFitRule(const Scene& scene) {
+  FitRule rule;
+  if (scene.fit_interference_mm) rule.max_depth = RigidToleranceInSceneUnits(*scene.fit_interference_mm, scene.units, nullptr);
+  return rule;
+}
+
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,
                                                const Eigen::Vector3d& dynamic_origin, double deviation) {
@@ -48,7 +54,7 @@ std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double t
                                                     UnmeasuredInterference unmeasured) {
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
-  return ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured);
+  return ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured, SceneFitRule(scene));
 }
 
 namespace {

@@ -117,4 +117,9 @@ std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoint
 // warning the caller prints when `*assumed` is set).
 double RigidToleranceInSceneUnits(double millimetres, const std::string& units, bool* assumed);
 
+// The fit rule the scene asks for: its `fit_interference` key (mm) in scene
+// units, or the default rule. Every stage classifies D's parts with it, so
+// that planners, smoother and the verdict judge one rule.
+FitRule SceneFitRule(const Scene& scene);
+
 }  // namespace ausbau

@@ -598,7 +598,7 @@ Scene LoadScene(const fs::path& path) {
   try {
     scene.format_version = ReadFormatVersion(r, root);
     std::set<std::string> keys = {"format",         "name",  "units", "static", "dynamic",
-                                  "dynamic_origin", "start", "goal",  "bounds"};
+                                  "dynamic_origin", "start", "goal",  "bounds", "fit_interference"};
     if (scene.format_version >= 2) keys.insert("assembly");
     r.CheckKeys(root, keys, "");
 
@@ -620,6 +620,15 @@ Scene LoadScene(const fs::path& path) {
     if (root["start"]) scene.start = r.ReadPose(root["start"], "start");
     if (root["goal"]) r.ReadGoal(root["goal"], &scene);
     if (root["bounds"]) scene.bounds = r.ReadBounds(root["bounds"]);
+    if (root["fit_interference"]) {
+      const YAML::Node f = root["fit_interference"];
+      double mm = 0;
+      if (!Reader::ToNumber(f, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
+        r.Fail("fit_interference must be a depth in mm >= 0 (got " + Reader::Show(f) + ", line " + std::to_string(Reader::Line(f)) +
+               ")");
+      }
+      scene.fit_interference_mm = mm;
+    }
   } catch (const YAML::Exception& e) {
     // Should not happen after the checks above; keep the one-line contract anyway.
     r.Fail("invalid scene at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
@@ -668,6 +677,11 @@ std::string SceneYamlText(const Scene& scene, const fs::path& path) {
   if (scene.bounds) {
     y += "bounds: {min: " + Vec3(scene.bounds->min, "bounds.min", path) +
          ", max: " + Vec3(scene.bounds->max, "bounds.max", path) + "}\n";
+  }
+  if (scene.fit_interference_mm) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "fit_interference: %.17g\n", *scene.fit_interference_mm);
+    y += buf;
   }
   return y;
 }

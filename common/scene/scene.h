@@ -87,6 +87,11 @@ struct Scene {
   std::optional<Pose> goal;                     // scene convention; none = disassembly
   std::optional<GoalCondition> goal_condition;  // set only when `goal` (the pose) is not
   std::optional<Aabb> bounds;                   // bounds on t as given (scene convention)
+  // `fit_interference`: the deepest installed interference of a rigid part
+  // that is a fit (a press fit, a tessellation overlap) and not a clash, in
+  // mm (collision/rigid_depth.h FitRule; 0: none is). None: the default
+  // rule (a thin layer along a surface, small against the parts).
+  std::optional<double> fit_interference_mm;
 };
 
 // Reads and validates scene.yaml (format /1 or /2) and loads its meshes. Throws InputError with
