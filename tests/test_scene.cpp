@@ -367,7 +367,7 @@ TEST_F(SceneFiles, FitInterferenceIsADepthInMillimetres) {
   Scene scene = LoadScene(WriteScene("units: cm\nfit_interference: 0.25\n"));
   ASSERT_TRUE(scene.fit_interference_mm.has_value());
   EXPECT_EQ(*scene.fit_interference_mm, 0.25);
-  EXPECT_NEAR(SceneFitRule(scene).max_depth, 0.025, 1e-15);  // in the scene's cm
+  EXPECT_NEAR(SceneFitRule(scene).max_depth, 0.025, 1e-15);         // in the scene's cm
   EXPECT_LT(SceneFitRule(LoadScene(WriteScene(""))).max_depth, 0);  // absent: the default rule
   const fs::path yaml = dir_ / "saved.yaml";
   SaveSceneYaml(scene, yaml);

@@ -21,7 +21,8 @@ double RigidToleranceInSceneUnits(double millimetres, const std::string& units, 
 
 FitRule SceneFitRule(const Scene& scene) {
   FitRule rule;
-  if (scene.fit_interference_mm) rule.max_depth = RigidToleranceInSceneUnits(*scene.fit_interference_mm, scene.units, nullptr);
+  if (scene.fit_interference_mm)
+    rule.max_depth = RigidToleranceInSceneUnits(*scene.fit_interference_mm, scene.units, nullptr);
   return rule;
 }
 
@@ -230,8 +231,7 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
     // fails too (and none is more than twice the excess deeper). Without
     // this a part pushed 20 mm through S is checked every tolerance / 10
     // there, thousands of surface depths.
-    const double step =
-        depth.rigid_depth > tolerance ? depth.rigid_depth - tolerance : std::max(depth.slack, 0.0);
+    const double step = depth.rigid_depth > tolerance ? depth.rigid_depth - tolerance : std::max(depth.slack, 0.0);
     if (crop) {
       const double inside = crop->BallSlack(pose.Apply(c), radius_c);
       if (inside < tolerance / 10) *left_crop = true;

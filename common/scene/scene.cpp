@@ -624,8 +624,8 @@ Scene LoadScene(const fs::path& path) {
       const YAML::Node f = root["fit_interference"];
       double mm = 0;
       if (!Reader::ToNumber(f, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
-        r.Fail("fit_interference must be a depth in mm >= 0 (got " + Reader::Show(f) + ", line " + std::to_string(Reader::Line(f)) +
-               ")");
+        r.Fail("fit_interference must be a depth in mm >= 0 (got " + Reader::Show(f) + ", line " +
+               std::to_string(Reader::Line(f)) + ")");
       }
       scene.fit_interference_mm = mm;
     }

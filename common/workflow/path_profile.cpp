@@ -31,8 +31,8 @@ TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& probl
                                 double rigid_tolerance_mm) {
   if (validity != ValidityMode::kRigidExact) return problem.robot;
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kRigid,
-                                   SceneFitRule(scene));
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kRigid, SceneFitRule(scene));
   return ClearanceRobot(problem, parts.get());
 }
 

@@ -268,8 +268,8 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene, crop_level);
   *cropped = problem.crop != nullptr;
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kRigid,
-                                   SceneFitRule(scene));
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kRigid, SceneFitRule(scene));
   LogInfo("scene %s: D %zu shells (%d fasteners, anchor %s), S %zu shells; rigid tolerance %.4g %s", scene.name.c_str(),
           parts->robot_shells.size(), parts->FastenerCount(), parts->Describe(parts->anchor, true).c_str(),
           parts->static_shells.size(), tolerance, scene.units.c_str());
@@ -492,12 +492,13 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kRigid,
-                                   SceneFitRule(scene));
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kRigid, SceneFitRule(scene));
   if (!parts->non_convex_interference.empty()) {
-    LogInfo("%s of D intersects a non-convex shell of S at the installed pose (a clip or a fit in a welded "
-            "plate?): labeled-mliv",
-            parts->Describe(parts->non_convex_interference.front(), true).c_str());
+    LogInfo(
+        "%s of D intersects a non-convex shell of S at the installed pose (a clip or a fit in a welded "
+        "plate?): labeled-mliv",
+        parts->Describe(parts->non_convex_interference.front(), true).c_str());
     return ValidityMode::kLabeledMliv;
   }
   return ValidityMode::kRigidExact;

@@ -65,8 +65,8 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
   const ExactCheckReport input_check = ExactCheckPath(scene, input.waypoints, tolerance);
   if (!input_check.valid) throw InputErrorAt(input_file, "the input path fails the exact check: " + input_check.reason);
-  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance, UnmeasuredInterference::kRigid,
-                                   SceneFitRule(scene));
+  const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                   UnmeasuredInterference::kRigid, SceneFitRule(scene));
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
   SmoothedPath out;
   out.planning_path = ToPlanning(problem, input.waypoints);
