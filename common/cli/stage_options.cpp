@@ -65,8 +65,8 @@ void AddClearanceOption(StageDefinition& stage, double* clearance) {
   stage
       .Option("--clearance", clearance,
               "distance from S to keep where the path allows, scene units (a preference, never at the cost of "
-              "validity; where a passage is narrower the verdict says where); -1: 0.5 mm in the scene's units; 0: "
-              "none",
+              "validity; where a passage is narrower the verdict says where); -1: 0.5 mm in the scene's units, "
+              "kept by smoothing only (ausbau-plan keeps a clearance only when one is given); 0: none",
               CacheKey::kYes)
       ->check([](const std::string& text) -> std::string {
         try {

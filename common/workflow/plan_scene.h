@@ -50,9 +50,10 @@ struct PlanSceneOptions {
   // rigid-exact: how often the crop of a large S around D may grow when no
   // path is found (planning/reach_crop.h); -1: until it holds all of S.
   int max_crop_level = -1;
-  // --clearance (scene units; < 0: the default, planning/clearance.h): a
-  // first try keeps D this far from S where the start allows (rigid-exact
-  // and collision; the volume modes leave it to smoothing's sigma_2).
+  // --clearance (scene units; < 0: the default, planning/clearance.h, kept
+  // by smoothing only): a given one makes a first try keep D this far from
+  // S where the start allows (rigid-exact and collision; the volume modes
+  // leave it to smoothing's sigma_2).
   double clearance = -1;
 
   // Throws InputError naming the flag of a value that does not fit.
