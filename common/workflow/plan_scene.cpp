@@ -473,7 +473,19 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     stats = result.stats;
     solved = result.solved();
     status = result.status;
-    if (solved) FillPath(problem, result.path, &artifact);
+    if (solved) {
+      FillPath(problem, result.path, &artifact);
+      // The planner turns D about its reference point; readers of path.csv
+      // interpolate about the pose convention's origin (README "What the
+      // verdict promises"). For a part placed metres from its mesh origin a
+      // turn of a degree or two then sweeps millimetres off the planned
+      // motion, through S (the L-channel family: 5 mm deep by the external
+      // oracle). Split such segments as the rigid-exact mode does, to a tenth
+      // of the rigid tolerance; the motion stays the one planned.
+      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr) / 10;
+      artifact.waypoints =
+          DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point, problem.dynamic_origin, deviation);
+    }
     FillPartial(problem, result, budget_bound, &artifact);
   }
   planned.status = status;
