@@ -159,6 +159,40 @@ study: bench-build
 clean:
 	rm -rf $(BUILD) $(SANITIZE_BUILD) out
 
+# Ours against OMPL's RRT-Connect with its default range, side by side in one
+# run (issue 29; docs/benchmarks.md "Planners against OMPL"): `ausbau-plan`
+# as a user runs it (whole process, default flags) and CR-RRTC in process, on
+# the OMPL.app scenes and the Parasol flange, and ours alone on the L-channel
+# family (PLANNERS_CHANNELS seeds of panel-channel, paths judged by the
+# external set's oracle.py; scripts/planner-bench.sh). Writes summary.md (machine,
+# tables, speed-ups), speedups.csv, results.csv and OMPL benchmark logs in
+# PLANNERS_OUT, and checks the speed-ups against bench/planners/recorded.csv:
+# it fails when one falls below half of the recorded one or a path fails the
+# dense re-check. Up to PLANNERS_RUNS x 3 x PLANNERS_TIME_LIMIT s per scene
+# (about 1-2 h on 2 cores). `make bench-planners-check` is the short version
+# CI runs (.ci/run): alpha-1.5, Apartment and Home, 3 seeds, 30 s, against
+# bench/planners/recorded-short.csv, about 2-3 min (not Easy: its whole
+# process takes 0.05 s, mostly starting a process, so there the ratio would
+# measure the machine's process start, not the planner). To record new figures, copy
+# PLANNERS_OUT/speedups.csv over the recorded file and say why in the commit
+# (PLANNERS_RECORDED= runs without the check).
+PLANNERS_OUT ?= out/bench-planners
+PLANNERS_RUNS ?= 3
+PLANNERS_TIME_LIMIT ?= 60
+PLANNERS_SCENES ?= alpha-1.0,alpha-1.2,alpha-1.5,Apartment,Easy,Home,Twistycool,cubicles,Abstract,bugtrap,$(abspath ../shared/benchmarks/parasol/flange-1.0/flange-1.0.yaml)
+PLANNERS_CHANNELS ?= 1 2 3 4 5
+PLANNERS_RECORDED ?= bench/planners/recorded.csv
+PLANNERS_CHECK_OUT ?= out/bench-planners-check
+
+.PHONY: bench-planners bench-planners-check
+bench-planners: bench-build build
+	@scripts/planner-bench.sh $(BUILD)/bin '$(PLANNERS_OUT)' $(PLANNERS_RUNS) $(PLANNERS_TIME_LIMIT) \
+	  '$(PLANNERS_SCENES)' '$(PLANNERS_CHANNELS)' '$(PLANNERS_RECORDED)'
+
+bench-planners-check: bench-build build
+	@$(BUILD)/bin/ausbau-bench --planners ausbau-plan,cr-rrtc --ompl-ranges default --runs 3 --time-limit 30 \
+	  --scenes alpha-1.5,Apartment,Home --output-dir '$(PLANNERS_CHECK_OUT)' --recorded bench/planners/recorded-short.csv
+
 # FARR against plain FCL (thesis 4.3: sample sets, detection rate, collision
 # time, whole planning with the distance-field build) on alpha-1.2, alpha-1.5,
 # Twistycool, the generated flange scenes and the Parasol flange; about

@@ -15,6 +15,7 @@
 #include "bench_report.h"
 #include "cli/stage_main.h"
 #include "collision/fcl_checker.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/random.h"
 #include "ompl_rrtc.h"
@@ -22,7 +23,9 @@
 #include "planning/planner.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
+#include "speedup_check.h"
 #include "split_list.h"
+#include "whole_process.h"
 
 #ifndef AUSBAU_SOURCE_DIR
 #define AUSBAU_SOURCE_DIR "."
@@ -50,8 +53,15 @@ struct Options {
   std::string ompl_ranges = "default,1%,5%,cfg";
   std::string ompl_resolution = "matched";
   double resolution = PlannerOptions{}.resolution;
+  std::string bin_dir;   // where ausbau-plan lies (--planners ausbau-plan); empty: this executable's folder
+  std::string recorded;  // speedups.csv to check against (--recorded); empty: no check
   std::string command_line;
 };
+
+// The regression gate: a speed-up below this share of the recorded one fails.
+constexpr double kRecordedShare = 0.5;
+// The planner name that runs the ausbau-plan executable (whole process).
+constexpr char kWholeProcess[] = "ausbau-plan";
 
 struct SceneSpec {
   std::string name;  // a label; the scene's name is used once loaded
@@ -111,6 +121,8 @@ std::vector<PlannerSpec> ParsePlanners(const Options& options) {
       spec.label = "Def-RRTC";
     } else if (parts[0] == "cr-rrtc") {
       spec.label = "CR-RRTC";
+    } else if (parts[0] == kWholeProcess) {
+      spec.label = kWholeProcess;
     } else {
       spec.label = Upper(parts[0]);
     }
@@ -200,14 +212,19 @@ std::string SceneName(const SceneSpec& spec, const LoadedScene* loaded) {
   return (loaded && !loaded->scene.name.empty()) ? loaded->scene.name : spec.name;
 }
 
+// Dense re-check of a path in the scene convention: 1 ok, 0 bad.
+int DenseCheckScene(const LoadedScene& s, const std::vector<Pose>& waypoints, std::string* reason) {
+  const DenseCheckReport report = DenseCheckPath(s.scene, s.problem.reference_point, waypoints, kDenseStep);
+  if (!report.valid) *reason = "segment " + std::to_string(report.first_bad_segment) + ": " + report.reason;
+  return report.valid ? 1 : 0;
+}
+
 // Dense re-check of a path in the planning convention: 1 ok, 0 bad.
 int DenseCheck(const LoadedScene& s, const std::vector<Pose>& path, std::string* reason) {
   std::vector<Pose> waypoints;
   waypoints.reserve(path.size());
   for (const Pose& p : path) waypoints.push_back(s.problem.PlanningToScene(p));
-  const DenseCheckReport report = DenseCheckPath(s.scene, s.problem.reference_point, waypoints, kDenseStep);
-  if (!report.valid) *reason = "segment " + std::to_string(report.first_bad_segment) + ": " + report.reason;
-  return report.valid ? 1 : 0;
+  return DenseCheckScene(s, waypoints, reason);
 }
 
 void PrintProgress(const RunRecord& r, int index, int total, const std::string& extra) {
@@ -255,6 +272,15 @@ int RunBenchmark(const Options& options) {
   const std::vector<SceneSpec> scene_specs = ResolveScenes(options);
   const std::vector<PlannerSpec> planner_specs = ParsePlanners(options);
   const OmplResolution ompl_resolution = ParseOmplResolution(options.ompl_resolution);
+  const fs::path bin_dir = options.bin_dir.empty() ? OwnBinDir() : fs::path(options.bin_dir);
+  for (const PlannerSpec& p : planner_specs) {
+    if (p.options.planner == kWholeProcess && !fs::is_regular_file(bin_dir / kWholeProcess)) {
+      throw InputErrorAt((bin_dir / kWholeProcess).string(), "not found (build it, or give --bin)");
+    }
+  }
+  // Read before any run, so that a bad file fails in a second, not after an hour.
+  const std::vector<RecordedSpeedup> recorded =
+      options.recorded.empty() ? std::vector<RecordedSpeedup>{} : ReadRecordedSpeedups(options.recorded);
   fs::create_directories(options.output_dir);
   const fs::path out_dir(options.output_dir);
 
@@ -301,6 +327,11 @@ int RunBenchmark(const Options& options) {
       c.label = p.label;
       c.log_name = "ausbau_" + SafeName(p.label);
       c.settings = {{"planner", p.options.planner}};
+      if (p.options.planner == kWholeProcess) {
+        c.settings = {{"planner", "ausbau-plan executable, default flags (whole process)"}};
+        result.configs.push_back(c);
+        continue;
+      }
       if (p.options.planner == "rrtc") {
         c.settings.emplace_back("u", Fmt("%g", p.options.u));
         c.settings.emplace_back("range_max", Fmt("%g", p.options.range_max));
@@ -368,6 +399,32 @@ int RunBenchmark(const Options& options) {
         r.seed = seed;
         std::vector<Pose> path;
         std::string extra;
+        if (!config.ompl && planner_specs[k].options.planner == kWholeProcess) {
+          const fs::path runs_dir = out_dir / "ausbau-plan";
+          fs::create_directories(runs_dir);
+          const std::string stem = SafeName(result.name) + "-seed" + std::to_string(seed);
+          // A hang guard only: ausbau-plan stops itself at its time limit.
+          const double kill_after_s = 3 * options.time_limit_s + 60;
+          const WholeProcessRun run =
+              RunAusbauPlan(bin_dir / kWholeProcess, spec.file, seed, options.time_limit_s, runs_dir / (stem + ".h5"),
+                            runs_dir / (stem + ".csv"), runs_dir / (stem + ".log"), kill_after_s);
+          r.time_s = run.time_s;
+          r.success = run.solved;
+          r.status = r.success ? OmplStatusExactSolution() : OmplStatusTimeout();
+          r.collision_checks = run.stats.collision_checks;
+          r.iterations = run.stats.iterations;
+          r.nodes = run.stats.nodes;
+          if (!run.solved) extra = "  " + run.failure;
+          if (r.success) {
+            std::string reason;
+            r.dense_check = DenseCheckScene(*loaded, run.path, &reason);
+            if (!r.dense_check) extra += "  BAD PATH (dense re-check: " + reason + ")";
+          }
+          result.runs.push_back(r);
+          csv.Add(r);
+          PrintProgress(r, index, total, extra);
+          continue;
+        }
         if (!config.ompl) {
           PlannerOptions o = planner_specs[k].options;
           o.seed = seed;
@@ -456,14 +513,30 @@ int RunBenchmark(const Options& options) {
                    results.empty() ? NowIsoUtc() : results.front().started_iso, total, status_enum, planners);
     }
   }
-  const std::string summary = WriteSummary(out_dir / "summary.md", machine, settings, results);
+  std::string summary = WriteSummary(out_dir / "summary.md", machine, settings, results);
+  const std::vector<SpeedupRow> speedups = Speedups(results, options.time_limit_s);
+  WriteSpeedupsCsv(out_dir / "speedups.csv", speedups);
+  summary += SpeedupSection(speedups, options.time_limit_s);
+  bool check_failed = false;
+  if (!options.recorded.empty()) {
+    const SpeedupCheck check = CheckSpeedups(speedups, recorded, kRecordedShare, options.recorded);
+    summary += check.markdown;
+    check_failed = !check.passed;
+  }
+  WriteTextFileAtomically(out_dir / "summary.md", summary);
   std::fputs(summary.c_str(), stdout);
   std::fflush(stdout);
   std::fprintf(stderr,
-               "ausbau-bench: wrote %s/{results.csv,summary.md,ompl-benchmark.log,ompl-benchmark-<scene>.log}\n",
+               "ausbau-bench: wrote %s/{results.csv,summary.md,speedups.csv,ompl-benchmark.log,"
+               "ompl-benchmark-<scene>.log}\n",
                options.output_dir.c_str());
   for (const SceneResult& r : results) {
     if (!r.loaded) return kExitBadInput;
+  }
+  if (check_failed) {
+    std::fprintf(stderr, "ausbau-bench: the check against %s FAILED (summary.md, last section)\n",
+                 options.recorded.c_str());
+    return kExitInternal;
   }
   return kExitOk;
 }
@@ -568,7 +641,8 @@ int main(int argc, char** argv) {
             ->capture_default_str();
         app.add_option("--planners", options.planners,
                        "comma list of Ausbau planners: rrtc (Def-RRTC), rrtc:U:RANGE_MAX (Opt-RRTC), cr-rrtc, est, "
-                       "...; unknown ones are reported as skipped")
+                       "...; unknown ones are reported as skipped; ausbau-plan runs the ausbau-plan executable "
+                       "with its default flags (whole process, timed from spawn to exit)")
             ->capture_default_str();
         runs_option = app.add_option("--runs", options.runs,
                                      "runs (seeds) per planner and scene; default 10, "
@@ -590,6 +664,12 @@ int main(int argc, char** argv) {
                        "bound), exact (a validator stepping exactly like Ausbau), extent (step / (max(1, 2r) x "
                        "maximum extent)) or ompl (0.01)")
             ->capture_default_str();
+        app.add_option("--bin", options.bin_dir,
+                       "folder of the ausbau-plan executable that --planners ausbau-plan runs; default: this "
+                       "executable's folder");
+        app.add_option("--recorded", options.recorded,
+                       "speedups.csv of an earlier run: fail (exit 1) when a speed-up against OMPL default falls "
+                       "below half of the recorded one, or a path fails the dense re-check");
         app.add_option("--resolution", options.resolution,
                        "Ausbau's edge check step as a fraction of D's AABB diagonal")
             ->capture_default_str();
