@@ -12,11 +12,13 @@
 #include "artifact/artifact.h"
 #include "core/error.h"
 #include "core/hash.h"
+#include "fixtures/box_scenes.h"
 #include "fixtures/scene_families.h"
 #include "geometry/primitives.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/voxel_grid.h"
 #include "planning/dense_check.h"
+#include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
@@ -70,6 +72,35 @@ TEST(PlanStage, PlansSmoothsAndTheResultIsValid) {
   const std::string csv = ReadFile(dir / "path.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "x,y,z,qw,qx,qy,qz");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), ReadPathArtifact(dir / "path.h5").waypoints.size() + 1);
+}
+
+// Under plain collision, on a part placed metres from its mesh origin (the
+// L-channel family): both CSVs, read back as any tool reads them (rows
+// interpolated about the mesh origin), pass the exact check. The planner and
+// the smoother move D about its reference point; the rows they write must be
+// close enough for the plain reading (README "What the verdict promises").
+// Without the split in ausbau-plan, path.csv fails here (4.7 mm); the
+// smoother's own split guards shortcuts that turn D (on this scene its
+// rows hold either way).
+TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
+  BoxSceneOptions options;
+  options.seed = 1;
+  options.world = BoxWorld::kRandom;
+  const auto dir = testing::MakeTempDir("panel-channel");
+  const auto yaml = GenerateBoxScene("panel-channel", options, dir / "scene").scene_yaml;
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 1 --validity collision -o " +
+                                            (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  const Outcome smooth =
+      RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
+                             (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
+  ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+  const Scene scene = LoadScene(yaml);
+  for (const char* name : {"path.csv", "smooth.csv"}) {
+    const ExactCheckReport check = ExactCheckPath(scene, ReadPathCsv(dir / name), 0.05);
+    EXPECT_TRUE(check.valid) << name << ": " << check.reason;
+    EXPECT_LE(check.max_rigid_depth, 0.05) << name;
+  }
 }
 
 TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {

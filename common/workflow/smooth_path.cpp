@@ -269,6 +269,16 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   out.artifact.units = scene.units;
   out.artifact.clearance = ClearanceInSceneUnits(options.smooth.clearance, scene.units);
   out.artifact.waypoints = ToScene(problem, result.path);
+  if (!volume_mode) {
+    // Written for readers that interpolate about the mesh origin, as the
+    // rigid-exact branch and ausbau-plan do (plan_scene.cpp): a part placed
+    // metres from that origin would otherwise sweep off the smoothed motion
+    // on turning segments. The volume modes keep their rows (one per
+    // planned pose, with per-row volumes); simplified there.
+    const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr) / 10;
+    out.artifact.waypoints = DensifyForPlainInterpolation(out.artifact.waypoints, problem.reference_point,
+                                                          problem.dynamic_origin, deviation);
+  }
   const std::vector<Pose> output_rigid(out.artifact.waypoints.begin() + std::max(0, inter_index),
                                        out.artifact.waypoints.end());
   const DenseCheckReport output_check = DenseCheckPath(scene, problem.reference_point, output_rigid, 0.01);
