@@ -36,9 +36,14 @@ TriangleMesh ClearanceRobot(const PlanningProblem& problem, const PartModel* par
 ClearanceMeter::ClearanceMeter(const PlanningProblem& problem, const TriangleMesh& robot)
     : problem_(&problem), fcl_(robot, problem.environment) {}
 
-ClearanceSample ClearanceMeter::At(const Pose& pose) const {
-  const FclCollisionChecker::Closest closest = fcl_.ClosestPoints(pose);
+ClearanceSample ClearanceMeter::At(const Pose& pose, bool with_points) const {
   ClearanceSample sample;
+  sample.segment = 0;
+  if (!with_points) {
+    sample.clearance = fcl_.Distance(pose);  // 0 in contact, as ClosestPoints
+    return sample;
+  }
+  const FclCollisionChecker::Closest closest = fcl_.ClosestPoints(pose);
   sample.clearance = closest.distance;
   sample.segment = 0;
   sample.on_robot = closest.on_robot;
@@ -46,13 +51,13 @@ ClearanceSample ClearanceMeter::At(const Pose& pose) const {
   return sample;
 }
 
-ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor, double step,
-                                      double stop_below) const {
+ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor, double step, double stop_below,
+                                      bool with_points) const {
   const double total = MaxDisplacement(a, b, problem_->robot_radius);
   ClearanceSample best;
   double f = 0;
   for (;;) {
-    ClearanceSample sample = At(f == 0 ? a : Interpolate(a, b, f));
+    ClearanceSample sample = At(f == 0 ? a : Interpolate(a, b, f), with_points);
     sample.fraction = f;
     if (sample.clearance < best.clearance) best = sample;
     if (sample.clearance < stop_below || f >= 1 || !(total > 0)) break;
@@ -62,12 +67,12 @@ ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor
   return best;
 }
 
-ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double floor, double step,
-                                          double stop_below) const {
+ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double floor, double step, double stop_below,
+                                          bool with_points) const {
   ClearanceSample best;
-  if (path.size() == 1) best = At(path.front());
+  if (path.size() == 1) best = At(path.front(), with_points);
   for (std::size_t i = 0; i + 1 < path.size(); ++i) {
-    ClearanceSample sample = Along(path[i], path[i + 1], floor, step, stop_below);
+    ClearanceSample sample = Along(path[i], path[i + 1], floor, step, stop_below, with_points);
     sample.segment = static_cast<int>(i);
     if (sample.clearance < best.clearance) best = sample;
     if (best.clearance < stop_below) break;
@@ -80,11 +85,12 @@ ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMes
 
 bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
   if (!(clearance_ > 0)) return true;
-  const double added = meter_.AlongPath(replacement, clearance_, step_).clearance;
+  const double kNoStop = -std::numeric_limits<double>::infinity();
+  const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;
   if (added >= clearance_) return true;
   // Below d: accepted only when the replaced part comes at least as close
   // (its walk stops at the first sample that does).
-  const double removed = meter_.AlongPath(replaced, clearance_, step_, added).clearance;
+  const double removed = meter_.AlongPath(replaced, clearance_, step_, added, false).clearance;
   return added >= std::min(clearance_, removed);
 }
 
@@ -94,7 +100,8 @@ ClearanceSample ClearanceGuard::Closest(const std::vector<Pose>& path) const {
 
 double ClearanceGuard::MinCapped(const std::vector<Pose>& path) const {
   if (!(clearance_ > 0)) return 0;
-  return std::min(clearance_, meter_.AlongPath(path, clearance_, step_).clearance);
+  return std::min(clearance_,
+                  meter_.AlongPath(path, clearance_, step_, -std::numeric_limits<double>::infinity(), false).clearance);
 }
 
 namespace {

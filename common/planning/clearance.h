@@ -68,7 +68,10 @@ class ClearanceMeter {
   // `robot` relative to D's reference point (ClearanceRobot), S from the problem.
   ClearanceMeter(const PlanningProblem& problem, const TriangleMesh& robot);
 
-  ClearanceSample At(const Pose& pose) const;
+  // `with_points` false: the clearance only (on_robot, on_static left
+  // unset), one FCL distance query instead of a collision query and a
+  // distance query with nearest points: what the guard's accept/reject needs.
+  ClearanceSample At(const Pose& pose, bool with_points = true) const;
 
   // The smallest clearance along the straight motion a -> b (segment 0),
   // walked from a: where a sample's clearance c exceeds `floor` the next is
@@ -78,12 +81,13 @@ class ClearanceMeter {
   // floor = +infinity samples every `step` (reporting). The walk ends early
   // at the first sample below `stop_below` (a rejection needs no more).
   ClearanceSample Along(const Pose& a, const Pose& b, double floor, double step,
-                        double stop_below = -std::numeric_limits<double>::infinity()) const;
+                        double stop_below = -std::numeric_limits<double>::infinity(), bool with_points = true) const;
 
   // The smallest clearance over the consecutive motions of `path` (its
   // segment index and fraction); the same walk as Along on each.
   ClearanceSample AlongPath(const std::vector<Pose>& path, double floor, double step,
-                            double stop_below = -std::numeric_limits<double>::infinity()) const;
+                            double stop_below = -std::numeric_limits<double>::infinity(),
+                            bool with_points = true) const;
 
  private:
   const PlanningProblem* problem_;
