@@ -397,7 +397,8 @@ int RunBenchmark(const Options& options) {
         r.scene = result.name;
         r.label = config.label;
         r.seed = seed;
-        std::vector<Pose> path;
+        std::vector<Pose> path;        // planning convention (this process's planners, OMPL)
+        std::vector<Pose> scene_path;  // scene convention (ausbau-plan's artifact)
         std::string extra;
         if (!config.ompl && planner_specs[k].options.planner == kWholeProcess) {
           const fs::path runs_dir = out_dir / "ausbau-plan";
@@ -415,17 +416,8 @@ int RunBenchmark(const Options& options) {
           r.iterations = run.stats.iterations;
           r.nodes = run.stats.nodes;
           if (!run.solved) extra = "  " + run.failure;
-          if (r.success) {
-            std::string reason;
-            r.dense_check = DenseCheckScene(*loaded, run.path, &reason);
-            if (!r.dense_check) extra += "  BAD PATH (dense re-check: " + reason + ")";
-          }
-          result.runs.push_back(r);
-          csv.Add(r);
-          PrintProgress(r, index, total, extra);
-          continue;
-        }
-        if (!config.ompl) {
+          scene_path = run.path;
+        } else if (!config.ompl) {
           PlannerOptions o = planner_specs[k].options;
           o.seed = seed;
           o.time_limit_s = options.time_limit_s;
@@ -462,7 +454,8 @@ int RunBenchmark(const Options& options) {
         }
         if (r.success) {
           std::string reason;
-          r.dense_check = DenseCheck(*loaded, path, &reason);
+          r.dense_check =
+              scene_path.empty() ? DenseCheck(*loaded, path, &reason) : DenseCheckScene(*loaded, scene_path, &reason);
           if (!r.dense_check) extra += "  BAD PATH (dense re-check: " + reason + ")";
         }
         result.runs.push_back(r);

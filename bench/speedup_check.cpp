@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/input_file.h"
 #include "split_list.h"
 
 namespace ausbau::bench {
@@ -78,6 +79,8 @@ std::string SpeedupSection(const std::vector<SpeedupRow>& rows, double time_limi
 }
 
 std::vector<RecordedSpeedup> ReadRecordedSpeedups(const std::filesystem::path& file) {
+  // A FIFO would block, a device never end.
+  CheckInputFile(file, kMaxTextInputBytes, "recorded speed-ups (--recorded)");
   std::ifstream in(file);
   if (!in) throw InputErrorAt(file.string(), "cannot read the recorded speed-ups (--recorded)");
   std::vector<RecordedSpeedup> recorded;
