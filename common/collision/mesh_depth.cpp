@@ -32,7 +32,51 @@ double SegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const
   return (a + u * d - p).norm();
 }
 
+// Whether triangles p and q are more than `gap` apart along some axis
+// (then they do not touch). Axes: both normals, the nine edge-edge cross
+// products and each triangle's in-plane edge normals (coplanar pairs): for
+// two triangles, disjoint means some such axis separates them. False may
+// also mean only that the gap is smaller than asked (the caller refines).
+bool TrianglesApart(const std::array<Eigen::Vector3d, 3>& p, const std::array<Eigen::Vector3d, 3>& q, double gap) {
+  const Eigen::Vector3d o = q[0];  // rounding scales with the triangles, not their place
+  const Eigen::Vector3d a[3] = {p[0] - o, p[1] - o, p[2] - o};
+  const Eigen::Vector3d b[3] = {Eigen::Vector3d::Zero(), q[1] - o, q[2] - o};
+  const Eigen::Vector3d ea[3] = {a[1] - a[0], a[2] - a[1], a[0] - a[2]};
+  const Eigen::Vector3d eb[3] = {b[1] - b[0], b[2] - b[1], b[0] - b[2]};
+  const auto apart = [&](const Eigen::Vector3d& axis) {
+    const double length = axis.norm();
+    if (!(length > 0) || !std::isfinite(length)) return false;
+    const Eigen::Vector3d u = axis / length;
+    double a_lo = u.dot(a[0]), a_hi = a_lo, b_lo = 0, b_hi = 0;
+    for (int k = 1; k < 3; ++k) {
+      a_lo = std::min(a_lo, u.dot(a[k])), a_hi = std::max(a_hi, u.dot(a[k]));
+      b_lo = std::min(b_lo, u.dot(b[k])), b_hi = std::max(b_hi, u.dot(b[k]));
+    }
+    return a_hi + gap < b_lo || b_hi + gap < a_lo;
+  };
+  const Eigen::Vector3d na = ea[0].cross(ea[1]), nb = eb[0].cross(eb[1]);
+  if (apart(na) || apart(nb)) return true;
+  for (const auto& x : ea)
+    for (const auto& y : eb)
+      if (apart(x.cross(y))) return true;
+  for (int k = 0; k < 3; ++k)
+    if (apart(na.cross(ea[k])) || apart(nb.cross(eb[k]))) return true;
+  return false;
+}
+
 }  // namespace
+
+bool DepthSurface::MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) const {
+  Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - gap;
+  Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
+  bool meets = false;
+  bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
+    if (meets) return;
+    const auto& f = triangles_[k];
+    meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
+  });
+  return meets;
+}
 
 // The convex planar patches (mesh_depth.h): regions of coplanar triangles
 // connected through shared edges; a region whose boundary leaves every one
@@ -136,6 +180,7 @@ DepthSurface::DepthSurface(const Shell& shell)
   for (const auto& tri : triangles_)
     signed_volume += (vertices_[tri[0]] - c).dot((vertices_[tri[1]] - c).cross(vertices_[tri[2]] - c));
   const double outward = signed_volume < 0 ? -1.0 : 1.0;
+  convex_ = shell.convex;
   face_normal_.resize(n);
   vertex_normal_.assign(vertices_.size(), Eigen::Vector3d::Zero());
   std::map<std::pair<int, int>, Eigen::Vector3d> edge_sum;
@@ -151,8 +196,7 @@ DepthSurface::DepthSurface(const Shell& shell)
       const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
       vertex_normal_[i] += AngleAt(vertices_[i], vertices_[j], vertices_[l]) * face_normal_[t];
       // (Eigen's default constructor leaves a vector uninitialized.)
-      edge_sum.try_emplace({std::min(j, l), std::max(j, l)}, Eigen::Vector3d::Zero()).first->second +=
-          face_normal_[t];
+      edge_sum.try_emplace({std::min(j, l), std::max(j, l)}, Eigen::Vector3d::Zero()).first->second += face_normal_[t];
     }
   }
   edge_normal_.resize(n);
@@ -162,6 +206,19 @@ DepthSurface::DepthSurface(const Shell& shell)
       const int j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
+  }
+  // A convex shell's face planes (coplanar triangles once), when few.
+  if (convex_) {
+    for (int t = 0; t < n && static_cast<int>(planes_.size()) <= kMaxConvexPlanes; ++t) {
+      const Eigen::Vector3d& normal = face_normal_[t];
+      if (normal.squaredNorm() == 0) continue;
+      const double offset = normal.dot(vertices_[triangles_[t][0]]);
+      const bool seen = std::any_of(planes_.begin(), planes_.end(), [&](const auto& plane) {
+        return plane.first.dot(normal) >= 1 - 1e-12 && std::abs(plane.second - offset) <= 1e-9 * box_.Diagonal();
+      });
+      if (!seen) planes_.emplace_back(normal, offset);
+    }
+    if (static_cast<int>(planes_.size()) > kMaxConvexPlanes) planes_.clear();
   }
 }
 
@@ -211,10 +268,12 @@ double DepthSurface::PatchDistance(const Eigen::Vector3d& p, int triangle) const
   const double height = (p - patch.origin).dot(patch.normal);
   const Eigen::Vector3d q = p - height * patch.normal;
   bool inside = true;
-  for (std::size_t e = 0; e < patch.edge_a.size() && inside; ++e) inside = (q - patch.edge_a[e]).dot(patch.inward[e]) >= 0;
+  for (std::size_t e = 0; e < patch.edge_a.size() && inside; ++e)
+    inside = (q - patch.edge_a[e]).dot(patch.inward[e]) >= 0;
   if (inside) return std::abs(height);
   double best = std::numeric_limits<double>::infinity();
-  for (std::size_t e = 0; e < patch.edge_a.size(); ++e) best = std::min(best, SegmentDistance(p, patch.edge_a[e], patch.edge_b[e]));
+  for (std::size_t e = 0; e < patch.edge_a.size(); ++e)
+    best = std::min(best, SegmentDistance(p, patch.edge_a[e], patch.edge_b[e]));
   return best;
 }
 
@@ -269,9 +328,13 @@ class SurfaceDepthSearch {
 
   // Direction k: the triangles of `a`, moved into b's coordinates by a_to_b,
   // against `b`; b_to_world maps b's coordinates to the world (for region).
+  // `skip` (or null): triangles of `a` left out; `target_mask` (or null):
+  // boxes of b's coordinates where points of `a` do not count.
   void AddDirection(int k, const DepthSurface& a, const Eigen::Isometry3d& a_to_b, const DepthSurface& b,
-                    const Eigen::Isometry3d& b_to_world) {
+                    const Eigen::Isometry3d& b_to_world, const std::vector<char>* skip = nullptr,
+                    const DepthMask* target_mask = nullptr) {
     target_[k] = &b;
+    mask_[k] = target_mask;
     to_world_[k] = b_to_world;
     const Eigen::Isometry3d b_to_a = a_to_b.inverse();
     Aabb query;
@@ -282,9 +345,12 @@ class SurfaceDepthSearch {
       query.Extend(b_to_a * p);
     }
     a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) {
+      if (skip && (*skip)[t]) return;
       const auto& tri = a.triangles_[t];
       Push(Node{std::numeric_limits<double>::infinity(),
-                {a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]}, k, -1});
+                {a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]},
+                k,
+                -1});
     });
   }
 
@@ -328,6 +394,7 @@ class SurfaceDepthSearch {
     const double coarse =
         result_.lower > options_.coarse_above ? SurfaceDepthOptions::kCoarseShare * result_.lower : 0.0;
     return upper <= result_.lower + std::max(options_.resolution, coarse) || upper <= options_.settle ||
+           (result_.lower >= options_.settle_later_from && upper <= options_.settle_later) ||
            (std::isfinite(options_.decide) && upper <= options_.decide);
   }
 
@@ -336,6 +403,8 @@ class SurfaceDepthSearch {
   bool Evaluate(const Node& node) {
     const Corners& t = node.t;
     const DepthSurface& b = *target_[node.direction];
+    const DepthMask* mask = mask_[node.direction];
+    if (mask && mask->ContainsAll(t)) return true;  // wholly in a fastener's box
     ++result_.sub_triangles;
     const Eigen::Vector3d m = (t[0] + t[1] + t[2]) / 3.0;
     double radius = 0;
@@ -345,15 +414,38 @@ class SurfaceDepthSearch {
     const double d = std::sqrt(nearest.distance_squared);
     const bool inside = b.Inside(m, nearest);
     if (!inside && d >= radius) return true;  // wholly outside b
-    const bool deep = inside && d > options_.region_depth;
-    if (inside) {
+    // Outside, and crossing no triangle of b: wholly outside too (a surface
+    // at a small gap, or in contact, costs no refinement).
+    if (!inside && !b.MayMeet(t, floor_)) return true;
+    // A centre in a fastener's box attains nothing; its bound still holds.
+    const bool counts = inside && !(mask && mask->Contains(m));
+    const bool deep = counts && d > options_.region_depth;
+    if (counts) {
       result_.lower = std::max(result_.lower, d);
       if (deep) result_.region.Extend(to_world_[node.direction] * m);
       if (result_.lower > options_.decide) return false;
     }
     double upper = inside ? d + radius : radius;
     double face_bound = 0;
-    for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
+    // The plane bounds below settle sub-triangles that straddle the edge of
+    // an overlap early, whole; a region's area (a fit's layer) is measured
+    // with the patch bound alone, as before they were added.
+    const bool measuring_region = std::isfinite(options_.region_depth);
+    if (b.convex_ && !measuring_region && !b.planes_.empty()) {
+      // A convex b lies behind each face plane, so a point inside is at
+      // most its height below any of them from b's surface (and a point
+      // outside has no depth): per plane an affine bound, largest at a
+      // corner, that holds past the face's edges too (a pin along the rim
+      // of a sleeve, a face resting on a box's top face); the least of them.
+      face_bound = std::numeric_limits<double>::infinity();
+      for (const auto& [normal, offset] : b.planes_) {
+        double plane = 0;
+        for (const auto& c : t) plane = std::max(plane, offset - c.dot(normal));
+        face_bound = std::min(face_bound, plane);
+      }
+    } else {
+      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
+    }
     upper = std::min(upper, face_bound);
     if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
       result_.upper = std::max(result_.upper, upper);
@@ -378,6 +470,7 @@ class SurfaceDepthSearch {
   SurfaceDepthOptions options_;
   double floor_;
   const DepthSurface* target_[2] = {nullptr, nullptr};
+  const DepthMask* mask_[2] = {nullptr, nullptr};
   Eigen::Isometry3d to_world_[2];
   std::vector<Node> heap_;
   SurfaceDepth result_;
@@ -386,13 +479,13 @@ class SurfaceDepthSearch {
 };
 
 SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a, const DepthSurface& b,
-                                 const SurfaceDepthOptions& options) {
+                                 const SurfaceDepthOptions& options, const DepthMask* mask_a) {
   // Sub-triangles smaller than this are not made (their bound is kept).
   const double scale = std::max(a.box().Diagonal(), b.box().Diagonal());
   const double floor = std::max(options.resolution / 8, 1e-9 * scale);
   SurfaceDepthSearch search(options, floor);
-  search.AddDirection(0, a, pose_a, b, Eigen::Isometry3d::Identity());
-  search.AddDirection(1, b, pose_a.inverse(), a, pose_a);
+  search.AddDirection(0, a, pose_a, b, Eigen::Isometry3d::Identity(), mask_a ? &mask_a->skip_triangle : nullptr);
+  search.AddDirection(1, b, pose_a.inverse(), a, pose_a, nullptr, mask_a);
   return search.Run();
 }
 

@@ -52,6 +52,7 @@
 #include <vector>
 
 #include "geometry/mesh.h"
+#include "geometry/protrusions.h"
 #include "geometry/shells.h"
 #include "geometry/triangle_bvh.h"
 
@@ -74,6 +75,10 @@ class DepthSurface {
   static constexpr double kMaxGapShare = 0.01;
   bool solid() const { return solid_; }
   const Aabb& box() const { return box_; }
+  // Whether triangle t (in the shell's coordinates) may touch the surface:
+  // false only when every triangle near it is more than `gap` apart from it
+  // along a separating axis.
+  bool MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) const;
 
   // A convex planar patch (see below).
   struct Patch {
@@ -91,6 +96,11 @@ class DepthSurface {
   TriangleBvh bvh_;
   bool oriented_ = false;
   bool solid_ = true;
+  bool convex_ = false;  // a convex shell (oriented): every face plane supports it
+  // Its face planes (outward normal, offset), at most kMaxConvexPlanes
+  // (none beyond: the patch bound alone).
+  static constexpr int kMaxConvexPlanes = 64;
+  std::vector<std::pair<Eigen::Vector3d, double>> planes_;
   double GapShare(const std::map<std::pair<int, int>, int>& directed_edges) const;
   // Outward pseudo-normals (closed, oriented shells): per triangle, per
   // triangle edge (k: the edge opposite corner k), per vertex.
@@ -134,6 +144,13 @@ struct SurfaceDepthOptions {
   // sub-triangle whose bound is below it is not refined. The answer's
   // `upper` is then at most max(settle, true depth + resolution).
   double settle = -std::numeric_limits<double>::infinity();
+  // Once the lower bound reaches `settle_later_from`, precision below
+  // `settle_later` does not matter either (a slack that can no longer exceed
+  // the motion check's floor: only whether the depth exceeds settle_later
+  // still does). The answer's `upper` is then at most
+  // max(settle_later, true depth + resolution).
+  double settle_later_from = std::numeric_limits<double>::infinity();
+  double settle_later = -std::numeric_limits<double>::infinity();
   // Precision above this depth does not matter either (the caller's answer
   // is already "too deep"; only a report shows the number): once the lower
   // bound exceeds it, the upper bound need only be within kCoarseShare of
@@ -144,8 +161,34 @@ struct SurfaceDepthOptions {
   double coarse_above = std::numeric_limits<double>::infinity();
 };
 
-// The surface depth of A, moved by `pose_a` (A's coordinates -> B's), and B.
+// Where A may reach into B without it counting: features moulded into A
+// that are fasteners (collision/rigid_depth.h), each in a box of A's
+// coordinates that holds A's material of that feature only
+// (geometry/protrusions.h). The depth is then taken over A's surface
+// outside the boxes and over B's surface inside A outside the boxes:
+//  - a triangle of A wholly inside a box (`skip_triangle`) is left out;
+//  - a sub-triangle of B wholly inside one box is left out; one whose
+//    centre is inside a box gives no lower bound, and its upper bound (which
+//    holds for all its points) is refined like any other, so the answer is
+//    still an upper bound on the depth of every point outside the boxes.
+struct DepthMask {
+  std::vector<TurnedBox> boxes;     // in A's coordinates
+  std::vector<char> skip_triangle;  // per triangle of A
+  bool Contains(const Eigen::Vector3d& p) const {
+    for (const auto& box : boxes)
+      if (box.Contains(p)) return true;
+    return false;
+  }
+  bool ContainsAll(const std::array<Eigen::Vector3d, 3>& t) const {
+    for (const auto& box : boxes)
+      if (box.Contains(t[0]) && box.Contains(t[1]) && box.Contains(t[2])) return true;
+    return false;
+  }
+};
+
+// The surface depth of A, moved by `pose_a` (A's coordinates -> B's), and B;
+// `mask_a` (or null): regions of A whose reach into B does not count.
 SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a, const DepthSurface& b,
-                                 const SurfaceDepthOptions& options);
+                                 const SurfaceDepthOptions& options, const DepthMask* mask_a = nullptr);
 
 }  // namespace ausbau

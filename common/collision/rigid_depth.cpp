@@ -11,6 +11,7 @@
 #include "collision/fcl_model.h"
 #include "collision/mesh_depth.h"
 #include "core/format.h"
+#include "geometry/protrusions.h"
 
 namespace ausbau {
 namespace {
@@ -84,8 +85,19 @@ struct PairMeasure {
   const std::vector<Shell>* statics;
   // Filled only where a non-convex pair needs them (BuildFallbackModels).
   std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
+  // Robot shells with moulded fasteners: the surface that bounds the rigid
+  // rest (the triangles outside the fasteners' boxes and each box's face on
+  // the plate, which holds the cut), and a vertex of it; null elsewhere.
+  std::vector<std::shared_ptr<FclModel>> rigid_bvh;
+  std::vector<Eigen::Vector3d> rigid_vertex;
   std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
   double resolution = 0;  // of the surface depth
+  // Per robot shell, the boxes of its moulded fasteners (PartModel::masks);
+  // null: none anywhere.
+  const std::vector<std::shared_ptr<const DepthMask>>* masks = nullptr;
+  const DepthMask* MaskOf(int r) const {
+    return masks && r < static_cast<int>(masks->size()) ? (*masks)[r].get() : nullptr;
+  }
 
   // Whether the surfaces of a non-convex pair meet: their triangles
   // intersect, or one shell holds the other (a vertex inside).
@@ -102,39 +114,70 @@ struct PairMeasure {
            robot_surface[r]->SignedDistance(pose.inverse() * b.vertices.front()) > 0;
   }
 
+  // Whether the rigid rest of robot shell r (moulded fasteners left out)
+  // meets static shell s: its bounding surface (rigid_bvh) intersects s's
+  // triangles, or one holds the other (a vertex of the rest inside s, or
+  // one of s inside the shell outside the fasteners' boxes). Where it does
+  // not, the rest and s are apart by at least the distance of those
+  // surfaces.
+  bool MeetRigid(int r, const Eigen::Isometry3d& pose, int s) const {
+    const fcl::Transform3d& tf = pose;
+    fcl::CollisionRequestd request;
+    fcl::CollisionResultd result;
+    fcl::collide(rigid_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
+    if (result.isCollision()) return true;
+    const Shell& b = (*statics)[s];
+    if (b.vertices.empty()) return false;
+    if (static_surface[s]->SignedDistance(pose * rigid_vertex[r]) > 0) return true;
+    const Eigen::Vector3d q = pose.inverse() * b.vertices.front();
+    return robot_surface[r]->SignedDistance(q) > 0 && !MaskOf(r)->Contains(q);
+  }
+
   // Two sheets (mesh_depth.h: neither bounds a volume) that meet have no
   // depth to measure: not measured (infinitely deep), as any crossing of two
   // surfaces must be.
   bool BothSheets(int r, int s) const { return !robot_surface[r]->solid() && !static_surface[s]->solid(); }
 
-  SurfaceDepth Surface(int r, const Eigen::Isometry3d& pose, int s, const SurfaceDepthOptions& options) const {
+  // `mask`: the robot shell's moulded fasteners left out (or null).
+  SurfaceDepth Surface(int r, const Eigen::Isometry3d& pose, int s, const SurfaceDepthOptions& options,
+                       const DepthMask* mask) const {
     if (BothSheets(r, s)) {
       SurfaceDepth unmeasured;
       unmeasured.lower = unmeasured.upper = std::numeric_limits<double>::infinity();
       return unmeasured;
     }
-    return MeasureSurfaceDepth(*robot_surface[r], pose, *static_surface[s], options);
+    return MeasureSurfaceDepth(*robot_surface[r], pose, *static_surface[s], options, mask);
+  }
+  SurfaceDepth Surface(int r, const Eigen::Isometry3d& pose, int s, const SurfaceDepthOptions& options) const {
+    return Surface(r, pose, s, options, MaskOf(r));
   }
 
   // `settle`: a depth below which the caller needs no precision;
   // `coarse_above`: one above which it needs only a share (mesh_depth.h).
+  // `whole`: the robot shell with its moulded fasteners (for reports).
+  // `settle_later_from`, `settle_later`: see SurfaceDepthOptions.
   double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
-               double coarse_above = std::numeric_limits<double>::infinity()) const {
+               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false,
+               double settle_later_from = std::numeric_limits<double>::infinity(),
+               double settle_later = -std::numeric_limits<double>::infinity()) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
-    if (Meet(r, pose, s)) {
+    const bool rest = !whole && MaskOf(r) != nullptr;  // the rigid rest of a shell with moulded fasteners
+    if (rest ? MeetRigid(r, pose, s) : Meet(r, pose, s)) {
       SurfaceDepthOptions options;
       options.resolution = resolution;
       options.settle = settle;
       options.coarse_above = coarse_above;
-      return Surface(r, pose, s, options).upper;
+      options.settle_later_from = settle_later_from;
+      options.settle_later = settle_later;
+      return Surface(r, pose, s, options, whole ? nullptr : MaskOf(r)).upper;
     }
     const fcl::Transform3d& tf = pose;
     fcl::DistanceRequestd distance_request;
     fcl::DistanceResultd distance_result;
-    fcl::distance(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), distance_request,
-                  distance_result);
+    fcl::distance((rest ? rigid_bvh : robot_bvh)[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(),
+                  distance_request, distance_result);
     return -std::max(0.0, distance_result.min_distance);
   }
 
@@ -144,7 +187,7 @@ struct PairMeasure {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
-    if (!Meet(r, pose, s)) return false;
+    if (!(MaskOf(r) != nullptr ? MeetRigid(r, pose, s) : Meet(r, pose, s))) return false;
     SurfaceDepthOptions options;
     options.resolution = resolution;
     options.decide = allowed;
@@ -161,7 +204,7 @@ double PartModel::FitDepth(int robot_shell, int static_shell) const {
 }
 
 int PartModel::FastenerCount() const {
-  return static_cast<int>(std::count(role.begin(), role.end(), ShellRole::kFastener));
+  return static_cast<int>(std::count(role.begin(), role.end(), ShellRole::kFastener) + moulded.size());
 }
 
 std::string PartModel::Describe(int shell, bool robot) const {
@@ -196,6 +239,31 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
     measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
     measure->static_surface.push_back(std::make_shared<DepthSurface>(s));
   }
+  // The rigid rest of each shell with moulded fasteners (PairMeasure::rigid_bvh).
+  measure->rigid_bvh.assign(parts.robot_shells.size(), nullptr);
+  measure->rigid_vertex.assign(parts.robot_shells.size(), Eigen::Vector3d::Zero());
+  for (std::size_t r = 0; r < parts.robot_shells.size(); ++r) {
+    const DepthMask* mask = parts.Mask(static_cast<int>(r));
+    if (mask == nullptr) continue;
+    const Shell& shell = parts.robot_shells[r];
+    std::vector<Eigen::Vector3d> vertices = shell.vertices;
+    std::vector<std::array<int, 3>> triangles;
+    for (std::size_t t = 0; t < shell.triangles.size(); ++t)
+      if (!mask->skip_triangle[t]) triangles.push_back(shell.triangles[t]);
+    if (!triangles.empty()) measure->rigid_vertex[r] = shell.vertices[triangles.front()[0]];
+    for (const MouldedFastener& fastener : parts.moulded) {
+      if (fastener.shell != static_cast<int>(r)) continue;
+      const TurnedBox& box = fastener.box;
+      const Eigen::Vector3d face = box.center - fastener.side * box.half.z() * box.axes.col(2);
+      const int first = static_cast<int>(vertices.size());
+      for (int corner = 0; corner < 4; ++corner)
+        vertices.push_back(face + ((corner & 1) ? 1.0 : -1.0) * box.half.x() * box.axes.col(0) +
+                           ((corner & 2) ? 1.0 : -1.0) * box.half.y() * box.axes.col(1));
+      triangles.push_back({first, first + 1, first + 3});
+      triangles.push_back({first, first + 3, first + 2});
+    }
+    measure->rigid_bvh[r] = BuildFclModel(vertices, triangles);
+  }
 }
 
 // Whether the installed interference of rigid shell r with static shell s,
@@ -215,6 +283,104 @@ bool IsFit(const PartModel& parts, int r, int s, double depth, const Eigen::Isom
   options.region_depth = parts.tolerance;
   fit->area = MeasureSurfaceDepth(DepthSurface(a), pose, DepthSurface(b), options).region_area;
   return fit->area >= FitRule::kAreaPerDepthSquared * depth * depth;
+}
+
+// The mask of the features switched on (`on`): their boxes, and the
+// shell's triangles wholly in one of them (the plate's own faces never).
+std::shared_ptr<DepthMask> FeatureMask(const Shell& shell, const PlateFeatures& plate, const std::vector<char>& on) {
+  auto mask = std::make_shared<DepthMask>();
+  for (std::size_t f = 0; f < plate.features.size(); ++f)
+    if (on[f]) mask->boxes.push_back(plate.features[f].box);
+  mask->skip_triangle.assign(shell.triangles.size(), 0);
+  for (std::size_t t = 0; t < shell.triangles.size(); ++t) {
+    if (plate.on_face[t]) continue;
+    const auto& f = shell.triangles[t];
+    mask->skip_triangle[t] =
+        mask->ContainsAll({shell.vertices[f[0]], shell.vertices[f[1]], shell.vertices[f[2]]}) ? 1 : 0;
+  }
+  return mask;
+}
+
+// Rigid shell r clashes with S at the installed pose (its deep pairs, none
+// of them all fits): is it a plate with fasteners moulded in (rigid_depth.h
+// MouldedFastener)? Then its fasteners are the fewest features whose boxes,
+// left out, leave the rest of the shell no deeper than the tolerance in any
+// pair (but its fits): each feature in turn is kept rigid where the rest
+// stays within the tolerance without it. False (and parts.moulded_note
+// says why) where the shell is no plate, where the rest still clashes, or
+// where a fastener is too large (MouldedRule).
+bool SplitMouldedFasteners(PartModel& parts, int r, const Eigen::Isometry3d& pose, const PairMeasure& measure,
+                           const std::vector<std::pair<int, double>>& deep_pairs,
+                           const std::vector<FitInterference>& fits) {
+  const Shell& shell = parts.robot_shells[r];
+  const PlateFeatures plate = FindPlateFeatures(shell);
+  if (!plate.found) {
+    parts.moulded_note = "no moulded fasteners in " + parts.Describe(r, true) + ": " + plate.reason;
+    return false;
+  }
+  const double tolerance = parts.tolerance;
+  const auto is_fit = [&](int s) {
+    return std::any_of(fits.begin(), fits.end(), [&](const FitInterference& fit) { return fit.static_shell == s; });
+  };
+  const auto exceeds = [&](const DepthMask& mask) {
+    SurfaceDepthOptions options;
+    options.resolution = tolerance / 10;
+    options.decide = tolerance;
+    for (const auto& [s, depth] : deep_pairs)
+      if (!is_fit(s) && measure.Surface(r, pose, s, options, &mask).upper > tolerance) return true;
+    return false;
+  };
+  std::vector<char> on(plate.features.size(), 1);
+  if (exceeds(*FeatureMask(shell, plate, on))) {
+    parts.moulded_note = Fmt("no moulded fasteners in %s: %s, but the plate itself penetrates S",
+                             parts.Describe(r, true).c_str(), plate.reason.c_str());
+    return false;
+  }
+  for (std::size_t f = 0; f < on.size(); ++f) {
+    on[f] = 0;
+    if (exceeds(*FeatureMask(shell, plate, on))) on[f] = 1;
+  }
+  for (std::size_t f = 0; f < on.size(); ++f) {
+    const Protrusion& feature = plate.features[f];
+    if (on[f] && feature.volume > MouldedRule::kMaxShareOfShell * shell.volume) {
+      parts.moulded_note =
+          Fmt("no moulded fasteners in %s: the feature that intersects S at [%.6g, %.6g, %.6g] holds %.1f%% of its "
+              "volume, more than a fastener's %.0f%%",
+              parts.Describe(r, true).c_str(), feature.box.center.x(), feature.box.center.y(), feature.box.center.z(),
+              100 * feature.volume / shell.volume, 100 * MouldedRule::kMaxShareOfShell);
+      return false;
+    }
+  }
+  const auto mask = FeatureMask(shell, plate, on);
+  for (std::size_t f = 0; f < on.size(); ++f) {
+    if (!on[f]) continue;
+    MouldedFastener fastener;
+    fastener.shell = r;
+    fastener.box = plate.features[f].box;
+    fastener.side = plate.features[f].side;
+    fastener.volume = plate.features[f].volume;
+    for (std::size_t t = 0; t < shell.triangles.size(); ++t) {
+      const auto& tri = shell.triangles[t];
+      if (mask->skip_triangle[t] && fastener.box.Contains(shell.vertices[tri[0]]) &&
+          fastener.box.Contains(shell.vertices[tri[1]]) && fastener.box.Contains(shell.vertices[tri[2]]))
+        ++fastener.triangles;
+    }
+    std::vector<char> others = on;
+    others[f] = 0;
+    const auto without = FeatureMask(shell, plate, others);
+    // A number for reports: precision below the tolerance does not matter,
+    // and above it a share of the depth is enough.
+    SurfaceDepthOptions options;
+    options.resolution = tolerance / 10;
+    options.settle = tolerance;
+    options.coarse_above = tolerance;
+    for (const auto& [s, depth] : deep_pairs)
+      fastener.installed_depth =
+          std::max(fastener.installed_depth, measure.Surface(r, pose, s, options, without.get()).upper);
+    parts.moulded.push_back(fastener);
+  }
+  parts.masks[r] = mask;
+  return true;
 }
 
 }  // namespace
@@ -257,9 +423,10 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     const Shell& s = parts->robot_shells[i];
     tree.Query(pose * s.center, s.radius, [&](int j) {
       // Deeper than a fit may be (FitRule), the number is only reported.
-      const double fit_limit = fit_rule.max_depth >= 0 ? fit_rule.max_depth
-                                                       : FitRule::kShareOfSize * std::min(s.box.Diagonal(),
-                                                                                          parts->static_shells[j].box.Diagonal());
+      const double fit_limit =
+          fit_rule.max_depth >= 0
+              ? fit_rule.max_depth
+              : FitRule::kShareOfSize * std::min(s.box.Diagonal(), parts->static_shells[j].box.Diagonal());
       const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2, std::max(fit_limit, tolerance));
       parts->installed_depth[i] = std::max(parts->installed_depth[i], depth);
       if (depth > tolerance) deep_pairs[i].emplace_back(j, depth);
@@ -328,11 +495,17 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     parts->cluster_limit.push_back(std::numeric_limits<double>::infinity());
     ++clusters;
   }
-  // 5. A rigid shell's installed interference: fits, or a clash.
+  // 5. A rigid shell's installed interference: fits, fasteners moulded into
+  // it, or a clash.
+  parts->masks.assign(n, nullptr);
   for (int i = 0; i < n; ++i) {
     if (parts->role[i] != ShellRole::kRigid || parts->installed_depth[i] <= tolerance) continue;
     parts->fits.insert(parts->fits.end(), fits[i].begin(), fits[i].end());
-    if (!only_fits[i]) parts->rigid_interference.push_back(i);
+    if (only_fits[i]) continue;
+    if (std::isfinite(parts->installed_depth[i]) &&
+        SplitMouldedFasteners(*parts, i, pose, measure, deep_pairs[i], fits[i]))
+      continue;
+    parts->rigid_interference.push_back(i);
   }
   return parts;
 }
@@ -341,6 +514,7 @@ RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, dou
     : parts_(std::move(parts)), limit_(limit), min_step_(min_step), impl_(std::make_unique<Impl>(*parts_)) {
   impl_->measure = PairMeasure{&parts_->robot_shells, &parts_->static_shells};
   impl_->measure.resolution = limit_ / 10;
+  impl_->measure.masks = &parts_->masks;
   BuildFallbackModels(*parts_, &impl_->measure);
   // Pairs farther apart than this are not measured; their slack is at least
   // this. A few percent of D's size keeps the pair count small near S and
@@ -390,8 +564,18 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
       // Beyond fit + limit the pose is invalid whatever the digits: the
       // number is measured to a share of itself (still an upper bound).
-      const double measured = impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_);
+      // A slack below the advancement's floor is stepped as the floor: once
+      // the depth is within the floor of the limit, only whether it exceeds
+      // the limit matters (not for reports, which print the number).
+      const double measured = report_fasteners
+                                  ? impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_)
+                                  : impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_, false,
+                                                         fit + limit_ - min_step_, fit + limit_);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
+      // Moulded fasteners: the whole shell's reach, reported (not judged).
+      if (report_fasteners && parts.Mask(r) != nullptr)
+        report.fastener_depth =
+            std::max(report.fastener_depth, impl_->measure.Depth(r, iso, s, margin_, limit_ / 2, limit_, true));
       const double depth = measured - fit;
       report.slack = std::min(report.slack, allowed - depth);
       if (!rigid) {

@@ -47,6 +47,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/mesh_depth.h"
 #include "collision/validity.h"
 #include "geometry/mesh.h"
 #include "geometry/shells.h"
@@ -77,27 +78,58 @@ struct FitInterference {
   double area = 0;             // of the surface overlapping deeper than the tolerance
 };
 
+// A fastener moulded into a rigid shell (docs/rigid-exact.md "Moulded
+// fasteners"): a feature standing out of a plate-like shell
+// (geometry/protrusions.h) that intersects S at the installed pose. Its box
+// is left out of the shell's rigid check (DepthMask, mesh_depth.h); the rest
+// of the shell is rigid. Fasteners are not limited, as separate fastener
+// shells are not.
+struct MouldedFastener {
+  int shell = -1;
+  TurnedBox box;               // in the frame of the robot shells
+  int side = 1;                // the box's face on the plate: at -half.z along its third axis (1), or +half.z (-1)
+  int triangles = 0;           // of the shell, wholly in the box
+  double volume = 0;           // the feature's
+  double installed_depth = 0;  // how deep the shell reaches into S at the installed pose with only this feature counted
+};
+
+// When features of a plate-like shell may be moulded fasteners: a fastener
+// is small against the part it holds (a snap clip on a panel, not the leg of
+// a bracket): each feature at most kMaxShareOfShell of the shell's volume.
+struct MouldedRule {
+  static constexpr double kMaxShareOfShell = 0.05;
+};
+
 struct PartModel {
-  std::vector<Shell> robot_shells;      // D, in the frame its poses refer to
-  std::vector<Shell> static_shells;     // S, world
-  std::vector<ShellRole> role;          // per robot shell
-  std::vector<int> cluster;             // per robot shell: fastener cluster, -1 for rigid
-  std::vector<double> cluster_limit;    // per cluster: the depth it may reach (infinite: not limited)
-  std::vector<double> installed_depth;  // per robot shell: deepest penetration of S at the installed pose
-  int anchor = -1;                      // index of the anchor shell
-  std::vector<int> rigid_interference;  // rigid shells that clash with S at the installed pose
-  std::vector<FitInterference> fits;    // rigid pairs allowed their installed depth
+  std::vector<Shell> robot_shells;       // D, in the frame its poses refer to
+  std::vector<Shell> static_shells;      // S, world
+  std::vector<ShellRole> role;           // per robot shell
+  std::vector<int> cluster;              // per robot shell: fastener cluster, -1 for rigid
+  std::vector<double> cluster_limit;     // per cluster: the depth it may reach (infinite: not limited)
+  std::vector<double> installed_depth;   // per robot shell: deepest penetration of S at the installed pose
+  int anchor = -1;                       // index of the anchor shell
+  std::vector<int> rigid_interference;   // rigid shells that clash with S at the installed pose
+  std::vector<FitInterference> fits;     // rigid pairs allowed their installed depth
+  std::vector<MouldedFastener> moulded;  // fasteners moulded into rigid shells
+  // Per robot shell: the boxes of its moulded fasteners (null: none).
+  std::vector<std::shared_ptr<const DepthMask>> masks;
+  // Why a rigid shell that clashes was not split into moulded fasteners
+  // (empty: not tried or split).
+  std::string moulded_note;
   // Shells other than the anchor deeper than the tolerance at the installed
   // pose in a pair with a non-convex shell (a clip in a plate with holes
   // welded into one mesh, or a friction-fit rail there): ChooseValidity
   // hands those scenes to the volume model.
   std::vector<int> non_convex_interference;
-  double tolerance = 0;                 // the one used to classify
+  double tolerance = 0;  // the one used to classify
 
   // The installed depth a fit allows the pair, or 0.
   double FitDepth(int robot_shell, int static_shell) const;
 
-  int FastenerCount() const;
+  int FastenerCount() const;  // fastener shells and moulded fasteners
+  const DepthMask* Mask(int shell) const {
+    return shell < static_cast<int>(masks.size()) ? masks[shell].get() : nullptr;
+  }
   // "shell 3 (convex, 12 triangles, centre [x, y, z])": how a report names a
   // shell of D (robot = true) or of S.
   std::string Describe(int shell, bool robot) const;

@@ -24,22 +24,28 @@ SolidLabels LabelBySolids(const Scene& scene, double tolerance) {
   // cannot split one solid, so it leaves the labels to PBD.
   if (!parts->rigid_interference.empty()) {
     const int shell = parts->rigid_interference.front();
-    out.reason = Fmt("%s intersects S %.4g deep at the installed pose as one solid (a clip moulded into it?): the "
-                     "rule cannot split a solid",
-                     parts->Describe(shell, true).c_str(), parts->installed_depth[shell]);
+    out.reason =
+        Fmt("%s intersects S %.4g deep at the installed pose as one solid (a clip moulded into it?): the "
+            "rule cannot split a solid",
+            parts->Describe(shell, true).c_str(), parts->installed_depth[shell]);
     return out;
   }
   out.applies = true;
   out.fasteners = parts->FastenerCount();
   out.deformability.assign(scene.dynamic_mesh.vertices.size(), 0.0);
   for (std::size_t s = 0; s < parts->robot_shells.size(); ++s) {
-    if (parts->role[s] != ShellRole::kFastener) continue;
-    for (int t : parts->robot_shells[s].source_triangles) {
-      for (int v : scene.dynamic_mesh.triangles[t]) out.deformability[v] = 1.0;
+    const auto& source = parts->robot_shells[s].source_triangles;
+    // Fasteners moulded into a rigid shell: its triangles in their boxes.
+    const DepthMask* mask = parts->Mask(static_cast<int>(s));
+    for (std::size_t k = 0; k < source.size(); ++k) {
+      if (parts->role[s] != ShellRole::kFastener && !(mask && mask->skip_triangle[k])) continue;
+      for (int v : scene.dynamic_mesh.triangles[source[k]]) out.deformability[v] = 1.0;
     }
   }
   out.reason = std::to_string(out.solids) + " closed solids, " + std::to_string(out.fasteners) +
                " of them intersecting S at the installed pose (or overlapping one that does): fasteners";
+  if (!parts->moulded.empty())
+    out.reason += " (" + std::to_string(parts->moulded.size()) + " of them moulded into a solid)";
   return out;
 }
 

@@ -21,6 +21,9 @@
 //  - every other solid is rigid: 0. A part with no installed intersection is
 //    rigid everywhere: a solid block or peg is labelled rigid, and "nothing
 //    is deformable" is an answer.
+//  - a feature moulded into a plate-like solid that intersects S there
+//    (collision/rigid_depth.h MouldedFastener) is a fastener too: the
+//    vertices of its triangles get 1.
 // The rule does not apply (PBD labels then, the thesis's method) where the
 // installed intersection cannot be measured (a non-convex or open solid at
 // the contact, e.g. one welded mesh for a panel with its clips, as clips-ds*)

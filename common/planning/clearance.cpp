@@ -25,9 +25,14 @@ TriangleMesh ClearanceRobot(const PlanningProblem& problem, const PartModel* par
   for (std::size_t s = 0; s < parts->robot_shells.size(); ++s) {
     if (parts->role[s] != ShellRole::kRigid) continue;
     const Shell& shell = parts->robot_shells[s];
+    const DepthMask* mask = parts->Mask(static_cast<int>(s));  // its moulded fasteners' triangles left out
     const int offset = static_cast<int>(rigid.vertices.size());
     rigid.vertices.insert(rigid.vertices.end(), shell.vertices.begin(), shell.vertices.end());
-    for (const auto& t : shell.triangles) rigid.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    for (std::size_t k = 0; k < shell.triangles.size(); ++k) {
+      if (mask && mask->skip_triangle[k]) continue;
+      const auto& t = shell.triangles[k];
+      rigid.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    }
   }
   // The anchor is always rigid, so this holds a shell unless D has none.
   return rigid.triangles.empty() ? problem.robot : rigid;

@@ -138,7 +138,9 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   options.Check();
   const auto begin = std::chrono::steady_clock::now();
   const double step = options.resolution * problem.robot_diagonal;
-  const MotionChecker motion(problem, validity, step);
+  const MotionChecker motion(problem, validity, step,
+                             begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(options.time_limit_s)));
   PlanResult result = FindPlanner(options.planner)->run(problem, motion, options);
   if (!result.solved()) return result;
   // Certify the path at a finer step (planning/certify.h), counting its
@@ -157,6 +159,33 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   return result;
 }
 
+namespace {
+
+// The eigenvectors of the area-weighted normal tensor sum a n n^T of D's
+// triangles, turned by `rotation` (largest first; none when it fails).
+std::vector<Eigen::Vector3d> NormalAxes(const TriangleMesh& mesh, const Eigen::Quaterniond& rotation) {
+  Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d cross =
+        (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]);
+    const double twice_area = cross.norm();
+    if (twice_area > 0) tensor += (0.5 / twice_area) * cross * cross.transpose();  // area x n n^T
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(tensor);
+  std::vector<Eigen::Vector3d> axes;
+  if (solver.info() != Eigen::Success || !solver.eigenvectors().allFinite()) return axes;
+  for (int k = 2; k >= 0; --k) {
+    Eigen::Vector3d axis = rotation * solver.eigenvectors().col(k).normalized();
+    int largest = 0;
+    axis.cwiseAbs().maxCoeff(&largest);
+    if (axis[largest] < 0) axis = -axis;
+    axes.push_back(axis);
+  }
+  return axes;
+}
+
+}  // namespace
+
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options) {
   PlanResult result;
@@ -170,14 +199,22 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   for (const auto& v : problem.robot.vertices) vertices.push_back(problem.start.q * v);
   const Eigen::Matrix3d principal = vertices.empty() ? Eigen::Matrix3d::Identity() : PrincipalAxes(vertices);
   std::vector<Eigen::Vector3d> axes;
-  for (int k = 0; k < 3; ++k) axes.push_back(principal.col(k).normalized());
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d world = Eigen::Vector3d::Unit(k);
-    if (std::none_of(axes.begin(), axes.end(), [&](const Eigen::Vector3d& a) { return std::abs(a.dot(world)) > std::cos(0.01); }))
-      axes.push_back(world);
-  }
+  const auto add_axis = [&](const Eigen::Vector3d& axis) {
+    if (std::none_of(axes.begin(), axes.end(),
+                     [&](const Eigen::Vector3d& a) { return std::abs(a.dot(axis)) > std::cos(0.01); }))
+      axes.push_back(axis);
+  };
+  for (int k = 0; k < 3; ++k) add_axis(principal.col(k).normalized());
+  for (int k = 0; k < 3; ++k) add_axis(Eigen::Vector3d::Unit(k));
+  // The axes of D's surface normals, weighted by area: a plate's normal
+  // (its largest), a pin's or a bore's axis (its smallest: the normals of a
+  // cylinder lie across it), exactly, where the spread of the vertices
+  // (the principal axes) is tilted by whatever stands on the plate.
+  for (const Eigen::Vector3d& axis : NormalAxes(problem.robot, problem.start.q)) add_axis(axis);
   const double step = options.resolution * problem.robot_diagonal;
-  const MotionChecker motion(problem, validity, step);
+  const MotionChecker motion(problem, validity, step,
+                             begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                         std::chrono::duration<double>(options.time_limit_s)));
   const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
   const double probe = 0.02 * problem.robot_diagonal;
   for (const Eigen::Vector3d& axis : axes) {

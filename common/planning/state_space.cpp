@@ -206,8 +206,13 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
   return false;
 }
 
-MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step)
-    : problem_(&problem), validity_(&validity), slack_(dynamic_cast<const SlackValidity*>(&validity)), step_(step) {}
+MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step,
+                             std::chrono::steady_clock::time_point deadline)
+    : problem_(&problem),
+      validity_(&validity),
+      slack_(dynamic_cast<const SlackValidity*>(&validity)),
+      step_(step),
+      deadline_(deadline) {}
 
 double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) const {
   // Conservative advancement: from a pose with slack d, any motion in which
@@ -223,6 +228,8 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
     valid = s;
     if (last_valid) *last_valid = pose;
     if (s >= 1.0) return 1.0;
+    if (deadline_ != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() >= deadline_)
+      return valid;  // out of time: blocked here
     s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));
     pose = s == 1.0 ? b : Interpolate(a, b, s);
   }

@@ -8,6 +8,7 @@
 // from its mesh origin. Conversions happen only at the boundary.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -136,7 +137,11 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
 // allows, never shorter than its MinStep.
 class MotionChecker {
  public:
-  MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step);
+  // `deadline`: a motion walked by conservative advancement stops there, as
+  // if blocked (a planner's time limit, which an edge of thousands of slow
+  // checks in a narrow passage would otherwise overrun by minutes).
+  MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step,
+                std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
   bool IsValid(const Pose& pose) const { return problem_->InBounds(pose) && validity_->IsValid(pose); }
   // Number of equal sub-steps needed between a and b.
@@ -159,6 +164,7 @@ class MotionChecker {
   const PoseValidity* validity_;
   const SlackValidity* slack_;  // validity_ when it measures slack, else null
   double step_;
+  std::chrono::steady_clock::time_point deadline_;
 };
 
 }  // namespace ausbau
