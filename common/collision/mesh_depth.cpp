@@ -394,7 +394,6 @@ class SurfaceDepthSearch {
     const double coarse =
         result_.lower > options_.coarse_above ? SurfaceDepthOptions::kCoarseShare * result_.lower : 0.0;
     return upper <= result_.lower + std::max(options_.resolution, coarse) || upper <= options_.settle ||
-           (result_.lower >= options_.settle_later_from && upper <= options_.settle_later) ||
            (std::isfinite(options_.decide) && upper <= options_.decide);
   }
 

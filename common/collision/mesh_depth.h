@@ -144,13 +144,6 @@ struct SurfaceDepthOptions {
   // sub-triangle whose bound is below it is not refined. The answer's
   // `upper` is then at most max(settle, true depth + resolution).
   double settle = -std::numeric_limits<double>::infinity();
-  // Once the lower bound reaches `settle_later_from`, precision below
-  // `settle_later` does not matter either (a slack that can no longer exceed
-  // the motion check's floor: only whether the depth exceeds settle_later
-  // still does). The answer's `upper` is then at most
-  // max(settle_later, true depth + resolution).
-  double settle_later_from = std::numeric_limits<double>::infinity();
-  double settle_later = -std::numeric_limits<double>::infinity();
   // Precision above this depth does not matter either (the caller's answer
   // is already "too deep"; only a report shows the number): once the lower
   // bound exceeds it, the upper bound need only be within kCoarseShare of

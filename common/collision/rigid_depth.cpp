@@ -155,11 +155,8 @@ struct PairMeasure {
   // `settle`: a depth below which the caller needs no precision;
   // `coarse_above`: one above which it needs only a share (mesh_depth.h).
   // `whole`: the robot shell with its moulded fasteners (for reports).
-  // `settle_later_from`, `settle_later`: see SurfaceDepthOptions.
   double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
-               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false,
-               double settle_later_from = std::numeric_limits<double>::infinity(),
-               double settle_later = -std::numeric_limits<double>::infinity()) const {
+               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
@@ -169,8 +166,6 @@ struct PairMeasure {
       options.resolution = resolution;
       options.settle = settle;
       options.coarse_above = coarse_above;
-      options.settle_later_from = settle_later_from;
-      options.settle_later = settle_later;
       return Surface(r, pose, s, options, whole ? nullptr : MaskOf(r)).upper;
     }
     const fcl::Transform3d& tf = pose;
@@ -559,18 +554,18 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
     // An unlimited fastener cannot lower the slack: measured for reports only.
     if (!rigid && !report_fasteners && std::isinf(allowed)) continue;
     impl_->tree.Query(iso * shell.center, shell.radius + margin_, [&](int s) {
-      // A fit pair counts only its depth beyond the installed fit. Below
-      // half the limit, the slack is no less than the advancement's floor.
+      // A fit pair counts only its depth beyond the installed fit.
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
       // Beyond fit + limit the pose is invalid whatever the digits: the
       // number is measured to a share of itself (still an upper bound).
-      // A slack below the advancement's floor is stepped as the floor: once
-      // the depth is within the floor of the limit, only whether it exceeds
-      // the limit matters (not for reports, which print the number).
-      const double measured = report_fasteners
-                                  ? impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_)
-                                  : impl_->measure.Depth(r, iso, s, margin_, fit + limit_ / 2, fit + limit_, false,
-                                                         fit + limit_ - min_step_, fit + limit_);
+      // Below half the limit, the slack is no less than half the limit.
+      // Where the advancement's floor is already half the limit (the
+      // planners and the smoother), a motion check needs no digits below
+      // the limit either: a contact settled anywhere below it is stepped by
+      // the floor, so refining its bound further (along every line where the
+      // surfaces cross) buys no longer step. Reports print the number.
+      const double settle = !report_fasteners && min_step_ >= limit_ / 2 ? fit + limit_ : fit + limit_ / 2;
+      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
       if (report_fasteners && parts.Mask(r) != nullptr)

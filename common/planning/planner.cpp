@@ -212,9 +212,10 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   // (the principal axes) is tilted by whatever stands on the plate.
   for (const Eigen::Vector3d& axis : NormalAxes(problem.robot, problem.start.q)) add_axis(axis);
   const double step = options.resolution * problem.robot_diagonal;
-  const MotionChecker motion(problem, validity, step,
-                             begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                         std::chrono::duration<double>(options.time_limit_s)));
+  // No deadline: the pulls count work, not seconds (a pull stopped by the
+  // clock would turn a right answer into "not removable" on a slower
+  // machine; a curved part in contact can take minutes).
+  const MotionChecker motion(problem, validity, step);
   const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
   const double probe = 0.02 * problem.robot_diagonal;
   for (const Eigen::Vector3d& axis : axes) {

@@ -133,24 +133,20 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
     LogInfo("straight pulls: none of %lld gets D out (%lld checks); sampling",
             static_cast<long long>(pulled.stats.iterations), static_cast<long long>(pulled.stats.collision_checks));
   }
-  // The pulls' time counts against the limit (with slow checks, a dozen
-  // blocked pulls can take half of it); sampling keeps at least a tenth.
-  PlannerOptions sampling = planner;
-  sampling.time_limit_s = std::max(0.1 * planner.time_limit_s, planner.time_limit_s - pulled.stats.time_s);
   const auto with_pulls = [&](PlanResult result) {
     result.stats.time_s += pulled.stats.time_s;
     result.stats.collision_checks += pulled.stats.collision_checks;
     result.stats.invalid_checks += pulled.stats.invalid_checks;
     return result;
   };
-  if (!(clearance > 0)) return with_pulls(plan(validity, sampling));
+  if (!(clearance > 0)) return with_pulls(plan(validity, planner));
   const ClearanceMeter meter(problem, robot);
   double floor = std::min(clearance, meter.At(problem.start).clearance);
   if (problem.goal) floor = std::min(floor, meter.At(*problem.goal).clearance);
   if (!(floor > 0)) {
     LogInfo("clearance: D starts in contact with S; the clearance of %.4g %s is left to smoothing", clearance,
             units.c_str());
-    return with_pulls(plan(validity, sampling));
+    return with_pulls(plan(validity, planner));
   }
   PlannerOptions first = planner;
   constexpr std::int64_t kFirstTryIterations = 2048;
@@ -167,7 +163,7 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
   // The plan as asked gets its whole time limit: the first try, bounded by
   // its iterations only, comes on top (on a fine mesh its 2048 iterations
   // took most of a 60 s limit, and a remainder left too little to plan).
-  PlanResult result = plan(validity, sampling);
+  PlanResult result = plan(validity, planner);
   result.stats.time_s += kept.stats.time_s;
   result.stats.iterations += kept.stats.iterations;
   result.stats.nodes += kept.stats.nodes;
