@@ -100,37 +100,26 @@ struct PairMeasure {
   }
 
   // Whether the surfaces of a non-convex pair meet: their triangles
-  // intersect, or one shell holds the other (a vertex inside).
-  bool Meet(int r, const Eigen::Isometry3d& pose, int s) const {
+  // intersect, or one shell holds the other (a vertex inside). For a shell
+  // with moulded fasteners (unless `whole`), its rigid rest: the surface
+  // that bounds it (rigid_bvh: its triangles outside the fasteners' boxes
+  // and each box's face on the plate), a vertex of the rest inside s, or
+  // one of s inside the shell outside the boxes. Where they do not meet,
+  // they are apart by at least the distance of those surfaces.
+  bool Meet(int r, const Eigen::Isometry3d& pose, int s, bool whole = false) const {
+    const DepthMask* mask = whole ? nullptr : MaskOf(r);
     const fcl::Transform3d& tf = pose;  // FCL's transform is Eigen's isometry
     fcl::CollisionRequestd request;
     fcl::CollisionResultd result;
-    fcl::collide(robot_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
+    fcl::collide((mask ? rigid_bvh : robot_bvh)[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(),
+                 request, result);
     if (result.isCollision()) return true;
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.vertices.empty() || b.vertices.empty()) return false;
-    return static_surface[s]->SignedDistance(pose * a.vertices.front()) > 0 ||
-           robot_surface[r]->SignedDistance(pose.inverse() * b.vertices.front()) > 0;
-  }
-
-  // Whether the rigid rest of robot shell r (moulded fasteners left out)
-  // meets static shell s: its bounding surface (rigid_bvh) intersects s's
-  // triangles, or one holds the other (a vertex of the rest inside s, or
-  // one of s inside the shell outside the fasteners' boxes). Where it does
-  // not, the rest and s are apart by at least the distance of those
-  // surfaces.
-  bool MeetRigid(int r, const Eigen::Isometry3d& pose, int s) const {
-    const fcl::Transform3d& tf = pose;
-    fcl::CollisionRequestd request;
-    fcl::CollisionResultd result;
-    fcl::collide(rigid_bvh[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(), request, result);
-    if (result.isCollision()) return true;
-    const Shell& b = (*statics)[s];
-    if (b.vertices.empty()) return false;
-    if (static_surface[s]->SignedDistance(pose * rigid_vertex[r]) > 0) return true;
+    if (static_surface[s]->SignedDistance(pose * (mask ? rigid_vertex[r] : a.vertices.front())) > 0) return true;
     const Eigen::Vector3d q = pose.inverse() * b.vertices.front();
-    return robot_surface[r]->SignedDistance(q) > 0 && !MaskOf(r)->Contains(q);
+    return robot_surface[r]->SignedDistance(q) > 0 && !(mask && mask->Contains(q));
   }
 
   // Two sheets (mesh_depth.h: neither bounds a volume) that meet have no
@@ -160,18 +149,18 @@ struct PairMeasure {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
-    const bool rest = !whole && MaskOf(r) != nullptr;  // the rigid rest of a shell with moulded fasteners
-    if (rest ? MeetRigid(r, pose, s) : Meet(r, pose, s)) {
+    const DepthMask* mask = whole ? nullptr : MaskOf(r);  // the rigid rest of a shell with moulded fasteners
+    if (Meet(r, pose, s, whole)) {
       SurfaceDepthOptions options;
       options.resolution = resolution;
       options.settle = settle;
       options.coarse_above = coarse_above;
-      return Surface(r, pose, s, options, whole ? nullptr : MaskOf(r)).upper;
+      return Surface(r, pose, s, options, mask).upper;
     }
     const fcl::Transform3d& tf = pose;
     fcl::DistanceRequestd distance_request;
     fcl::DistanceResultd distance_result;
-    fcl::distance((rest ? rigid_bvh : robot_bvh)[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(),
+    fcl::distance((mask ? rigid_bvh : robot_bvh)[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(),
                   distance_request, distance_result);
     return -std::max(0.0, distance_result.min_distance);
   }
@@ -182,7 +171,7 @@ struct PairMeasure {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
-    if (!(MaskOf(r) != nullptr ? MeetRigid(r, pose, s) : Meet(r, pose, s))) return false;
+    if (!Meet(r, pose, s)) return false;
     SurfaceDepthOptions options;
     options.resolution = resolution;
     options.decide = allowed;
