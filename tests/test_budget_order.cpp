@@ -11,6 +11,7 @@
 #include "planning/path_io.h"
 #include "test_scenes.h"
 #include "workflow/disassembly_order.h"
+#include "workflow/verdict.h"
 
 namespace ausbau {
 namespace {
@@ -47,6 +48,50 @@ TEST(PartContacts, NamesTheIntersectingPartFirstThenTheNearOnes) {
       MeasurePartContacts(robot, away, environment, part_of_triangle, {"side", "lid", "far"}, 5.0, 8);
   ASSERT_EQ(alone.size(), 1u);
   EXPECT_EQ(alone[0].name, "far");
+}
+
+// A post (1 x 1 x 10) held by three parts of S, each touching it within the
+// tolerance: a sleeve round its middle (0.01 deep into it), a floor under
+// it (0.005) and a cap over its top (walls and roof, 0.002). The sleeve is
+// the deepest contact, but taken away it frees nothing (the cap and the
+// floor still hold the post); the floor or the cap taken away lets it out
+// along its axis. The parts that stop its motion come first.
+TEST(PartContacts, ThePartsWhoseRemovalFreesDComeFirst) {
+  Scene scene;
+  scene.name = "post-held-three-ways";
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({0, 0, 0}, {1, 1, 10});
+  const auto add = [&](const Eigen::Vector3d& min, const Eigen::Vector3d& max, int part) {
+    scene.static_mesh.Append(MakeBox(min, max));
+    scene.static_part_of_triangle.resize(scene.static_mesh.triangles.size(), part);
+  };
+  add({-1, -1, 2}, {0.01, 2, 6}, 0);  // sleeve: four walls
+  add({0.99, -1, 2}, {2, 2, 6}, 0);
+  add({0.01, -1, 2}, {0.99, 0.01, 6}, 0);
+  add({0.01, 0.99, 2}, {0.99, 2, 6}, 0);
+  add({-1, -1, -1}, {2, 2, 0.005}, 1);  // floor
+  add({-1, -1, 9.999}, {2, 2, 11}, 2);  // cap: roof and four walls
+  add({-1, -1, 7}, {0.002, 2, 9.999}, 2);
+  add({0.998, -1, 7}, {2, 2, 9.999}, 2);
+  add({0.002, -1, 7}, {0.998, 0.002, 9.999}, 2);
+  add({0.002, 0.998, 7}, {0.998, 2, 9.999}, 2);
+  scene.static_part_names = {"sleeve", "floor", "cap"};
+  const std::vector<PartContact> found = FindBlockingParts(scene, scene.start, 0.05);
+  ASSERT_EQ(found.size(), 3u);
+  EXPECT_EQ(found[0].name, "floor");  // frees D, the deeper of the two that do
+  EXPECT_TRUE(found[0].frees);
+  EXPECT_EQ(found[1].name, "cap");
+  EXPECT_TRUE(found[1].frees);
+  EXPECT_EQ(found[2].name, "sleeve");  // the deepest contact, but holds nothing alone
+  EXPECT_FALSE(found[2].frees);
+  EXPECT_NEAR(found[2].depth, 0.01, 1e-9);
+  // S of one part: nothing to take away, nothing tried.
+  Scene one = scene;
+  one.static_part_of_triangle.assign(one.static_mesh.triangles.size(), 0);
+  one.static_part_names = {"all"};
+  const std::vector<PartContact> whole = FindBlockingParts(one, one.start, 0.05);
+  ASSERT_EQ(whole.size(), 1u);
+  EXPECT_FALSE(whole[0].frees);
 }
 
 PartAttempt Blocked(const std::string& part, const std::vector<std::string>& by) {
@@ -93,7 +138,11 @@ TEST_F(BudgetOrderTest, ABlockedPartIsAnsweredWithinItsBudgetWithThePartThatBloc
   EXPECT_TRUE(Has(json, "\"stopped_by_budget\": true")) << json;
   EXPECT_TRUE(Has(json, "\"budget_seconds\": 20")) << json;
   EXPECT_TRUE(Has(json, "\"at\": \"end of the partial path\"")) << json;
-  EXPECT_TRUE(Has(json, "\"part\": \"cover.obj\"")) << json;
+  // Named first: the part the post hit, whose removal alone lets it out.
+  const std::size_t parts = json.find("\"parts\": [");
+  ASSERT_NE(parts, std::string::npos) << json;
+  EXPECT_EQ(json.find("\"part\": ", parts), json.find("\"part\": \"cover.obj\"", parts)) << json;
+  EXPECT_TRUE(Has(json, "\"frees\": true")) << json;
   const PathArtifact path = ReadPathArtifact(out / "path.h5");
   EXPECT_FALSE(path.success);
   EXPECT_TRUE(path.stopped_by_budget);
@@ -157,6 +206,8 @@ TEST_F(BudgetOrderTest, TheOrderOfCoverPostsAndBaseMatchesItsPrecedence) {
     ++covers;
   }
   EXPECT_GE(covers, 2u) << json;
+  // ... and named there as the part whose removal frees the post.
+  EXPECT_TRUE(Has(json, "\"frees\": true")) << json;
   EXPECT_TRUE(fs::exists(out / "round-1/post-a/scene.yaml"));
   EXPECT_TRUE(fs::exists(out / "round-2/post-b/path.csv"));
   EXPECT_TRUE(Has(run.output, "ORDER FOUND")) << run.output;

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
+#include <random>
 #include <utility>
 
 #include "collision/mesh_depth.h"
@@ -52,11 +54,14 @@ TriangleMesh Subdivided(const TriangleMesh& mesh) {
 
 // A cap (bore radius 4, outer radius 6, 10 high, roof 2 thick) of n segments.
 TriangleMesh Cap(int n) { return MakeSolidOfRevolution({{0, 8}, {4, 8}, {4, 0}, {6, 0}, {6, 10}, {0, 10}}, n); }
-TriangleMesh Post(double radius, int n) { return MakeSolidOfRevolution({{0, -5}, {radius, -5}, {radius, 7}, {0, 7}}, n); }
+TriangleMesh Post(double radius, int n) {
+  return MakeSolidOfRevolution({{0, -5}, {radius, -5}, {radius, 7}, {0, 7}}, n);
+}
 
 TEST(MeshDepth, PrimitivesAreClosedAndOriented) {
   EXPECT_TRUE(DepthSurface(OneShell(Post(4, 48))).oriented());
-  for (const TriangleMesh& mesh : {Cap(64), MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5)}) {
+  for (const TriangleMesh& mesh :
+       {Cap(64), MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5)}) {
     const Shell shell = OneShell(mesh);
     EXPECT_TRUE(shell.closed);
     EXPECT_FALSE(shell.convex);
@@ -118,8 +123,7 @@ TEST(MeshDepth, RingOnAShaft) {
   const DepthSurface sr(OneShell(ring)), ss(OneShell(shaft));
   SurfaceDepthOptions options;
   options.resolution = 1e-3;
-  const SurfaceDepth off =
-      MeasureSurfaceDepth(sr, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0, 3)), ss, options);
+  const SurfaceDepth off = MeasureSurfaceDepth(sr, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0, 3)), ss, options);
   EXPECT_GE(off.upper, 5.3 * c - 5 - 1e-9);
   EXPECT_LE(off.upper, 5.3 - 5 * c + 1e-3);
 }
@@ -138,6 +142,128 @@ TEST(MeshDepth, LFootInTheWallOfAU) {
   EXPECT_GT(MeasureSurfaceDepth(sl, Eigen::Isometry3d::Identity(), su, decide).lower, 0.3);
   decide.decide = 0.5;
   EXPECT_LE(MeasureSurfaceDepth(sl, Eigen::Isometry3d::Identity(), su, decide).upper, 0.5);
+}
+
+// A box standing 5 um into a face of a non-convex shell (a U): its walls
+// cross the face along lines. The part of each wall behind the face is at
+// most 5 um deep, the part in front crosses nothing: settled whole, not
+// refined along the line.
+TEST(MeshDepth, AWallAcrossAFaceIsSettledWhole) {
+  const TriangleMesh u = MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5);
+  const TriangleMesh box = MakeBox({3, -10, 1}, {7, 0.005, 4});
+  const SurfaceDepth depth = Measure(box, u);
+  EXPECT_GE(depth.upper, 0.005 - 1e-12);
+  EXPECT_LE(depth.upper, 0.005 + 1e-3);
+  EXPECT_NEAR(depth.lower, 0.005, 1e-3);
+  // The four walls' triangles and the face in the U; without the bound the
+  // walls are refined to the resolution along 14 mm of crossing (thousands).
+  EXPECT_LT(depth.sub_triangles, 200);
+}
+
+TEST(MeshDepth, StraddleBoundHoldsOnlyWherePointsInFrontAreOutside) {
+  const DepthSurface u(
+      OneShell(MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5)));
+  int outer = -1, inner = -1;
+  u.SignedDistance({5, 0, 2.5}, &outer);  // the outer face y = 0 (normal -y)
+  u.SignedDistance({5, 2, 2.5}, &inner);  // the channel's floor y = 2 (normal +y)
+  ASSERT_GE(outer, 0);
+  ASSERT_GE(inner, 0);
+  const double gap = 1e-6;
+  // Across the outer face, 0.1 behind it at most: the bound is that depth.
+  EXPECT_NEAR(
+      u.StraddleBound({Eigen::Vector3d(4, 0.1, 2.5), Eigen::Vector3d(6, 0.05, 2.5), Eigen::Vector3d(5, -3, 2.5)}, outer,
+                      gap),
+      0.1, 1e-9);
+  // Across the channel's floor, but the part in front reaches into the
+  // right arm (x 8..10), a point 1 deep: no bound from the floor.
+  EXPECT_EQ(u.StraddleBound({Eigen::Vector3d(5, 1.995, 2.5), Eigen::Vector3d(9, 6, 2.5), Eigen::Vector3d(5, 6, 2.5)},
+                            inner, gap),
+            std::numeric_limits<double>::infinity());
+  // The same floor, the part in front in the channel only: 5 um.
+  EXPECT_NEAR(u.StraddleBound({Eigen::Vector3d(5, 1.995, 2.5), Eigen::Vector3d(7, 6, 2.5), Eigen::Vector3d(5, 6, 2.5)},
+                              inner, gap),
+              0.005, 1e-9);
+  // Its cut with the plane beside the face (x 11..12): no bound.
+  EXPECT_EQ(
+      u.StraddleBound({Eigen::Vector3d(11, 0.1, 2.5), Eigen::Vector3d(12, 0.1, 2.5), Eigen::Vector3d(11.5, -3, 2.5)},
+                      outer, gap),
+      std::numeric_limits<double>::infinity());
+  // Wholly on one side: nothing to cut.
+  EXPECT_EQ(u.StraddleBound({Eigen::Vector3d(4, 0.1, 2.5), Eigen::Vector3d(6, 0.1, 2.5), Eigen::Vector3d(5, 0.2, 2.5)},
+                            outer, gap),
+            std::numeric_limits<double>::infinity());
+}
+
+// The U's top face is one flat region that is not convex (no convex patch):
+// a box lying 5 um into its bottom band is still settled whole; a triangle
+// whose shadow reaches over the channel gets no bound from it; a triangle
+// whose part in front meets the other jaw of a C gets none either.
+TEST(MeshDepth, AFlatFaceOfAnyOutlineBoundsWhatLiesUnderIt) {
+  const TriangleMesh u = MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5);
+  const SurfaceDepth depth = Measure(MakeBox({1, 0.5, 4.995}, {9, 1.5, 8}), u);
+  EXPECT_GE(depth.upper, 0.005 - 1e-12);
+  EXPECT_LE(depth.upper, 0.005 + 1e-3);
+  EXPECT_LT(depth.sub_triangles, 200);
+
+  const DepthSurface su(OneShell(u));
+  int top = -1;
+  su.SignedDistance({5, 1, 5}, &top);
+  ASSERT_GE(top, 0);
+  const double gap = 1e-6;
+  using V = Eigen::Vector3d;
+  EXPECT_NEAR(su.FaceRegionBound({V(1, 0.5, 4.995), V(9, 0.5, 4.99), V(5, 1.5, 5.5)}, top, gap), 0.01, 1e-6);
+  EXPECT_NEAR(su.FaceRegionBound({V(1, 0.5, 4.995), V(9, 0.5, 4.99), V(5, 1.5, 4.98)}, top, gap), 0.02, 1e-6);
+  const double none = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(su.FaceRegionBound({V(1, 0.5, 4.995), V(9, 0.5, 4.99), V(5, 4, 5.5)}, top, gap), none);  // over the channel
+  EXPECT_EQ(su.FaceRegionBound({V(1, 0.5, 4.995), V(9, 0.5, 4.99), V(5, 1.5, 4.98)}, top, gap, 0.015), none);
+
+  const DepthSurface c(OneShell(MakePrism({{0, 0}, {10, 0}, {10, 1}, {2, 1}, {2, 3}, {10, 3}, {10, 4}, {0, 4}}, 0, 5)));
+  int jaw = -1;
+  c.SignedDistance({6, 1, 2.5}, &jaw);  // the lower jaw's face y = 1, under the upper jaw (y 3..4)
+  ASSERT_GE(jaw, 0);
+  EXPECT_EQ(c.FaceRegionBound({V(4, 0.995, 2.5), V(8, 0.995, 2.5), V(6, 3.5, 2.5)}, jaw, gap), none);
+  EXPECT_NEAR(c.FaceRegionBound({V(4, 0.995, 2.5), V(8, 0.995, 2.5), V(6, 2.5, 2.5)}, jaw, gap), 0.005, 1e-6);
+}
+
+// Both face bounds against the depth itself: a U whose corners are moved
+// off their faces by up to 3e-5 (a CAD face written in float32 far from the
+// origin is flat to about that), and triangles across and under its faces
+// at random; wherever a bound is given, no point of the triangle inside
+// the U is deeper (SignedDistance at a grid of points on it).
+TEST(MeshDepth, TheFaceBoundsNeverFallBelowTheDepth) {
+  TriangleMesh u = Subdivided(MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5));
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (auto& v : u.vertices) v += 3e-5 * Eigen::Vector3d(unit(random), unit(random), unit(random));
+  const DepthSurface s(OneShell(u));
+  ASSERT_TRUE(s.oriented());
+  const double gap = 1e-4;
+  int region_bounds = 0, straddle_bounds = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Eigen::Vector3d centre(10 * (unit(random) + 1) / 2, 10 * (unit(random) + 1) / 2, 5 * (unit(random) + 1) / 2);
+    const double size = 0.05 + 2 * (unit(random) + 1);
+    std::array<Eigen::Vector3d, 3> t;
+    for (auto& corner : t) corner = centre + size * Eigen::Vector3d(unit(random), unit(random), unit(random));
+    int face = -1;
+    s.SignedDistance(centre, &face);
+    const double region = s.FaceRegionBound(t, face, gap);
+    const double straddle = s.StraddleBound(t, face, gap);
+    if (std::isinf(region) && std::isinf(straddle)) continue;
+    region_bounds += !std::isinf(region);
+    straddle_bounds += !std::isinf(straddle);
+    double deepest = 0;
+    constexpr int kGrid = 24;
+    for (int i = 0; i <= kGrid; ++i)
+      for (int j = 0; i + j <= kGrid; ++j) {
+        const double a = double(i) / kGrid, b = double(j) / kGrid;
+        deepest = std::max(deepest, s.SignedDistance((1 - a - b) * t[0] + a * t[1] + b * t[2]));
+      }
+    EXPECT_LE(deepest, region + 1e-9) << "trial " << trial;
+    EXPECT_LE(deepest, straddle + 1e-9) << "trial " << trial;
+  }
+  // The test tried both (regions form despite the rounding).
+  EXPECT_GT(region_bounds, 50);
+  EXPECT_GT(straddle_bounds, 0);
 }
 
 TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
@@ -167,7 +293,7 @@ TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   EXPECT_FALSE(gap.closed);
   const DepthSurface surface(gap);
   EXPECT_FALSE(surface.oriented());
-  EXPECT_TRUE(surface.solid());  // a gap, not an opening
+  EXPECT_TRUE(surface.solid());                       // a gap, not an opening
   EXPECT_GT(surface.SignedDistance({3, 0, 1.5}), 0);  // in the material: the winding number
   EXPECT_LT(surface.SignedDistance({0, 0, 1.5}), 0);  // in the hole
   SurfaceDepthOptions options;

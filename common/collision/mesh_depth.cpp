@@ -160,6 +160,7 @@ void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
 DepthSurface::DepthSurface(const Shell& shell)
     : vertices_(shell.vertices), triangles_(shell.triangles), bvh_(shell.vertices, shell.triangles) {
   for (const auto& v : vertices_) box_.Extend(v);
+  flat_ = 1e-9 * std::max(1.0, box_.Diagonal());
   const int n = static_cast<int>(triangles_.size());
   BuildConvexPlanarPatches(vertices_, triangles_, kMaxPatchEdges, &patches_, &patch_of_);
   // Consistently oriented: every directed edge once, its reverse once.
@@ -207,6 +208,7 @@ DepthSurface::DepthSurface(const Shell& shell)
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
   }
+  BuildFaceRegions();
   // A convex shell's face planes (coplanar triangles once), when few.
   if (convex_) {
     for (int t = 0; t < n && static_cast<int>(planes_.size()) <= kMaxConvexPlanes; ++t) {
@@ -275,6 +277,234 @@ double DepthSurface::PatchDistance(const Eigen::Vector3d& p, int triangle) const
   for (std::size_t e = 0; e < patch.edge_a.size(); ++e)
     best = std::min(best, SegmentDistance(p, patch.edge_a[e], patch.edge_b[e]));
   return best;
+}
+
+// The flat regions (mesh_depth.h FaceRegion): triangles joined through
+// edges whose outward normals are within kFlatCos of the first one's (the
+// largest triangle left first); each region's plane is its area-weighted
+// normal through the mean of its corners, and `deviation` how far any
+// corner lies off it, as measured (rounding: a CAD face written in float32
+// far from the origin is flat to some 1e-5 of its coordinates only).
+void DepthSurface::BuildFaceRegions() {
+  constexpr double kFlatCos = 1 - 1e-6;  // about 1.4 mrad
+  const int n = static_cast<int>(triangles_.size());
+  region_of_.assign(n, -1);
+  std::map<std::pair<int, int>, std::vector<int>> edge_triangles;
+  std::vector<double> area(n, 0);
+  for (int t = 0; t < n; ++t) {
+    const auto& f = triangles_[t];
+    area[t] = 0.5 * (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]).norm();
+    for (int k = 0; k < 3; ++k)
+      edge_triangles[{std::min(f[k], f[(k + 1) % 3]), std::max(f[k], f[(k + 1) % 3])}].push_back(t);
+  }
+  std::vector<int> order(n);
+  for (int t = 0; t < n; ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return area[a] > area[b]; });
+  std::vector<bool> seen(n, false);
+  for (int seed : order) {
+    if (seen[seed] || face_normal_[seed].squaredNorm() == 0) continue;
+    std::vector<int> members, open = {seed};
+    seen[seed] = true;
+    while (!open.empty()) {
+      const int t = open.back();
+      open.pop_back();
+      members.push_back(t);
+      for (int k = 0; k < 3; ++k) {
+        const int a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+        for (int u : edge_triangles[{std::min(a, b), std::max(a, b)}]) {
+          if (seen[u] || !(face_normal_[u].dot(face_normal_[seed]) >= kFlatCos)) continue;
+          seen[u] = true;
+          open.push_back(u);
+        }
+      }
+    }
+    FaceRegion region;
+    Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+    for (int t : members) weighted += area[t] * face_normal_[t];
+    if (!(weighted.norm() > 0)) continue;
+    region.normal = weighted.normalized();
+    std::map<int, int> corners;  // vertex -> use
+    for (int t : members)
+      for (int v : triangles_[t]) ++corners[v];
+    region.origin = Eigen::Vector3d::Zero();
+    for (const auto& [v, uses] : corners) region.origin += vertices_[v];
+    region.origin /= static_cast<double>(corners.size());
+    for (const auto& [v, uses] : corners)
+      region.deviation = std::max(region.deviation, std::abs((vertices_[v] - region.origin).dot(region.normal)));
+    region.u = region.normal.unitOrthogonal();
+    region.v = region.normal.cross(region.u);
+    std::map<std::pair<int, int>, int> uses;
+    for (int t : members)
+      for (int k = 0; k < 3; ++k) {
+        const int a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+        ++uses[{std::min(a, b), std::max(a, b)}];
+      }
+    for (const auto& [edge, count] : uses) {
+      if (count != 1) continue;
+      region.edge_a.push_back(region.InPlane(vertices_[edge.first]));
+      region.edge_b.push_back(region.InPlane(vertices_[edge.second]));
+    }
+    for (int t : members) region_of_[t] = static_cast<int>(regions_.size());
+    regions_.push_back(std::move(region));
+  }
+}
+
+namespace {
+// Whether segment (a, b) and triangle t of a plane (either may be
+// degenerate) are more than `gap` apart along an edge normal of one of them.
+bool SegmentApartFromTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d (&t)[3],
+                              double gap) {
+  const auto apart = [&](const Eigen::Vector2d& direction) {
+    const double length = direction.norm();
+    if (!(length > 0)) return false;
+    const Eigen::Vector2d axis = Eigen::Vector2d(-direction.y(), direction.x()) / length;
+    const double sa = axis.dot(a), sb = axis.dot(b);
+    double t_lo = axis.dot(t[0]), t_hi = t_lo;
+    for (int k = 1; k < 3; ++k) t_lo = std::min(t_lo, axis.dot(t[k])), t_hi = std::max(t_hi, axis.dot(t[k]));
+    return std::max(sa, sb) + gap < t_lo || t_hi + gap < std::min(sa, sb);
+  };
+  if (apart(b - a)) return true;
+  for (int k = 0; k < 3; ++k)
+    if (apart(t[(k + 1) % 3] - t[k])) return true;
+  return false;
+}
+}  // namespace
+
+double DepthSurface::FaceRegionBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap,
+                                     double below) const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (face < 0 || region_of_.empty() || region_of_[face] < 0) return kNone;
+  const FaceRegion& region = regions_[region_of_[face]];
+  // Heights above the region's plane raised by its deviation (and a
+  // rounding margin): its triangles lie wholly behind the raised plane.
+  const double raise = region.deviation + 2 * flat_;
+  double height[3], bound = 0;
+  int front = 0;
+  for (int k = 0; k < 3; ++k) {
+    height[k] = (t[k] - region.origin).dot(region.normal) - raise;
+    if (height[k] > 0) {
+      ++front;
+    } else {
+      bound = std::max(bound, -height[k]);
+    }
+  }
+  if (front == 3 || std::max(bound, raise + region.deviation) >= below) return kNone;
+  // t's shadow on the plane lies in the region: the centre's shadow in
+  // `face`, and no boundary edge of the region near the shadow.
+  Eigen::Vector2d shadow[3];
+  for (int k = 0; k < 3; ++k) shadow[k] = region.InPlane(t[k]);
+  const Eigen::Vector2d centre = (shadow[0] + shadow[1] + shadow[2]) / 3.0;
+  const auto& f = triangles_[face];
+  const Eigen::Vector2d corner[3] = {region.InPlane(vertices_[f[0]]), region.InPlane(vertices_[f[1]]),
+                                     region.InPlane(vertices_[f[2]])};
+  const auto cross = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) { return x.x() * y.y() - x.y() * y.x(); };
+  const double twice_area = cross(corner[1] - corner[0], corner[2] - corner[0]);
+  for (int k = 0; k < 3; ++k)
+    if (!(cross(corner[(k + 1) % 3] - corner[k], centre - corner[k]) * twice_area >= 0)) return kNone;
+  const Eigen::Vector2d lo = shadow[0].cwiseMin(shadow[1]).cwiseMin(shadow[2]).array() - gap;
+  const Eigen::Vector2d hi = shadow[0].cwiseMax(shadow[1]).cwiseMax(shadow[2]).array() + gap;
+  for (std::size_t e = 0; e < region.edge_a.size(); ++e) {
+    const Eigen::Vector2d& a = region.edge_a[e];
+    const Eigen::Vector2d& b = region.edge_b[e];
+    if (std::max(a.x(), b.x()) < lo.x() || std::min(a.x(), b.x()) > hi.x() || std::max(a.y(), b.y()) < lo.y() ||
+        std::min(a.y(), b.y()) > hi.y())
+      continue;
+    if (!SegmentApartFromTriangle(a, b, shadow, gap)) return kNone;
+  }
+  // The part in front: a triangle or a quadrilateral (corners in order).
+  if (front > 0) {
+    std::vector<Eigen::Vector3d> corners;
+    for (int k = 0; k < 3; ++k) {
+      const int j = (k + 1) % 3;
+      if (height[k] > 0) corners.push_back(t[k]);
+      if ((height[k] > 0) != (height[j] > 0))
+        corners.push_back(t[k] + (height[k] / (height[k] - height[j])) * (t[j] - t[k]));
+    }
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+      if (MayMeetOutside({corners[0], corners[k], corners[k + 1]}, gap, region_of_, face)) return kNone;
+  }
+  // A point behind the raised plane and over the region is at most its
+  // height below the plane, plus the deviation, from the surface point on
+  // the same normal line: at most `bound`, or raise + deviation for a point
+  // within the raise.
+  return std::max(bound, raise + region.deviation);
+}
+
+bool DepthSurface::InsidePatch(const Eigen::Vector3d& p, int triangle, double margin) const {
+  const int index = patch_of_[triangle];
+  if (index >= 0) {
+    const Patch& patch = patches_[index];
+    const Eigen::Vector3d q = p - (p - patch.origin).dot(patch.normal) * patch.normal;
+    for (std::size_t e = 0; e < patch.edge_a.size(); ++e)
+      if (!((q - patch.edge_a[e]).dot(patch.inward[e]) > margin)) return false;
+    return true;
+  }
+  const auto& f = triangles_[triangle];
+  const Eigen::Vector3d& normal = face_normal_[triangle];
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& a = vertices_[f[k]];
+    const Eigen::Vector3d& b = vertices_[f[(k + 1) % 3]];
+    const Eigen::Vector3d& c = vertices_[f[(k + 2) % 3]];
+    Eigen::Vector3d inward = normal.cross(b - a);
+    if (!(inward.norm() > 0)) return false;
+    inward.normalize();
+    if ((c - a).dot(inward) < 0) inward = -inward;
+    if (!((p - a).dot(inward) > margin)) return false;
+  }
+  return true;
+}
+
+bool DepthSurface::MayMeetOutside(const std::array<Eigen::Vector3d, 3>& t, double gap, const std::vector<int>& group_of,
+                                  int triangle) const {
+  const int group = group_of[triangle];
+  Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - gap;
+  Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
+  bool meets = false;
+  bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
+    if (meets || k == triangle || (group >= 0 && group_of[k] == group)) return;
+    const auto& f = triangles_[k];
+    meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
+  });
+  return meets;
+}
+
+double DepthSurface::StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap) const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (!oriented_ || face < 0) return kNone;
+  const Eigen::Vector3d& normal = face_normal_[face];  // outward
+  if (normal.squaredNorm() == 0) return kNone;
+  // The plane is raised by twice the patch's flatness, so P's triangles lie
+  // wholly behind it; the slab between belongs to the part behind, whose
+  // bound holds for any point.
+  const int index = patch_of_[face];
+  const Eigen::Vector3d origin = index >= 0 ? patches_[index].origin : vertices_[triangles_[face][0]];
+  const double raise = 2 * flat_;
+  double height[3];
+  int front = 0;
+  for (int k = 0; k < 3; ++k) {
+    height[k] = (t[k] - origin).dot(normal) - raise;
+    if (height[k] > 0) ++front;
+  }
+  if (front == 0 || front == 3) return kNone;
+  std::vector<Eigen::Vector3d> behind_corners, front_corners, cut;
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3;
+    (height[k] > 0 ? front_corners : behind_corners).push_back(t[k]);
+    if ((height[k] > 0) != (height[j] > 0)) {
+      const Eigen::Vector3d p = t[k] + (height[k] / (height[k] - height[j])) * (t[j] - t[k]);
+      cut.push_back(p);
+      front_corners.push_back(p);
+      behind_corners.push_back(p);
+    }
+  }
+  if (cut.size() != 2 || !InsidePatch(0.5 * (cut[0] + cut[1]), face, raise)) return kNone;
+  // The part in front, a triangle or a quadrilateral (fanned: its corners
+  // are in order round it).
+  for (std::size_t k = 1; k + 1 < front_corners.size(); ++k)
+    if (MayMeetOutside({front_corners[0], front_corners[k], front_corners[k + 1]}, gap, patch_of_, face)) return kNone;
+  double bound = 0;
+  for (const auto& c : behind_corners) bound = std::max(bound, PatchDistance(c, face));
+  return bound;
 }
 
 double DepthSurface::WindingNumber(const Eigen::Vector3d& p) const {
@@ -446,6 +676,11 @@ class SurfaceDepthSearch {
       for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
     }
     upper = std::min(upper, face_bound);
+    // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
+    // the plane bounds, not where a region's area is measured.
+    if (!measuring_region && !Settled(upper))
+      upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
+    if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
     if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
       result_.upper = std::max(result_.upper, upper);
       if (deep) area_[node.direction] += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();

@@ -26,7 +26,10 @@
 //     facet): the distance to a convex set is convex, so its maximum over t
 //     is at a corner, and d(p, surface) <= d(p, P);
 //   - t is wholly outside when m is outside and farther than R from B's
-//     surface.
+//     surface, or when m is outside and t crosses no triangle of B;
+//   - against a flat face region of B (any outline, its measured
+//     deviation from flat added) or across a convex planar patch of B:
+//     FaceRegionBound and StraddleBound below.
 // A sub-triangle is refined until its upper bound is within `resolution` of
 // the best lower bound (or, for a yes/no question, below the allowed
 // depth). The answer's `upper` is thus never below the true depth and at
@@ -79,6 +82,29 @@ class DepthSurface {
   // false only when every triangle near it is more than `gap` apart from it
   // along a separating axis.
   bool MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) const;
+  // An upper bound on the depth of every point of triangle t inside this
+  // (closed, oriented) shell, from the plane of triangle `face`'s convex
+  // patch P, for a t that straddles that plane; infinite where it gives
+  // none. The part of t behind the plane: the largest distance of its
+  // corners from P (the distance to a convex set is convex). The part in
+  // front: no depth at all, when its cut with the plane has a point inside
+  // P and it crosses no triangle outside P (nearer than `gap`): points just
+  // in front of P's inside are outside the shell, and that part is joined
+  // to them without crossing its surface. A wall of S standing on a face of
+  // D that it enters by a few micrometres is settled whole, instead of
+  // being refined along the line where it crosses the face.
+  double StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap) const;
+  // The same from the planar region of triangle `face` (its coplanar
+  // neighbours, any outline, holes and all), for a t whose shadow on the
+  // plane lies in the region (no boundary edge of it within `gap`): a point
+  // of t behind the plane is no deeper than its height below it (the point
+  // straight above it is on the surface); the part in front, if any, is
+  // outside when it crosses no triangle off the region. A face of S lying a
+  // little inside a face of D is settled whole, however that face is cut
+  // into triangles (a plate's face around the feet of its ribs and clips).
+  // `below`: only a bound below it is of use (else infinite, at once).
+  double FaceRegionBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap,
+                         double below = std::numeric_limits<double>::infinity()) const;
 
   // A convex planar patch (see below).
   struct Patch {
@@ -116,6 +142,26 @@ class DepthSurface {
   std::vector<Patch> patches_;
   std::vector<int> patch_of_;
   double PatchDistance(const Eigen::Vector3d& p, int triangle) const;
+  // Whether the projection of p onto the plane of triangle's patch is inside
+  // the patch (or the triangle alone) by more than `margin`.
+  bool InsidePatch(const Eigen::Vector3d& p, int triangle, double margin) const;
+  // MayMeet, leaving out `triangle` and the triangles of its group
+  // (group_of: patch_of_ or region_of_; -1: none).
+  bool MayMeetOutside(const std::array<Eigen::Vector3d, 3>& t, double gap, const std::vector<int>& group_of,
+                      int triangle) const;
+  // Flat regions (closed, oriented shells): triangles joined through edges
+  // whose normals agree (within about 1.4 mrad), whatever their outline (a
+  // CAD face with holes), with how far they lie off their plane.
+  struct FaceRegion {
+    Eigen::Vector3d normal, origin, u, v;         // outward normal; u, v span the plane
+    double deviation = 0;                         // the largest distance of a corner from the plane
+    std::vector<Eigen::Vector2d> edge_a, edge_b;  // its boundary edges, in (u, v)
+    Eigen::Vector2d InPlane(const Eigen::Vector3d& p) const { return {(p - origin).dot(u), (p - origin).dot(v)}; }
+  };
+  std::vector<FaceRegion> regions_;
+  std::vector<int> region_of_;  // per triangle, or -1
+  void BuildFaceRegions();
+  double flat_ = 0;  // coplanar within this (BuildConvexPlanarPatches)
   Aabb box_;
 };
 

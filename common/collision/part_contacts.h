@@ -29,6 +29,11 @@ struct PartContact {
   bool depth_exact = false;
   double distance = 0;                              // apart: the smallest distance between D and the part
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // world: the deepest contact, or the closest point on the part
+  // With this part taken away (alone), D comes out along a straight pull
+  // from its installed pose under the exact check: the part that stops
+  // its motion, not merely one it touches (workflow/verdict.h
+  // FindBlockingParts).
+  bool frees = false;
 };
 
 // `robot`: D's mesh in the frame `pose` places (for a scene: D's vertices

@@ -81,8 +81,8 @@ class ShellTree {
 // ConvexSignedDepth; for non-convex pairs the surface depth where their
 // surfaces meet (collision/mesh_depth.h), else minus FCL's distance.
 struct PairMeasure {
-  const std::vector<Shell>* robot;
-  const std::vector<Shell>* statics;
+  const std::vector<Shell>* robot = nullptr;
+  const std::vector<Shell>* statics = nullptr;
   // Filled only where a non-convex pair needs them (BuildFallbackModels).
   std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
   // Robot shells with moulded fasteners: the surface that bounds the rigid
@@ -144,8 +144,12 @@ struct PairMeasure {
   // `settle`: a depth below which the caller needs no precision;
   // `coarse_above`: one above which it needs only a share (mesh_depth.h).
   // `whole`: the robot shell with its moulded fasteners (for reports).
+  // `decide`: a depth beyond which the caller needs no number at all (the
+  // pose is invalid): the search stops once the depth is known to exceed
+  // it, and what it returns then exceeds it too, but bounds nothing.
   double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
-               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false) const {
+               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false,
+               double decide = std::numeric_limits<double>::infinity()) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
@@ -155,6 +159,7 @@ struct PairMeasure {
       options.resolution = resolution;
       options.settle = settle;
       options.coarse_above = coarse_above;
+      options.decide = decide;
       return Surface(r, pose, s, options, mask).upper;
     }
     const fcl::Transform3d& tf = pose;
@@ -397,7 +402,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   }
 
   // 2. Installed penetration of every shell of D.
-  PairMeasure measure{&parts->robot_shells, &parts->static_shells};
+  PairMeasure measure;
+  measure.robot = &parts->robot_shells;
+  measure.statics = &parts->static_shells;
   measure.resolution = tolerance / 10;
   BuildFallbackModels(*parts, &measure);
   const ShellTree tree(parts->static_shells);
@@ -496,7 +503,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
 
 RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, double limit, double min_step)
     : parts_(std::move(parts)), limit_(limit), min_step_(min_step), impl_(std::make_unique<Impl>(*parts_)) {
-  impl_->measure = PairMeasure{&parts_->robot_shells, &parts_->static_shells};
+  impl_->measure = PairMeasure();
+  impl_->measure.robot = &parts_->robot_shells;
+  impl_->measure.statics = &parts_->static_shells;
   impl_->measure.resolution = limit_ / 10;
   impl_->measure.masks = &parts_->masks;
   BuildFallbackModels(*parts_, &impl_->measure);
@@ -537,12 +546,16 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
   const Eigen::Isometry3d iso = pose.ToIsometry();
   const PartModel& parts = *parts_;
   for (int r = 0; r < static_cast<int>(parts.robot_shells.size()); ++r) {
+    // A slack question is answered once one pair is too deep: the pose is
+    // invalid, and the caller reads only the sign.
+    if (!report_fasteners && report.slack < 0) break;
     const Shell& shell = parts.robot_shells[r];
     const bool rigid = parts.role[r] == ShellRole::kRigid;
     const double allowed = rigid ? limit_ : parts.cluster_limit[parts.cluster[r]] + limit_;
     // An unlimited fastener cannot lower the slack: measured for reports only.
     if (!rigid && !report_fasteners && std::isinf(allowed)) continue;
     impl_->tree.Query(iso * shell.center, shell.radius + margin_, [&](int s) {
+      if (!report_fasteners && report.slack < 0) return;
       // A fit pair counts only its depth beyond the installed fit.
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
       // Beyond fit + limit the pose is invalid whatever the digits: the
@@ -554,7 +567,10 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       // the floor, so refining its bound further (along every line where the
       // surfaces cross) buys no longer step. Reports print the number.
       const double settle = !report_fasteners && min_step_ >= limit_ / 2 ? fit + limit_ : fit + limit_ / 2;
-      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_);
+      // Beyond fit + allowed, a slack question needs no number: the search
+      // stops once the depth is known to be there (a report measures it).
+      const double decide = report_fasteners ? std::numeric_limits<double>::infinity() : fit + allowed;
+      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_, false, decide);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
       if (report_fasteners && parts.Mask(r) != nullptr)

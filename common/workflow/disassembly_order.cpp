@@ -78,7 +78,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
                             : path.stopped_by_budget ? "not-removable (budget)"
                                                      : "not-removable (no path)";
     const Pose at = path.partial_waypoints.empty() ? scene.start : path.partial_waypoints.back();
-    attempt.blocked_by = FindBlockingParts(scene, at);
+    attempt.blocked_by = FindBlockingParts(scene, at, tolerance);
   }
   attempt.seconds = Now() - begin;
   LogInfo("round %d: %s %s (%.1f s)%s%s", round, part.name.c_str(), attempt.status_detail.c_str(), attempt.seconds,

@@ -9,7 +9,8 @@
 // round is one step of the sequence; within it, in the order given); the
 // next round tries the rest again. When a round frees none, no order exists
 // for the parts left: each blocked part points at the part that blocks it
-// most (the deepest contact, else the nearest one still in), and following
+// most (one whose removal alone lets it out along a straight pull, else the
+// deepest contact, else the nearest one still in), and following
 // these from the first part left ends in a cycle, which is named.
 //
 // Parts are mesh files, one part per file, already in their assembled
@@ -78,8 +79,8 @@ DisassemblyOrder PlanDisassemblyOrder(const std::vector<AssemblyPart>& parts, co
 std::string DisassemblyOrderJson(const DisassemblyOrder& order, const DisassemblyOrderOptions& options);
 
 // The cycle of a blocked round: from the first part, follow each part's
-// first blocker that is still in (blocked_by lists deepest contact first,
-// then nearest) until a part repeats. Empty when a part has no such blocker.
+// first blocker that is still in (blocked_by lists the parts whose removal
+// frees it first, then deepest contact, then nearest) until a part repeats. Empty when a part has no such blocker.
 std::vector<std::string> FindBlockingCycle(const std::vector<std::string>& remaining,
                                            const std::vector<PartAttempt>& round_attempts);
 

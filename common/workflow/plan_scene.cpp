@@ -130,8 +130,9 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
     return pulled;
   }
   if (!problem.goal) {
-    LogInfo("straight pulls: none of %lld gets D out (%lld checks); sampling",
-            static_cast<long long>(pulled.stats.iterations), static_cast<long long>(pulled.stats.collision_checks));
+    LogInfo("straight pulls: none of %lld gets D out (%lld checks, %.1f s)",
+            static_cast<long long>(pulled.stats.iterations), static_cast<long long>(pulled.stats.collision_checks),
+            pulled.stats.time_s);
   }
   const auto with_pulls = [&](PlanResult result) {
     result.stats.time_s += pulled.stats.time_s;
@@ -139,16 +140,30 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
     result.stats.invalid_checks += pulled.stats.invalid_checks;
     return result;
   };
-  if (!(clearance > 0)) return with_pulls(plan(validity, planner));
+  // The pulls' time counts against the time limit: sampling gets what is
+  // left (the pulls themselves count work, not seconds, so that whether
+  // they get D out does not depend on the machine; a stage's limit is
+  // then overrun only by pulls longer than the limit).
+  PlannerOptions sampling = planner;
+  sampling.time_limit_s = planner.time_limit_s - pulled.stats.time_s;
+  if (!(sampling.time_limit_s > 0)) {
+    LogInfo("straight pulls took %.1f s of the time limit of %.1f s: none left for sampling", pulled.stats.time_s,
+            planner.time_limit_s);
+    PlanResult none = pulled;
+    none.path.clear();
+    none.status = PlanStatus::kTimeLimit;
+    return none;
+  }
+  if (!(clearance > 0)) return with_pulls(plan(validity, sampling));
   const ClearanceMeter meter(problem, robot);
   double floor = std::min(clearance, meter.At(problem.start).clearance);
   if (problem.goal) floor = std::min(floor, meter.At(*problem.goal).clearance);
   if (!(floor > 0)) {
     LogInfo("clearance: D starts in contact with S; the clearance of %.4g %s is left to smoothing", clearance,
             units.c_str());
-    return with_pulls(plan(validity, planner));
+    return with_pulls(plan(validity, sampling));
   }
-  PlannerOptions first = planner;
+  PlannerOptions first = sampling;
   constexpr std::int64_t kFirstTryIterations = 2048;
   first.max_iterations =
       planner.max_iterations > 0 ? std::min(planner.max_iterations, kFirstTryIterations) : kFirstTryIterations;
@@ -163,7 +178,7 @@ PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidi
   // The plan as asked gets its whole time limit: the first try, bounded by
   // its iterations only, comes on top (on a fine mesh its 2048 iterations
   // took most of a 60 s limit, and a remainder left too little to plan).
-  PlanResult result = plan(validity, planner);
+  PlanResult result = plan(validity, sampling);
   result.stats.time_s += kept.stats.time_s;
   result.stats.iterations += kept.stats.iterations;
   result.stats.nodes += kept.stats.nodes;

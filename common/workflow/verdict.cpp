@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
@@ -116,15 +117,58 @@ std::string PartContactJson(const PartContact& c) {
   } else {
     json.Null("depth").Bool("depth_exact", false).Number("distance", c.distance);
   }
-  return json.Add("point", JsonVector(c.point)).Text();
+  return json.Add("point", JsonVector(c.point)).Bool("frees", c.frees).Text();
 }
 
-std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose) {
+Scene WithoutStaticPart(const Scene& scene, int part) {
+  Scene reduced = scene;
+  reduced.static_mesh = TriangleMesh();
+  reduced.static_part_of_triangle.clear();
+  std::vector<int> index(scene.static_mesh.vertices.size(), -1);
+  for (std::size_t t = 0; t < scene.static_mesh.triangles.size(); ++t) {
+    const int of = t < scene.static_part_of_triangle.size() ? scene.static_part_of_triangle[t] : 0;
+    if (of == part) continue;
+    std::array<int, 3> triangle;
+    for (int k = 0; k < 3; ++k) {
+      int& v = index[scene.static_mesh.triangles[t][k]];
+      if (v < 0) {
+        v = static_cast<int>(reduced.static_mesh.vertices.size());
+        reduced.static_mesh.vertices.push_back(scene.static_mesh.vertices[scene.static_mesh.triangles[t][k]]);
+      }
+      triangle[k] = v;
+    }
+    reduced.static_mesh.triangles.push_back(triangle);
+    reduced.static_part_of_triangle.push_back(of);
+  }
+  return reduced;
+}
+
+std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose, double tolerance,
+                                           UnmeasuredInterference unmeasured) {
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& vertex : robot.vertices) vertex -= scene.dynamic_origin;
   const double reach = 0.05 * robot.Bounds().Size().norm();
-  return MeasurePartContacts(robot, pose, scene.static_mesh, scene.static_part_of_triangle, scene.static_part_names,
-                             reach, 8);
+  std::vector<PartContact> contacts = MeasurePartContacts(robot, pose, scene.static_mesh, scene.static_part_of_triangle,
+                                                          scene.static_part_names, reach, 8);
+  // Which of them, taken away alone, lets D out along a straight pull: the
+  // parts that stop its motion come first (a post is held by the cap on
+  // it, not by the base it stands in, however deep either contact is).
+  // Bounded work (at most 8 parts, ProbeWhatBlocks' six pulls each), no
+  // clock: the same answer under any load. Not where S is one part.
+  const std::set<int> parts(scene.static_part_of_triangle.begin(), scene.static_part_of_triangle.end());
+  if (parts.size() < 2 || !(tolerance > 0)) return contacts;
+  for (PartContact& contact : contacts) {
+    const Scene reduced = WithoutStaticPart(scene, contact.part);
+    if (reduced.static_mesh.triangles.empty()) continue;
+    const BlockingReport probe = ProbeWhatBlocks(reduced, tolerance, unmeasured);
+    contact.frees =
+        probe.parts->rigid_interference.empty() &&
+        std::any_of(probe.probes.begin(), probe.probes.end(), [](const BlockingProbe& p) { return p.separated; });
+    LogInfo("what blocks: without %s, %s", contact.name.c_str(),
+            contact.frees ? "D comes out along a straight pull" : "D is still held");
+  }
+  std::stable_partition(contacts.begin(), contacts.end(), [](const PartContact& c) { return c.frees; });
+  return contacts;
 }
 
 std::string VerdictStatusDetail(const Verdict& v) {
@@ -183,7 +227,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     v.stopped_by_budget = !path.success && path.stopped_by_budget;
     v.blocked_at_partial_end = !path.success && !path.partial_waypoints.empty();
     v.blocked_at = v.blocked_at_partial_end ? path.partial_waypoints.back() : scene.start;
-    v.blockers = FindBlockingParts(scene, v.blocked_at);
+    v.blockers = FindBlockingParts(scene, v.blocked_at, v.tolerance, unmeasured);
   }
   v.max_volume = FindMaxVolume(path);
   JudgePathQuality(scene, &v);
@@ -257,12 +301,13 @@ void AddExactCheck(const Verdict& v, JsonWriter& json) {
     // out along, never pushed deeper than installed plus the tolerance.
     std::string fits = "[";
     for (const FitInterference& fit : parts.fits) {
-      fits += std::string(fits.size() > 1 ? ", " : "") + JsonWriter()
-                                                           .String("rigid_part", parts.Describe(fit.robot_shell, true))
-                                                           .String("static_part", parts.Describe(fit.static_shell, false))
-                                                           .Number("installed_depth", fit.installed_depth)
-                                                           .Number("overlap_area", fit.area)
-                                                           .Text();
+      fits +=
+          std::string(fits.size() > 1 ? ", " : "") + JsonWriter()
+                                                         .String("rigid_part", parts.Describe(fit.robot_shell, true))
+                                                         .String("static_part", parts.Describe(fit.static_shell, false))
+                                                         .Number("installed_depth", fit.installed_depth)
+                                                         .Number("overlap_area", fit.area)
+                                                         .Text();
     }
     fits += "]";
     json.Add("exact_check", JsonWriter()

@@ -71,9 +71,16 @@ struct Verdict {
 std::string VerdictStatusDetail(const Verdict& verdict);
 
 // The parts of S at `pose` of D (scene convention): those D intersects or
-// comes within 5% of its AABB diagonal of, nearest first, at most 8; at
-// least the nearest part.
-std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose);
+// comes within 5% of its AABB diagonal of, at most 8, at least the nearest
+// part. Where S has several parts, each is also taken away alone and D
+// pulled straight out of the rest (ProbeWhatBlocks, exact check with
+// `tolerance`, scene units): the parts whose removal frees D
+// (PartContact::frees) come first, then deepest contact, then nearest.
+std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose, double tolerance,
+                                           UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+
+// `scene` with part `part` of S (an index of static_part_names) taken out.
+Scene WithoutStaticPart(const Scene& scene, int part);
 
 // One entry of verdict.json's blocked_by.parts (and order.json's): part,
 // index, intersects, depth or distance, point.
