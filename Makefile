@@ -273,6 +273,27 @@ BENCH_REAL_OUT ?= out/bench-real
 bench-real: build
 	@scripts/real-bench.sh $(BUILD)/bin $(BENCH_REAL_OUT) bench/real
 
+# The disassembly order on real meshes (scripts/order-bench.sh): assemblies
+# made of the bench/real scenes' parts in their assembled poses
+# (bench/real/tools/order_assemblies.py) through ausbau-order, each order
+# compared with the one the geometry gives. Fails when one differs.
+# PART_BUDGET=s (default 10) is passed on.
+BENCH_ORDER_OUT ?= out/bench-order
+
+.PHONY: bench-order
+bench-order: build
+	@scripts/order-bench.sh $(BUILD)/bin $(BENCH_ORDER_OUT)
+
+# The external benchmark set (scripts/external-bench.sh): its box-soup scenes
+# and their moulded twins (D one welded solid) through the InIState pipeline,
+# each path.csv judged by the set's own oracle.py. Fails only when a path
+# the verdict called removable is refused by the oracle.
+BENCH_EXTERNAL_OUT ?= out/bench-external
+
+.PHONY: bench-external
+bench-external: build
+	@scripts/external-bench.sh $(BUILD)/bin $(BENCH_EXTERNAL_OUT)
+
 # libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints

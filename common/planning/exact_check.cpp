@@ -115,7 +115,7 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
 }  // namespace
 
 BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredInterference unmeasured,
-                               std::shared_ptr<const PartModel> parts) {
+                               std::shared_ptr<const PartModel> parts, bool until_out) {
   BlockingReport report;
   // A large S: the pulls stay within D's reach (level 0), against the
   // cropped S unless the caller's parts were classified already.
@@ -138,6 +138,7 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {1.0, -1.0}) {
+      if (until_out && !report.probes.empty() && report.probes.back().separated) break;
       report.probes.push_back(Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box,
                                    crop ? &*crop : nullptr, tolerance, reach, largest_step));
     }

@@ -104,9 +104,11 @@ struct BlockingReport {
 };
 // `parts`: D's solids as ClassifySceneParts(scene, tolerance, unmeasured)
 // gives them, when the caller has them already (null: classified here).
+// `until_out`: stop at the first pull that gets D out (the caller asks only
+// whether one does; the pulls not made are not in `probes`).
 BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance,
                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
-                               std::shared_ptr<const PartModel> parts = nullptr);
+                               std::shared_ptr<const PartModel> parts = nullptr, bool until_out = false);
 
 std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoints,
                                                const Eigen::Vector3d& reference_point,

@@ -160,7 +160,7 @@ std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose,
   for (PartContact& contact : contacts) {
     const Scene reduced = WithoutStaticPart(scene, contact.part);
     if (reduced.static_mesh.triangles.empty()) continue;
-    const BlockingReport probe = ProbeWhatBlocks(reduced, tolerance, unmeasured);
+    const BlockingReport probe = ProbeWhatBlocks(reduced, tolerance, unmeasured, nullptr, true);
     contact.frees =
         probe.parts->rigid_interference.empty() &&
         std::any_of(probe.probes.begin(), probe.probes.end(), [](const BlockingProbe& p) { return p.separated; });
