@@ -26,6 +26,16 @@ ASSEMBLIES = {
         ('cap_top', '4gon_box_t5mm.stl', ([1, 0, 0, 0], [0, 0, 75])),
         ('cap_bottom', '4gon_box_t5mm.stl', ([1, 0, 0, 0], [0, 0, -75])),
     ], 'block', [['cap_bottom', 'cap_top'], ['post']]),
+}
+
+# Not run yet: the parts of agh-insertion-box-trapped (an insertion box on
+# four posts in its holes, a plate on the posts from above and one under
+# them, the floor fixed; order: cover, the four posts, the box). The cover's
+# straight pulls, sliding over the posts' top faces, which touch its bottom
+# face exactly, did not end within 15 minutes (2026-12-04): the surface
+# depth of coincident faces beside a hole's outline is refined to its floor.
+# Kept here to be added back once that is fixed.
+UNFINISHED = {
     # An insertion box on four posts in its holes, a plate on the posts from
     # above and one under them (the frame): the cover lifts off, then the
     # posts come up out of the box's holes, then the box.
