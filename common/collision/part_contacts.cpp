@@ -121,7 +121,7 @@ std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Po
 }
 
 std::string DescribePartContact(const PartContact& c) {
-  const char* frees = c.frees ? "; D comes out once it is out" : "";
+  const char* frees = c.frees ? "; without it D comes out" : "";
   if (c.intersects) {
     return Fmt("%s (intersects, depth %.4g%s at [%.6g, %.6g, %.6g]%s)", c.name.c_str(), c.depth,
                c.depth_exact ? "" : " (local estimate)", c.point.x(), c.point.y(), c.point.z(), frees);

@@ -80,7 +80,8 @@ std::string DisassemblyOrderJson(const DisassemblyOrder& order, const Disassembl
 
 // The cycle of a blocked round: from the first part, follow each part's
 // first blocker that is still in (blocked_by lists the parts whose removal
-// frees it first, then deepest contact, then nearest) until a part repeats. Empty when a part has no such blocker.
+// frees it first, then deepest contact, then nearest) until a part
+// repeats. Empty when a part has no such blocker.
 std::vector<std::string> FindBlockingCycle(const std::vector<std::string>& remaining,
                                            const std::vector<PartAttempt>& round_attempts);
 

@@ -153,8 +153,10 @@ std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose,
   // Which of them, taken away alone, lets D out along a straight pull: the
   // parts that stop its motion come first (a post is held by the cap on
   // it, not by the base it stands in, however deep either contact is).
-  // Bounded work (at most 8 parts, ProbeWhatBlocks' six pulls each), no
-  // clock: the same answer under any load. Not where S is one part.
+  // Work, not seconds (at most 8 parts, ProbeWhatBlocks' pulls for each
+  // until one gets D out): the same answer under any load, but no time
+  // limit either (a pull sliding in contact along curved or coincident
+  // faces can take minutes). Not where S is one part.
   const std::set<int> parts(scene.static_part_of_triangle.begin(), scene.static_part_of_triangle.end());
   if (parts.size() < 2 || !(tolerance > 0)) return contacts;
   for (PartContact& contact : contacts) {
