@@ -67,15 +67,51 @@ bool TrianglesApart(const std::array<Eigen::Vector3d, 3>& p, const std::array<Ei
 }  // namespace
 
 bool DepthSurface::MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) const {
-  Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - gap;
-  Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
-  bool meets = false;
-  bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
-    if (meets) return;
-    const auto& f = triangles_[k];
-    meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
-  });
-  return meets;
+  return MayMeetOutside({t[0], t[1], t[2]}, gap, nullptr, -1);
+}
+
+namespace {
+
+// The triangles on each edge (as the pair of its vertices, smaller first).
+using TrianglesByEdge = std::map<std::pair<int, int>, std::vector<int>>;
+std::pair<int, int> EdgeKey(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
+
+TrianglesByEdge TrianglesOfEdges(const std::vector<std::array<int, 3>>& triangles) {
+  TrianglesByEdge by_edge;
+  for (int t = 0; t < static_cast<int>(triangles.size()); ++t)
+    for (int k = 0; k < 3; ++k) by_edge[EdgeKey(triangles[t][k], triangles[t][(k + 1) % 3])].push_back(t);
+  return by_edge;
+}
+
+// The triangles reached from `seed` through shared edges, stepping only onto
+// those `joins` accepts and not yet `seen` (marked as they are reached).
+template <typename Joins>
+std::vector<int> GrowThroughEdges(int seed, const std::vector<std::array<int, 3>>& triangles,
+                                  const TrianglesByEdge& by_edge, std::vector<bool>* seen, Joins joins) {
+  std::vector<int> members, open = {seed};
+  (*seen)[seed] = true;
+  while (!open.empty()) {
+    const int t = open.back();
+    open.pop_back();
+    members.push_back(t);
+    for (int k = 0; k < 3; ++k) {
+      for (int u : by_edge.at(EdgeKey(triangles[t][k], triangles[t][(k + 1) % 3]))) {
+        if ((*seen)[u] || !joins(u)) continue;
+        (*seen)[u] = true;
+        open.push_back(u);
+      }
+    }
+  }
+  return members;
+}
+
+// How many of `members` use each of their edges (1: a boundary edge).
+std::map<std::pair<int, int>, int> EdgeUses(const std::vector<std::array<int, 3>>& triangles,
+                                            const std::vector<int>& members) {
+  std::map<std::pair<int, int>, int> uses;
+  for (int t : members)
+    for (int k = 0; k < 3; ++k) ++uses[EdgeKey(triangles[t][k], triangles[t][(k + 1) % 3])];
+  return uses;
 }
 
 // The convex planar patches (mesh_depth.h): regions of coplanar triangles
@@ -83,8 +119,8 @@ bool DepthSurface::MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) 
 // of its vertices on its inner side is a convex polygon, kept as its plane
 // and boundary edges (at most kMaxPatchEdges).
 void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
-                              const std::vector<std::array<int, 3>>& triangles, int max_edges,
-                              std::vector<DepthSurface::Patch>* patches, std::vector<int>* patch_of) {
+                              const std::vector<std::array<int, 3>>& triangles, const TrianglesByEdge& by_edge,
+                              int max_edges, std::vector<DepthSurface::Patch>* patches, std::vector<int>* patch_of) {
   const int n = static_cast<int>(triangles.size());
   patch_of->assign(n, -1);
   std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero());
@@ -96,42 +132,19 @@ void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
     const Eigen::Vector3d cross = (vertices[tri[1]] - vertices[tri[0]]).cross(vertices[tri[2]] - vertices[tri[0]]);
     if (cross.norm() > 0) normal[t] = cross.normalized();
   }
-  std::map<std::pair<int, int>, std::vector<int>> edge_triangles;
-  for (int t = 0; t < n; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-      edge_triangles[{std::min(a, b), std::max(a, b)}].push_back(t);
-    }
   std::vector<bool> seen(n, false);
   for (int seed = 0; seed < n; ++seed) {
     if (seen[seed] || normal[seed].isZero()) continue;
     const Eigen::Vector3d nn = normal[seed];
     const Eigen::Vector3d origin = vertices[triangles[seed][0]];
-    std::vector<int> members, open = {seed};
-    seen[seed] = true;
-    while (!open.empty()) {
-      const int t = open.back();
-      open.pop_back();
-      members.push_back(t);
-      for (int k = 0; k < 3; ++k) {
-        const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-        for (int u : edge_triangles[{std::min(a, b), std::max(a, b)}]) {
-          if (seen[u] || normal[u].dot(nn) < 1 - 1e-12) continue;
-          bool coplanar = true;
-          for (int v : triangles[u]) coplanar = coplanar && std::abs((vertices[v] - origin).dot(nn)) <= flat;
-          if (!coplanar) continue;
-          seen[u] = true;
-          open.push_back(u);
-        }
-      }
-    }
+    const std::vector<int> members = GrowThroughEdges(seed, triangles, by_edge, &seen, [&](int u) {
+      if (normal[u].dot(nn) < 1 - 1e-12) return false;
+      for (int v : triangles[u])
+        if (!(std::abs((vertices[v] - origin).dot(nn)) <= flat)) return false;
+      return true;
+    });
     if (members.size() < 2) continue;
-    std::map<std::pair<int, int>, int> uses;
-    for (int t : members)
-      for (int k = 0; k < 3; ++k) {
-        const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-        ++uses[{std::min(a, b), std::max(a, b)}];
-      }
+    std::map<std::pair<int, int>, int> uses = EdgeUses(triangles, members);
     DepthSurface::Patch patch;
     patch.normal = nn;
     patch.origin = origin;
@@ -157,12 +170,15 @@ void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
   }
 }
 
+}  // namespace
+
 DepthSurface::DepthSurface(const Shell& shell)
     : vertices_(shell.vertices), triangles_(shell.triangles), bvh_(shell.vertices, shell.triangles) {
   for (const auto& v : vertices_) box_.Extend(v);
   flat_ = 1e-9 * std::max(1.0, box_.Diagonal());
   const int n = static_cast<int>(triangles_.size());
-  BuildConvexPlanarPatches(vertices_, triangles_, kMaxPatchEdges, &patches_, &patch_of_);
+  const TrianglesByEdge by_edge = TrianglesOfEdges(triangles_);
+  BuildConvexPlanarPatches(vertices_, triangles_, by_edge, kMaxPatchEdges, &patches_, &patch_of_);
   // Consistently oriented: every directed edge once, its reverse once.
   std::map<std::pair<int, int>, int> directed;
   for (const auto& tri : triangles_)
@@ -208,7 +224,7 @@ DepthSurface::DepthSurface(const Shell& shell)
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
   }
-  BuildFaceRegions();
+  BuildFaceRegions(by_edge);
   // A convex shell's face planes (coplanar triangles once), when few.
   if (convex_) {
     for (int t = 0; t < n && static_cast<int>(planes_.size()) <= kMaxConvexPlanes; ++t) {
@@ -285,17 +301,14 @@ double DepthSurface::PatchDistance(const Eigen::Vector3d& p, int triangle) const
 // normal through the mean of its corners, and `deviation` how far any
 // corner lies off it, as measured (rounding: a CAD face written in float32
 // far from the origin is flat to some 1e-5 of its coordinates only).
-void DepthSurface::BuildFaceRegions() {
+void DepthSurface::BuildFaceRegions(const TrianglesByEdge& by_edge) {
   constexpr double kFlatCos = 1 - 1e-6;  // about 1.4 mrad
   const int n = static_cast<int>(triangles_.size());
   region_of_.assign(n, -1);
-  std::map<std::pair<int, int>, std::vector<int>> edge_triangles;
   std::vector<double> area(n, 0);
   for (int t = 0; t < n; ++t) {
     const auto& f = triangles_[t];
     area[t] = 0.5 * (vertices_[f[1]] - vertices_[f[0]]).cross(vertices_[f[2]] - vertices_[f[0]]).norm();
-    for (int k = 0; k < 3; ++k)
-      edge_triangles[{std::min(f[k], f[(k + 1) % 3]), std::max(f[k], f[(k + 1) % 3])}].push_back(t);
   }
   std::vector<int> order(n);
   for (int t = 0; t < n; ++t) order[t] = t;
@@ -303,21 +316,8 @@ void DepthSurface::BuildFaceRegions() {
   std::vector<bool> seen(n, false);
   for (int seed : order) {
     if (seen[seed] || face_normal_[seed].squaredNorm() == 0) continue;
-    std::vector<int> members, open = {seed};
-    seen[seed] = true;
-    while (!open.empty()) {
-      const int t = open.back();
-      open.pop_back();
-      members.push_back(t);
-      for (int k = 0; k < 3; ++k) {
-        const int a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
-        for (int u : edge_triangles[{std::min(a, b), std::max(a, b)}]) {
-          if (seen[u] || !(face_normal_[u].dot(face_normal_[seed]) >= kFlatCos)) continue;
-          seen[u] = true;
-          open.push_back(u);
-        }
-      }
-    }
+    const std::vector<int> members = GrowThroughEdges(
+        seed, triangles_, by_edge, &seen, [&](int u) { return face_normal_[u].dot(face_normal_[seed]) >= kFlatCos; });
     FaceRegion region;
     Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
     for (int t : members) weighted += area[t] * face_normal_[t];
@@ -333,13 +333,7 @@ void DepthSurface::BuildFaceRegions() {
       region.deviation = std::max(region.deviation, std::abs((vertices_[v] - region.origin).dot(region.normal)));
     region.u = region.normal.unitOrthogonal();
     region.v = region.normal.cross(region.u);
-    std::map<std::pair<int, int>, int> uses;
-    for (int t : members)
-      for (int k = 0; k < 3; ++k) {
-        const int a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
-        ++uses[{std::min(a, b), std::max(a, b)}];
-      }
-    for (const auto& [edge, count] : uses) {
+    for (const auto& [edge, count] : EdgeUses(triangles_, members)) {
       if (count != 1) continue;
       region.edge_a.push_back(region.InPlane(vertices_[edge.first]));
       region.edge_b.push_back(region.InPlane(vertices_[edge.second]));
@@ -367,6 +361,29 @@ bool SegmentApartFromTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d& b
   for (int k = 0; k < 3; ++k)
     if (apart(t[(k + 1) % 3] - t[k])) return true;
   return false;
+}
+}  // namespace
+
+namespace {
+// Triangle t cut by a plane, given each corner's height above it: the
+// corners of the part behind (height <= 0) and of the part in front, in
+// order round each, and the points where its edges cross the plane.
+struct PlaneSplit {
+  std::vector<Eigen::Vector3d> behind, front, cut;
+};
+PlaneSplit SplitAtPlane(const std::array<Eigen::Vector3d, 3>& t, const double (&height)[3]) {
+  PlaneSplit split;
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3;
+    (height[k] > 0 ? split.front : split.behind).push_back(t[k]);
+    if ((height[k] > 0) != (height[j] > 0)) {
+      const Eigen::Vector3d p = t[k] + (height[k] / (height[k] - height[j])) * (t[j] - t[k]);
+      split.cut.push_back(p);
+      split.front.push_back(p);
+      split.behind.push_back(p);
+    }
+  }
+  return split;
 }
 }  // namespace
 
@@ -411,18 +428,8 @@ double DepthSurface::FaceRegionBound(const std::array<Eigen::Vector3d, 3>& t, in
       continue;
     if (!SegmentApartFromTriangle(a, b, shadow, gap)) return kNone;
   }
-  // The part in front: a triangle or a quadrilateral (corners in order).
-  if (front > 0) {
-    std::vector<Eigen::Vector3d> corners;
-    for (int k = 0; k < 3; ++k) {
-      const int j = (k + 1) % 3;
-      if (height[k] > 0) corners.push_back(t[k]);
-      if ((height[k] > 0) != (height[j] > 0))
-        corners.push_back(t[k] + (height[k] / (height[k] - height[j])) * (t[j] - t[k]));
-    }
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-      if (MayMeetOutside({corners[0], corners[k], corners[k + 1]}, gap, region_of_, face)) return kNone;
-  }
+  // The part in front, a triangle or a quadrilateral.
+  if (front > 0 && MayMeetOutside(SplitAtPlane(t, height).front, gap, &region_of_, face)) return kNone;
   // A point behind the raised plane and over the region is at most its
   // height below the plane, plus the deviation, from the surface point on
   // the same normal line: at most `bound`, or raise + deviation for a point
@@ -454,18 +461,23 @@ bool DepthSurface::InsidePatch(const Eigen::Vector3d& p, int triangle, double ma
   return true;
 }
 
-bool DepthSurface::MayMeetOutside(const std::array<Eigen::Vector3d, 3>& t, double gap, const std::vector<int>& group_of,
-                                  int triangle) const {
-  const int group = group_of[triangle];
-  Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - gap;
-  Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
-  bool meets = false;
-  bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
-    if (meets || k == triangle || (group >= 0 && group_of[k] == group)) return;
-    const auto& f = triangles_[k];
-    meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
-  });
-  return meets;
+bool DepthSurface::MayMeetOutside(const std::vector<Eigen::Vector3d>& polygon, double gap,
+                                  const std::vector<int>* group_of, int triangle) const {
+  const int group = group_of ? (*group_of)[triangle] : -1;
+  // Fanned from its first corner (a convex polygon, corners in order).
+  for (std::size_t m = 1; m + 1 < polygon.size(); ++m) {
+    const std::array<Eigen::Vector3d, 3> t = {polygon[0], polygon[m], polygon[m + 1]};
+    const Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - gap;
+    const Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
+    bool meets = false;
+    bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
+      if (meets || k == triangle || (group >= 0 && (*group_of)[k] == group)) return;
+      const auto& f = triangles_[k];
+      meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
+    });
+    if (meets) return true;
+  }
+  return false;
 }
 
 double DepthSurface::StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap) const {
@@ -486,24 +498,12 @@ double DepthSurface::StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int 
     if (height[k] > 0) ++front;
   }
   if (front == 0 || front == 3) return kNone;
-  std::vector<Eigen::Vector3d> behind_corners, front_corners, cut;
-  for (int k = 0; k < 3; ++k) {
-    const int j = (k + 1) % 3;
-    (height[k] > 0 ? front_corners : behind_corners).push_back(t[k]);
-    if ((height[k] > 0) != (height[j] > 0)) {
-      const Eigen::Vector3d p = t[k] + (height[k] / (height[k] - height[j])) * (t[j] - t[k]);
-      cut.push_back(p);
-      front_corners.push_back(p);
-      behind_corners.push_back(p);
-    }
-  }
-  if (cut.size() != 2 || !InsidePatch(0.5 * (cut[0] + cut[1]), face, raise)) return kNone;
-  // The part in front, a triangle or a quadrilateral (fanned: its corners
-  // are in order round it).
-  for (std::size_t k = 1; k + 1 < front_corners.size(); ++k)
-    if (MayMeetOutside({front_corners[0], front_corners[k], front_corners[k + 1]}, gap, patch_of_, face)) return kNone;
+  const PlaneSplit split = SplitAtPlane(t, height);
+  if (split.cut.size() != 2 || !InsidePatch(0.5 * (split.cut[0] + split.cut[1]), face, raise)) return kNone;
+  // The part in front, a triangle or a quadrilateral.
+  if (MayMeetOutside(split.front, gap, &patch_of_, face)) return kNone;
   double bound = 0;
-  for (const auto& c : behind_corners) bound = std::max(bound, PatchDistance(c, face));
+  for (const auto& c : split.behind) bound = std::max(bound, PatchDistance(c, face));
   return bound;
 }
 

@@ -145,9 +145,10 @@ class DepthSurface {
   // Whether the projection of p onto the plane of triangle's patch is inside
   // the patch (or the triangle alone) by more than `margin`.
   bool InsidePatch(const Eigen::Vector3d& p, int triangle, double margin) const;
-  // MayMeet, leaving out `triangle` and the triangles of its group
-  // (group_of: patch_of_ or region_of_; -1: none).
-  bool MayMeetOutside(const std::array<Eigen::Vector3d, 3>& t, double gap, const std::vector<int>& group_of,
+  // MayMeet for a convex polygon (corners in order), leaving out
+  // `triangle` and the triangles of its group (group_of: patch_of_ or
+  // region_of_; null: none).
+  bool MayMeetOutside(const std::vector<Eigen::Vector3d>& polygon, double gap, const std::vector<int>* group_of,
                       int triangle) const;
   // Flat regions (closed, oriented shells): triangles joined through edges
   // whose normals agree (within about 1.4 mrad), whatever their outline (a
@@ -160,7 +161,7 @@ class DepthSurface {
   };
   std::vector<FaceRegion> regions_;
   std::vector<int> region_of_;  // per triangle, or -1
-  void BuildFaceRegions();
+  void BuildFaceRegions(const std::map<std::pair<int, int>, std::vector<int>>& triangles_by_edge);
   double flat_ = 0;  // coplanar within this (BuildConvexPlanarPatches)
   Aabb box_;
 };

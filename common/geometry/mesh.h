@@ -53,6 +53,27 @@ struct TriangleMesh {
       triangles.push_back(tri);
     }
   }
+  // The triangles whose index `keep(t)` accepts, in their order, with only
+  // the vertices they use (in the order of first use).
+  template <typename Keep>
+  TriangleMesh KeepTriangles(Keep keep) const {
+    TriangleMesh out;
+    std::vector<int> remap(vertices.size(), -1);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+      if (!keep(t)) continue;
+      std::array<int, 3> kept{};
+      for (int k = 0; k < 3; ++k) {
+        int& r = remap[triangles[t][k]];
+        if (r < 0) {
+          r = static_cast<int>(out.vertices.size());
+          out.vertices.push_back(vertices[triangles[t][k]]);
+        }
+        kept[k] = r;
+      }
+      out.triangles.push_back(kept);
+    }
+    return out;
+  }
 };
 
 }  // namespace ausbau

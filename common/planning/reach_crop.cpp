@@ -35,24 +35,12 @@ Aabb InstalledBox(const Scene& scene) {
 }
 
 TriangleMesh CropMesh(const TriangleMesh& mesh, const Aabb& box, std::vector<Aabb>* triangle_boxes) {
-  TriangleMesh out;
-  std::vector<int> remap(mesh.vertices.size(), -1);
-  for (const auto& t : mesh.triangles) {
-    const Aabb tbox = TriangleBox(mesh, t);
-    if (!Overlap(tbox, box)) continue;
-    std::array<int, 3> kept{};
-    for (int k = 0; k < 3; ++k) {
-      int& r = remap[t[k]];
-      if (r < 0) {
-        r = static_cast<int>(out.vertices.size());
-        out.vertices.push_back(mesh.vertices[t[k]]);
-      }
-      kept[k] = r;
-    }
-    out.triangles.push_back(kept);
+  return mesh.KeepTriangles([&](std::size_t t) {
+    const Aabb tbox = TriangleBox(mesh, mesh.triangles[t]);
+    if (!Overlap(tbox, box)) return false;
     if (triangle_boxes) triangle_boxes->push_back(tbox);
-  }
-  return out;
+    return true;
+  });
 }
 
 std::optional<ReachCrop> ChooseReachCrop(const Scene& scene, int level) {

@@ -121,25 +121,14 @@ std::string PartContactJson(const PartContact& c) {
 }
 
 Scene WithoutStaticPart(const Scene& scene, int part) {
+  const auto part_of = [&](std::size_t t) {
+    return t < scene.static_part_of_triangle.size() ? scene.static_part_of_triangle[t] : 0;
+  };
   Scene reduced = scene;
-  reduced.static_mesh = TriangleMesh();
+  reduced.static_mesh = scene.static_mesh.KeepTriangles([&](std::size_t t) { return part_of(t) != part; });
   reduced.static_part_of_triangle.clear();
-  std::vector<int> index(scene.static_mesh.vertices.size(), -1);
-  for (std::size_t t = 0; t < scene.static_mesh.triangles.size(); ++t) {
-    const int of = t < scene.static_part_of_triangle.size() ? scene.static_part_of_triangle[t] : 0;
-    if (of == part) continue;
-    std::array<int, 3> triangle;
-    for (int k = 0; k < 3; ++k) {
-      int& v = index[scene.static_mesh.triangles[t][k]];
-      if (v < 0) {
-        v = static_cast<int>(reduced.static_mesh.vertices.size());
-        reduced.static_mesh.vertices.push_back(scene.static_mesh.vertices[scene.static_mesh.triangles[t][k]]);
-      }
-      triangle[k] = v;
-    }
-    reduced.static_mesh.triangles.push_back(triangle);
-    reduced.static_part_of_triangle.push_back(of);
-  }
+  for (std::size_t t = 0; t < scene.static_mesh.triangles.size(); ++t)
+    if (part_of(t) != part) reduced.static_part_of_triangle.push_back(part_of(t));
   return reduced;
 }
 
