@@ -235,9 +235,11 @@ bench-inistate: configure
 	@echo "bench-inistate: $(BENCH_INISTATE_OUT)/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv"
 
 # The whole pipeline (pipelines/inistate.mk, default VALIDITY=auto) on every
-# family, clips-ds* and panel-* (coarse and fine, turned and metres out),
-# seeds 1-3, and on the external set; each path.csv judged by the external
-# oracle.py or the clip generator's ground truth. About 5 min on 2 cores.
+# family, clips-ds* and panel-* (coarse, fine and the moulded twin, turned
+# and metres out), seeds 1-3, and on the external set (box soup and
+# moulded); each path.csv judged by the external oracle.py or the clip
+# generator's ground truth. About 5 min on 2 cores without the moulded
+# scenes; each moulded one takes up to the time limit (60 s) and more.
 # Needs python3-numpy (apt-get install python3-numpy) for oracle.py.
 BENCH_E2E_OUT ?= out/inistate-end-to-end
 BENCH_E2E_ARGS ?=

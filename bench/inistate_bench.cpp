@@ -618,8 +618,9 @@ int main(int argc, char** argv) {
   std::string external = "../shared/benchmarks/inistate-external";
   e2e.bin = fs::absolute(argv[0]).parent_path();
   app.add_flag("--end-to-end", end_to_end,
-               "run the whole pipeline (pipelines/inistate.mk) on every family, clips-ds* and panel-* (coarse and "
-               "fine, turned and metres out), and on the external set; paths judged by oracle.py or the ground "
+               "run the whole pipeline (pipelines/inistate.mk) on every family, clips-ds* and panel-* (coarse, "
+               "fine and moulded, turned and metres out), and on the external set (box soup and moulded); paths judged "
+               "by oracle.py or the ground "
                "truth; --seeds defaults to 3, --output-dir to out/inistate-end-to-end");
   app.add_option("--external", external, "end-to-end: folder with scenes/ and oracle.py; 'none' for no external set")
       ->capture_default_str();

@@ -223,13 +223,16 @@ int RunEndToEnd(const EndToEndOptions& options) {
         }
         runs.push_back(r);
       } else if (IsBoxSceneFamily(family)) {
-        for (const char* tessellation : {"coarse", "fine"}) {
-          const std::string name = family + "-" + tessellation + "-" + std::to_string(seed);
-          SceneRun r = MakeRun(family + "-" + tessellation, name, scenes / name, Checker::kOracle);
+        // The box soup, coarse and fine, and its moulded twin (D one welded
+        // solid, made from the coarse boxes).
+        for (const char* variant : {"coarse", "fine", "molded"}) {
+          const std::string name = family + "-" + variant + "-" + std::to_string(seed);
+          SceneRun r = MakeRun(family + "-" + variant, name, scenes / name, Checker::kOracle);
           if (!fs::exists(r.dir / "scene.yaml")) {
             BoxSceneOptions box;
             box.seed = static_cast<std::uint64_t>(seed);
-            box.tessellation = ParseBoxTessellation(tessellation);
+            box.molded = std::string(variant) == "molded";
+            box.tessellation = ParseBoxTessellation(box.molded ? "coarse" : variant);
             box.world = BoxWorld::kRandom;
             GenerateBoxScene(family, box, r.dir);
           }
@@ -238,14 +241,17 @@ int RunEndToEnd(const EndToEndOptions& options) {
       }
     }
   }
-  if (options.external_scenes && !options.external.empty() && fs::is_directory(options.external / "scenes")) {
+  // The external set's box soups, then their moulded twins.
+  for (const char* set : {"scenes", "scenes-molded"}) {
+    if (!options.external_scenes || options.external.empty() || !fs::is_directory(options.external / set)) continue;
+    const std::string family = std::string(set) == "scenes" ? "external" : "external-molded";
     std::vector<fs::path> dirs;
-    for (const auto& entry : fs::directory_iterator(options.external / "scenes")) {
+    for (const auto& entry : fs::directory_iterator(options.external / set)) {
       if (fs::is_regular_file(entry.path() / "scene.yaml")) dirs.push_back(entry.path());
     }
     std::sort(dirs.begin(), dirs.end());
     for (const fs::path& dir : dirs) {
-      runs.push_back(MakeRun("external", "external-" + dir.filename().string(), dir, Checker::kOracle));
+      runs.push_back(MakeRun(family, family + "-" + dir.filename().string(), dir, Checker::kOracle));
     }
   }
 

@@ -2,9 +2,10 @@
 // inistate.mk, as `make run` runs it) on every scene family, old and new,
 // and on an external set, each path judged by a checker that is not the
 // pipeline's own:
-//   - panel-* families (generated turned and metres out, coarse and fine)
-//     and the external scenes: the external exact checker oracle.py on
-//     path.csv (it reads the scene's boxes.json);
+//   - panel-* families (generated turned and metres out, coarse, fine and
+//     their moulded twin: D one welded solid) and the external scenes (box
+//     soup and moulded): the external exact checker oracle.py on path.csv
+//     (it reads the scene's boxes.json);
 //   - clips-ds1 .. clips-ds5: ausbau-check-path against the generator's
 //     ground truth (the rigid parts never penetrate S beyond the installed
 //     pose, the path ends disassembled).
@@ -28,7 +29,7 @@ struct EndToEndOptions {
   std::vector<std::string> families;  // empty: every clips-ds* and panel-* family
   std::vector<int> seeds = {1, 2, 3};
   std::filesystem::path external;  // folder with scenes/<name>/ and oracle.py; empty: none
-  bool external_scenes = true;     // also run the scenes under external/scenes (else only its oracle)
+  bool external_scenes = true;     // also run external/scenes and external/scenes-molded (else only its oracle)
   std::string validity;            // pipeline VALIDITY; empty: the pipeline's default
   std::filesystem::path bin;       // the stages
   std::filesystem::path pipeline = "pipelines/inistate.mk";

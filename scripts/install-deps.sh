@@ -18,6 +18,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libfcl-dev libassimp-dev libhdf5-dev hdf5-tools
   libyaml-cpp-dev libcli11-dev libgtest-dev libxxhash-dev
+  libcgal-dev  # header-only; the test fixtures' welded unions (moulded twins)
   nodejs npm
 )
 case "${1:-}" in

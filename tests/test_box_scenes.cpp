@@ -3,7 +3,9 @@
 // (deterministic, counts, labels), the installed state (clips and only clips
 // in S, rigid parts clear by the family's minimum), the known path against a
 // wrong one, and the random world placement as a rigid transform of the
-// identity one. oracle.py's own verdict is scripts/check-generated-scenes.sh.
+// identity one; the welded union and the moulded twins (one closed solid
+// whose surface lies on the boxes, labels where it lies on a clip). oracle.py's
+// own verdict is scripts/check-generated-scenes.sh.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -19,6 +21,8 @@
 
 #include "core/error.h"
 #include "fixtures/box_scenes.h"
+#include "fixtures/welded_union.h"
+#include "geometry/weld.h"
 #include "planning/exact_check.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
@@ -47,6 +51,16 @@ double SignedVolume(const TriangleMesh& m) {
   double v = 0;
   for (const auto& t : m.triangles) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]]));
   return v / 6.0;
+}
+
+// One vertex per position (an STL repeats each corner per triangle).
+TriangleMesh WeldMesh(const TriangleMesh& m) {
+  const std::vector<int> index = WeldExactPositions(m.vertices);
+  TriangleMesh out;
+  out.vertices.resize(*std::max_element(index.begin(), index.end()) + 1);
+  for (size_t v = 0; v < index.size(); ++v) out.vertices[index[v]] = m.vertices[v];
+  for (const auto& t : m.triangles) out.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
+  return out;
 }
 
 std::vector<int> ReadLabels(const fs::path& file) {
@@ -352,12 +366,101 @@ TEST(BoxScenes, CollisionPlanHoldsUnderPlainInterpolation) {
   EXPECT_LE(check.max_rigid_depth, 0.05);
 }
 
+// ---------------------------------------------------------------- moulded
+
+// A plate 10 x 10 x 1 with a rib on top, a leg through its bottom, a foot
+// beside the leg (sharing the leg's face x = 3 exactly) and a block that
+// sticks out of the plate's side: the union's volume by hand is
+// 100 + 24 (rib above z = 1) + 18 (leg below z = 0) + 12 (foot) + 20 (the
+// block's part beyond x = 10) = 174.
+TEST(WeldedUnion, IsOneClosedSolidOfTheHandComputedVolume) {
+  auto box = [](const Vec3& lo, const Vec3& hi) {
+    return BoxShell(Obb((lo + hi) / 2, (hi - lo) / 2), BoxTessellation::kCoarse);
+  };
+  const std::vector<TriangleMesh> shells = {box({0, 0, 0}, {10, 10, 1}), box({2, 2, 1}, {3, 8, 5}),
+                                            box({2, 2, -3}, {3, 8, 0.5}), box({3, 2, -3}, {5, 8, -2}),
+                                            box({9, 0, 0}, {12, 10, 1})};
+  const TriangleMesh u = WeldedUnion(shells);
+  const ClosedMeshFacts facts = DescribeClosedMesh(u);
+  EXPECT_TRUE(facts.closed_manifold);
+  EXPECT_EQ(facts.components, 1);
+  EXPECT_NEAR(facts.volume, 174.0, 1e-9);
+}
+
+// Two boxes that share only an edge have no manifold union.
+TEST(WeldedUnion, RefusesShellsThatMeetAlongAnEdgeOnly) {
+  auto box = [](const Vec3& lo, const Vec3& hi) {
+    return BoxShell(Obb((lo + hi) / 2, (hi - lo) / 2), BoxTessellation::kCoarse);
+  };
+  EXPECT_THROW(WeldedUnion({box({0, 0, 0}, {1, 1, 1}), box({1, 1, 0}, {2, 2, 1})}), std::logic_error);
+  // An open shell is refused too.
+  TriangleMesh open = box({0, 0, 0}, {1, 1, 1});
+  open.triangles.pop_back();
+  EXPECT_THROW(WeldedUnion({open, box({0.5, 0, 0}, {2, 1, 1})}), std::logic_error);
+  EXPECT_FALSE(DescribeClosedMesh(open).closed_manifold);
+}
+
+// The moulded twin: one closed solid whose every vertex lies on the surface
+// of D's boxes (within float32 at metres from the origin) and inside none,
+// the same S, boxes.json and known path as the box soup, labels 1 exactly on
+// the clips' outer surface.
+TEST(BoxScenes, MouldedTwinIsOneSolidOnTheBoxes) {
+  for (const std::string& family : BoxSceneFamilies()) {
+    SCOPED_TRACE(family);
+    BoxSceneOptions options;
+    options.seed = 2;
+    const fs::path soup_dir = testing::MakeTempDir(family + "-soup");
+    const BoxScene soup = BuildBoxScene(family, options);
+    const BoxSceneFiles soup_files = WriteBoxScene(soup, soup_dir);
+    options.molded = true;
+    const fs::path dir = testing::MakeTempDir(family + "-molded");
+    const BoxScene molded = BuildBoxScene(family, options);
+    const BoxSceneFiles files = WriteBoxScene(molded, dir);
+    for (const char* same : {"static.stl", "boxes.json", "truth/known_path.csv"}) {
+      EXPECT_EQ(testing::ReadTextFile(dir / same), testing::ReadTextFile(soup_dir / same)) << same;
+    }
+    const TriangleMesh d = LoadMesh(dir / "dynamic.stl");
+    const ClosedMeshFacts facts = DescribeClosedMesh(WeldMesh(d));
+    EXPECT_TRUE(facts.closed_manifold);
+    EXPECT_EQ(facts.components, 1);
+    std::vector<OrientedBox> boxes = molded.rigid_boxes;
+    boxes.insert(boxes.end(), molded.clip_boxes.begin(), molded.clip_boxes.end());
+    for (const Vec3& v : d.vertices) {
+      double outside = std::numeric_limits<double>::infinity(), inside = 0;
+      for (const OrientedBox& b : boxes) {
+        const Vec3 q = (b.rotation.transpose() * (v - b.center)).cwiseAbs() - b.half_extents;
+        const double signed_distance = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+        outside = std::min(outside, std::max(signed_distance, 0.0));
+        inside = std::min(inside, signed_distance);
+      }
+      ASSERT_LE(outside, 2e-3);  // on some box
+      ASSERT_GE(inside, -2e-3);  // deep in none
+    }
+    const std::vector<int> labels = ReadLabels(files.labels);
+    ASSERT_EQ(labels.size(), d.triangles.size());
+    const long clip_triangles = std::count(labels.begin(), labels.end(), 1);
+    if (molded.clips > 0) {
+      EXPECT_GT(clip_triangles, 4 * molded.clips);  // each clip's hook shows several faces
+    } else {
+      EXPECT_EQ(clip_triangles, 0);
+    }
+    EXPECT_NE(testing::ReadTextFile(dir / "scene.json").find("\"molded\": true"), std::string::npos);
+    EXPECT_TRUE(fs::is_regular_file(dir / "truth" / "molded_check.json"));
+    fs::remove_all(dir);
+    fs::remove_all(soup_dir);
+  }
+}
+
 TEST(BoxScenes, RejectsUnknownOptions) {
   EXPECT_THROW(BuildBoxScene("panel-nothing", {}), InputError);
   EXPECT_THROW(ParseBoxTessellation("medium"), InputError);
   EXPECT_THROW(ParseBoxWorld("car"), InputError);
   EXPECT_EQ(ParseBoxTessellation("fine"), BoxTessellation::kFine);
   EXPECT_EQ(ParseBoxWorld("identity"), BoxWorld::kIdentity);
+  BoxSceneOptions fine_molded;
+  fine_molded.tessellation = BoxTessellation::kFine;
+  fine_molded.molded = true;
+  EXPECT_THROW(BuildBoxScene("panel-channel", fine_molded), InputError);
 }
 
 }  // namespace

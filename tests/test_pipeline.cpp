@@ -324,9 +324,11 @@ TEST(EndToEndBench, RunsThePipelineAndJudgesEachPathWithTheOracle) {
   const std::string summary = testing::ReadTextFile(out / "end-to-end-summary.md");
   EXPECT_NE(summary.find("| panel-straight-pull-coarse | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
   EXPECT_NE(summary.find("| panel-straight-pull-fine | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
+  // The moulded twin (D one welded solid) comes out the same way.
+  EXPECT_NE(summary.find("| panel-straight-pull-molded | 1 | 1 | 0 | 0 |"), std::string::npos) << summary;
   const std::string csv = testing::ReadTextFile(out / "end-to-end-results.csv");
   EXPECT_EQ(csv.rfind("family,scene,verdict,checker,result,rigid_penetration,seconds\n", 0), 0u) << csv;
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;
   // A bad family is one line and exit 2, before any work.
   const Outcome bad = Shell((testing::BinDir() / "ausbau-inistate-bench").string() +
                             " --end-to-end --families panel-nothing --output-dir " + out.string() + " --pipeline " +

@@ -87,6 +87,42 @@ TEST(Shells, FineBoxesMetresAwayInSinglePrecisionStayConvexShells) {
   for (const auto& shell : SplitIntoShells(centred, leg.center.norm())) EXPECT_TRUE(shell.convex);
 }
 
+TEST(Shells, ASliverThinnerThanTheWeldBelongsToNoShell) {
+  // A 10 mm cube 3 m from the origin (welds within 1e-6 of that: 3e-3 mm)
+  // whose top face is a fan about a point e 1e-3 mm from its corner a, as a
+  // boolean's rounding leaves it: the two fan triangles through a and e are
+  // slivers; welded, e is a and they have no area and no edges.
+  const Eigen::Vector3d o(3000, 0, 0);
+  TriangleMesh cube = MakeBox(o, o + Eigen::Vector3d(10, 10, 10));
+  // Drop the two top triangles (z = 10) and write the fan instead.
+  std::vector<std::array<int, 3>> kept;
+  for (const auto& t : cube.triangles) {
+    bool top = true;
+    for (int v : t) top = top && cube.vertices[v].z() == 10;
+    if (!top) kept.push_back(t);
+  }
+  ASSERT_EQ(kept.size(), 10u);
+  cube.triangles = kept;
+  auto index_of = [&](const Eigen::Vector3d& p) {
+    for (int v = 0; v < static_cast<int>(cube.vertices.size()); ++v)
+      if (cube.vertices[v] == p) return v;
+    return -1;
+  };
+  const int a = index_of(o + Eigen::Vector3d(0, 0, 10)), b = index_of(o + Eigen::Vector3d(10, 0, 10)),
+            c = index_of(o + Eigen::Vector3d(10, 10, 10)), d = index_of(o + Eigen::Vector3d(0, 10, 10));
+  ASSERT_TRUE(a >= 0 && b >= 0 && c >= 0 && d >= 0);
+  const int e = static_cast<int>(cube.vertices.size());
+  cube.vertices.push_back(o + Eigen::Vector3d(1e-3, 0.5e-3, 10));
+  for (const std::array<int, 3>& t : {std::array<int, 3>{a, b, e}, {b, c, e}, {c, d, e}, {d, a, e}})
+    cube.triangles.push_back(t);
+  const auto shells = SplitIntoShells(cube);
+  ASSERT_EQ(shells.size(), 1u);
+  EXPECT_TRUE(shells[0].closed);
+  EXPECT_TRUE(shells[0].convex);
+  EXPECT_EQ(shells[0].triangles.size(), 12u);  // the slivers (a, b, e) and (d, a, e) are left out
+  EXPECT_NEAR(shells[0].volume, 1000, 1e-6);
+}
+
 TEST(Shells, NonConvexAndOpenShellsAreFlagged) {
   TriangleMesh open = MakeBox({0, 0, 0}, {1, 1, 1});
   open.triangles.pop_back();
@@ -156,6 +192,35 @@ TEST(RigidDepth, ARigidKeyCannotCrossATwoMillimetrePlate) {
   EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 30)));
 }
 
+// An L (non-convex) resting on a plate, 0.5 mm from a wall: the planners'
+// check (NewContacts::kCollide) measures the contact the installed pose has
+// (the plate) but takes any meeting with the wall for a collision; the exact
+// check (kMeasure) allows both up to its limit.
+TEST(RigidDepth, NewContactsOfANonConvexPartCollideWhilePlanning) {
+  const TriangleMesh robot = MakePrism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 5}, {0, 5}}, 0, 2);
+  TriangleMesh environment = MakeBox({-10, -10, -1}, {10, 10, 0});  // the plate: D rests on it
+  environment.Append(MakeBox({4.5, -10, 0}, {10, 10, 5}));          // the wall, 0.5 mm off the foot
+  const auto parts = ClassifyParts(robot, environment, Pose{}, 0.05);
+  ASSERT_EQ(parts->robot_shells.size(), 1u);
+  EXPECT_FALSE(parts->robot_shells[0].convex);
+  EXPECT_TRUE(parts->InstalledContact(0, 0));
+  EXPECT_FALSE(parts->InstalledContact(0, 1));
+  const RigidDepthChecker exact(parts, 0.05, 0.01), planning(parts, 0.05, 0.01, NewContacts::kCollide);
+  for (const RigidDepthChecker* checker : {&exact, &planning}) {
+    EXPECT_TRUE(checker->IsValid(Pose{}));
+    EXPECT_TRUE(checker->IsValid(PoseAt(0, 0, -0.02)));  // 0.02 into the plate it rests on
+    EXPECT_TRUE(checker->IsValid(PoseAt(0.4, 0, 0)));    // 0.1 from the wall
+    EXPECT_FALSE(checker->IsValid(PoseAt(0.6, 0, 0)));   // 0.1 into the wall
+    EXPECT_GT(checker->MeasureSlack(PoseAt(0.4, 0, 0)), 0);
+  }
+  // 0.02 into the wall: within the limit for the exact check, a new contact
+  // for the planners'.
+  EXPECT_TRUE(exact.IsValid(PoseAt(0.52, 0, 0)));
+  EXPECT_FALSE(planning.IsValid(PoseAt(0.52, 0, 0)));
+  EXPECT_LT(planning.MeasureSlack(PoseAt(0.52, 0, 0)), 0);
+  EXPECT_NEAR(exact.Measure(PoseAt(0.52, 0, 0)).rigid_depth, 0.02, 0.005);
+}
+
 TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});  // panel (anchor)
   robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));    // clip beam, in a 4 mm wide hole
@@ -205,9 +270,9 @@ TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
   EXPECT_NEAR(parts->fits[0].area, 20, 6);  // of sub-triangles whose centres are deep: approximate
   const RigidDepthChecker checker(parts, 0.05, 0.01);
   EXPECT_TRUE(checker.IsValid(Pose{}));
-  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 5)));      // drawn along the fit
-  EXPECT_TRUE(checker.IsValid(PoseAt(-0.2, 0, 0)));   // released a little
-  EXPECT_FALSE(checker.IsValid(PoseAt(0.1, 0, 0)));   // pushed 0.1 deeper
+  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 5)));     // drawn along the fit
+  EXPECT_TRUE(checker.IsValid(PoseAt(-0.2, 0, 0)));  // released a little
+  EXPECT_FALSE(checker.IsValid(PoseAt(0.1, 0, 0)));  // pushed 0.1 deeper
   EXPECT_NEAR(checker.Measure(PoseAt(0.1, 0, 0)).rigid_depth, 0.1, 0.005 + 1e-12);
   EXPECT_NEAR(checker.Measure(PoseAt(0.1, 0, 0)).fit_depth, 0.4, 1e-12);
 }
@@ -224,7 +289,8 @@ TEST(RigidDepth, ASolidBlockDeepInAWallClashes) {
   // The scene key fit_interference (FitRule::max_depth) decides alone.
   FitRule rule;
   rule.max_depth = 3.5;
-  EXPECT_TRUE(ClassifyParts(peg, plate, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)->rigid_interference.empty());
+  EXPECT_TRUE(
+      ClassifyParts(peg, plate, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)->rigid_interference.empty());
   rule.max_depth = 0;
   const TriangleMesh light = MakeBox({-5, -5, -10}, {5.3, 5, 10});
   EXPECT_EQ(ClassifyParts(light, plate, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)->rigid_interference.size(),

@@ -147,14 +147,17 @@ struct PairMeasure {
   // `decide`: a depth beyond which the caller needs no number at all (the
   // pose is invalid): the search stops once the depth is known to exceed
   // it, and what it returns then exceeds it too, but bounds nothing.
+  // `contact_collides`: surfaces that meet are a collision (+infinity), not
+  // measured (NewContacts::kCollide).
   double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
                double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false,
-               double decide = std::numeric_limits<double>::infinity()) const {
+               double decide = std::numeric_limits<double>::infinity(), bool contact_collides = false) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
     const DepthMask* mask = whole ? nullptr : MaskOf(r);  // the rigid rest of a shell with moulded fasteners
     if (Meet(r, pose, s, whole)) {
+      if (contact_collides) return std::numeric_limits<double>::infinity();
       SurfaceDepthOptions options;
       options.resolution = resolution;
       options.settle = settle;
@@ -172,11 +175,12 @@ struct PairMeasure {
 
   // Depth(r, pose, s) > allowed (>= 0), without the distance a separated
   // non-convex pair would cost: a plain validity question.
-  bool Exceeds(int r, const Eigen::Isometry3d& pose, int s, double allowed) const {
+  bool Exceeds(int r, const Eigen::Isometry3d& pose, int s, double allowed, bool contact_collides = false) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
     if (!Meet(r, pose, s)) return false;
+    if (contact_collides) return true;
     SurfaceDepthOptions options;
     options.resolution = resolution;
     options.decide = allowed;
@@ -185,6 +189,11 @@ struct PairMeasure {
 };
 
 }  // namespace
+
+bool PartModel::InstalledContact(int robot_shell, int static_shell) const {
+  return std::binary_search(installed_contacts.begin(), installed_contacts.end(),
+                            std::make_pair(robot_shell, static_shell));
+}
 
 double PartModel::FitDepth(int robot_shell, int static_shell) const {
   for (const auto& fit : fits)
@@ -420,9 +429,12 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
               : FitRule::kShareOfSize * std::min(s.box.Diagonal(), parts->static_shells[j].box.Diagonal());
       const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2, std::max(fit_limit, tolerance));
       parts->installed_depth[i] = std::max(parts->installed_depth[i], depth);
+      if ((!s.convex || !parts->static_shells[j].convex) && depth >= -tolerance)
+        parts->installed_contacts.emplace_back(i, j);
       if (depth > tolerance) deep_pairs[i].emplace_back(j, depth);
     });
   }
+  std::sort(parts->installed_contacts.begin(), parts->installed_contacts.end());
 
   // 3. Fit interferences (FitRule): the anchor's deep pairs, and those of
   // any shell in a pair with a non-convex shell (a CAD part against a CAD
@@ -501,8 +513,13 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   return parts;
 }
 
-RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, double limit, double min_step)
-    : parts_(std::move(parts)), limit_(limit), min_step_(min_step), impl_(std::make_unique<Impl>(*parts_)) {
+RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, double limit, double min_step,
+                                     NewContacts new_contacts)
+    : parts_(std::move(parts)),
+      limit_(limit),
+      min_step_(min_step),
+      new_contacts_(new_contacts),
+      impl_(std::make_unique<Impl>(*parts_)) {
   impl_->measure = PairMeasure();
   impl_->measure.robot = &parts_->robot_shells;
   impl_->measure.statics = &parts_->static_shells;
@@ -534,7 +551,9 @@ bool RigidDepthChecker::CheckValid(const Pose& pose) const {
     const Shell& shell = parts.robot_shells[r];
     // Only pairs that can touch: those within the shell's radius.
     impl_->tree.Query(iso * shell.center, shell.radius, [&](int s) {
-      if (valid && impl_->measure.Exceeds(r, iso, s, allowed + (rigid ? parts.FitDepth(r, s) : 0.0))) valid = false;
+      if (valid &&
+          impl_->measure.Exceeds(r, iso, s, allowed + (rigid ? parts.FitDepth(r, s) : 0.0), ContactCollides(r, s)))
+        valid = false;
     });
   }
   return valid;
@@ -570,7 +589,8 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       // Beyond fit + allowed, a slack question needs no number: the search
       // stops once the depth is known to be there (a report measures it).
       const double decide = report_fasteners ? std::numeric_limits<double>::infinity() : fit + allowed;
-      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_, false, decide);
+      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_, false, decide,
+                                                   !report_fasteners && ContactCollides(r, s));
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
       if (report_fasteners && parts.Mask(r) != nullptr)

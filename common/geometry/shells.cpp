@@ -167,9 +167,19 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   const int triangle_count = static_cast<int>(mesh.triangles.size());
   auto corner = [&](int t, int k) { return welded[mesh.triangles[t][k]]; };
   auto key_of = [](std::uint64_t a, std::uint64_t b) { return a << 32 | b; };
-  std::unordered_map<std::uint64_t, std::vector<int>> directed;  // (a -> b) -> triangles
+  // A triangle two of whose corners weld into one (a sliver thinner than the
+  // weld, where a CAD export's float32 rounding or a boolean's rounding left
+  // two corners micrometres apart) has no area and no edges left: it belongs
+  // to no shell. Kept, it would pair with itself across its two remaining
+  // edges and stand alone as an open one-triangle "shell".
+  std::vector<bool> collapsed(triangle_count);
   for (int t = 0; t < triangle_count; ++t)
+    collapsed[t] = corner(t, 0) == corner(t, 1) || corner(t, 1) == corner(t, 2) || corner(t, 2) == corner(t, 0);
+  std::unordered_map<std::uint64_t, std::vector<int>> directed;  // (a -> b) -> triangles
+  for (int t = 0; t < triangle_count; ++t) {
+    if (collapsed[t]) continue;
     for (int e = 0; e < 3; ++e) directed[key_of(corner(t, e), corner(t, (e + 1) % 3))].push_back(t);
+  }
   std::vector<int> parent(triangle_count);
   std::iota(parent.begin(), parent.end(), 0);
   auto join = [&](int x, int y) {
@@ -186,6 +196,7 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   // where a candidate already joined to the triangle settles it.
   for (int pass = 0; pass < 2; ++pass) {
     for (int t = 0; t < triangle_count; ++t) {
+      if (collapsed[t]) continue;
       const Eigen::Vector3d normal =
           (positions[corner(t, 1)] - positions[corner(t, 0)]).cross(positions[corner(t, 2)] - positions[corner(t, 0)]);
       for (int e = 0; e < 3; ++e) {
@@ -246,6 +257,7 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   std::unordered_map<int, int> shell_of_root;
   std::vector<std::unordered_map<int, int>> local_index;
   for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
+    if (collapsed[t]) continue;
     const auto& tri = mesh.triangles[t];
     const int root = Find(parent, t);
     const auto [it, inserted] = shell_of_root.emplace(root, static_cast<int>(shells.size()));

@@ -45,7 +45,9 @@ struct Shell {
 };
 
 // Splits `mesh` into shells, in the order of their first triangle. Triangles
-// of zero area are kept in their shell but do not count for convexity.
+// of zero area are kept in their shell but do not count for convexity; a
+// triangle two of whose corners weld into one (a sliver thinner than the
+// weld) is in no shell (source_triangles leaves it out).
 // `stored_magnitude`: how far from the origin the coordinates were when they
 // were stored (rounded), where the mesh has been moved since (a planner's
 // frame about D's centre); the welding and convexity tolerances follow the

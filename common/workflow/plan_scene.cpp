@@ -274,12 +274,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   if (!result.solved()) return artifact;
   FillPath(problem, result.path, &artifact);
   artifact.inter_index = result.inter_index;
-  for (const Pose& pose : result.path) {
-    const VolumeReport report = model->Describe(pose);
-    artifact.waypoint_volume.push_back(report.value);
-    artifact.waypoint_part.push_back(report.value > 0 ? report.part : -1);
-    artifact.waypoint_deformability.push_back(report.deformability);
-  }
+  DescribeWaypoints(*model, fcl, result.path, &artifact);
   return artifact;
 }
 
@@ -323,7 +318,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
     planned.status = PlanStatus::kTimeLimit;
     return planned;
   }
-  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4, NewContacts::kCollide);
   CheckEndpoints(problem, checker, scene.file.string());
   PlannerOptions planner = ResolvedPlanner(options, false);
   planner.time_limit_s = time_limit_s;

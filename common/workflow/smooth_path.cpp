@@ -67,7 +67,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   if (!input_check.valid) throw InputErrorAt(input_file, "the input path fails the exact check: " + input_check.reason);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));
-  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4, NewContacts::kCollide);
   SmoothedPath out;
   out.planning_path = ToPlanning(problem, input.waypoints);
   const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, parts.get());
@@ -295,15 +295,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   if (volume_mode) {
     PathArtifact& a = out.artifact;
     a.inter_index = inter_index;
-    a.waypoint_volume.clear();
-    a.waypoint_part.clear();
-    a.waypoint_deformability.clear();
-    for (const Pose& pose : result.path) {
-      const VolumeReport report = out.model->Describe(pose);
-      a.waypoint_volume.push_back(report.value);
-      a.waypoint_part.push_back(report.value > 0 ? report.part : -1);
-      a.waypoint_deformability.push_back(report.deformability);
-    }
+    DescribeWaypoints(*out.model, checker, result.path, &a);
   }
   SetLengths(result, &out.artifact);
   LogInfo(

@@ -1,5 +1,8 @@
 #include "workflow/volume_inputs.h"
 
+#include <cmath>
+
+#include "collision/fcl_checker.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/log.h"
@@ -63,6 +66,20 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
 void AddVolumeInputs(const VolumeInputs& inputs, Provenance* provenance) {
   if (!inputs.voxels.empty()) provenance->inputs.emplace_back("voxels", HashFile(inputs.voxels));
   if (!inputs.labels.empty()) provenance->inputs.emplace_back("labels", HashFile(inputs.labels));
+}
+
+void DescribeWaypoints(VolumeModel& model, const FclCollisionChecker& collision, const std::vector<Pose>& path,
+                       PathArtifact* artifact) {
+  artifact->waypoint_volume.clear();
+  artifact->waypoint_part.clear();
+  artifact->waypoint_deformability.clear();
+  for (const Pose& pose : path) {
+    VolumeReport report = model.Describe(pose);
+    if (!std::isfinite(report.value) && !collision.InCollision(pose)) report = VolumeReport{};
+    artifact->waypoint_volume.push_back(report.value);
+    artifact->waypoint_part.push_back(report.value > 0 ? report.part : -1);
+    artifact->waypoint_deformability.push_back(report.deformability);
+  }
 }
 
 }  // namespace ausbau

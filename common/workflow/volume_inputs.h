@@ -6,9 +6,11 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "artifact/artifact.h"
 #include "inistate/volume_model.h"
+#include "planning/path_io.h"
 
 namespace ausbau {
 
@@ -29,5 +31,16 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
 
 // Adds the files' content hashes to a provenance (roles "voxels", "labels").
 void AddVolumeInputs(const VolumeInputs& inputs, Provenance* provenance);
+
+class FclCollisionChecker;
+
+// The per-waypoint volume, part and deformability a path artifact records
+// (inistate/volume, /part, /deformability). Labeled-MLIV's +infinity (a
+// voxel component reaching beyond the fasteners) at a pose where the meshes
+// do not intersect at all is the voxels' resolution (a surface voxel of D in
+// a surface voxel of S), not an overlap: the volume there is 0. A pose whose
+// meshes do intersect keeps what the model says.
+void DescribeWaypoints(VolumeModel& model, const FclCollisionChecker& collision, const std::vector<Pose>& path,
+                       PathArtifact* artifact);
 
 }  // namespace ausbau

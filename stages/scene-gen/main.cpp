@@ -13,6 +13,7 @@ struct SceneGenOptions {
   std::string family = "rod-in-cage", output = "scene", tessellation = "coarse", world = "random";
   std::uint64_t seed = 1;
   std::int64_t triangles = 0;
+  bool molded = false;
   VehicleOptions vehicle;
   const CLI::App* app = nullptr;  // which flags were given
   bool Given(const char* flag) const { return app->count(flag) > 0; }
@@ -32,6 +33,9 @@ void DeclareSceneGen(CLI::App& app, SceneGenOptions* options) {
                  "panel-*: coarse (12 triangles per box) | fine (faces gridded, <= 2 mm edges)");
   app.add_option("--world", options->world,
                  "panel-*: identity (design frame) | random (random rotation, 2-4 m from the origin)");
+  app.add_flag("--molded", options->molded,
+               "panel-*: the moulded twin: D one welded, closed solid (the exact union of its boxes), "
+               "the same S, boxes.json and known path");
   app.add_option("--parts", options->vehicle.parts,
                  "vehicle: number of fastened parts (1 .. 200; every fifth riveted)");
   app.add_option("--cell", options->vehicle.cell,
@@ -44,20 +48,21 @@ void DeclareSceneGen(CLI::App& app, SceneGenOptions* options) {
 // scene.yaml written, or for the vehicle one line per part scene.
 int GenerateFamily(const SceneGenOptions& options) {
   const SceneFamilyKind kind = KindOfSceneFamily(options.family);
-  const bool box_options = options.Given("--tessellation") || options.Given("--world");
+  const bool box_options = options.Given("--tessellation") || options.Given("--world") || options.molded;
   if ((options.Given("--parts") || options.Given("--cell")) && kind != SceneFamilyKind::kVehicle) {
     throw InputError("--parts, --cell: apply only to the vehicle family");
   }
   if (kind == SceneFamilyKind::kVehicle && (options.triangles != 0 || box_options)) {
-    throw InputError("--triangles, --tessellation, --world: not for vehicle");
+    throw InputError("--triangles, --tessellation, --world, --molded: not for vehicle");
   }
   SceneFamilyOptions family{options.family, options.seed, options.triangles, {}, options.vehicle};
   if (kind == SceneFamilyKind::kBox) {
     if (options.triangles != 0) throw InputError("--triangles: does not apply to the panel-* families");
     family.box.tessellation = ParseBoxTessellation(options.tessellation);
     family.box.world = ParseBoxWorld(options.world);
+    family.box.molded = options.molded;
   } else if (box_options && kind != SceneFamilyKind::kVehicle) {
-    throw InputError("--tessellation, --world: apply only to the panel-* families");
+    throw InputError("--tessellation, --world, --molded: apply only to the panel-* families");
   } else if (kind == SceneFamilyKind::kUnknown) {
     throw InputError("--family: unknown family '" + options.family + "' (expected one of " + SceneFamilyNames() + ")");
   } else if (kind == SceneFamilyKind::kGenerated && options.triangles != 0) {
