@@ -78,6 +78,10 @@ class DepthSurface {
   static constexpr double kMaxGapShare = 0.01;
   bool solid() const { return solid_; }
   const Aabb& box() const { return box_; }
+  // The shell's triangles (indices into its vertices) and their tree.
+  const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
+  const TriangleBvh& bvh() const { return bvh_; }
   // Whether triangle t (in the shell's coordinates) may touch the surface:
   // false only when every triangle near it is more than `gap` apart from it
   // along a separating axis.

@@ -122,6 +122,65 @@ struct PairMeasure {
     return robot_surface[r]->SignedDistance(q) > 0 && !(mask && mask->Contains(q));
   }
 
+  // A lower bound on the distance of a pair where one shell is convex and
+  // the other a solid that is not, without FCL: each face direction of the
+  // convex shell bounds it by a slab, and a triangle outside a slab is at
+  // least that far from it (the separating-axis bound along the convex
+  // shell's face normals, per triangle of the other). Only the triangles
+  // whose box meets the box about the convex shell's bounding sphere grown
+  // by `reach` are looked at; the others are at least `reach` away. 0 (no
+  // bound) where a near triangle meets every slab, where the convex shell
+  // may lie inside the other (its first corner is inside), and for any
+  // other kind of pair; else min(reach, the bound) > 0, and the two solids
+  // are that far apart at least. Cheap where they are near but apart (a
+  // moulded panel over S's boxes, a T-key in its channel), which is most of
+  // what a planner asks; where it says nothing, Meet and FCL decide.
+  double SlabGap(int r, const Eigen::Isometry3d& pose, int s, double reach) const {
+    const Shell& a = (*robot)[r];
+    const Shell& b = (*statics)[s];
+    if (a.convex == b.convex) return 0;
+    const Shell& convex = a.convex ? a : b;
+    const DepthSurface& other = a.convex ? *static_surface[s] : *robot_surface[r];
+    if (!other.solid() || convex.corners.empty()) return 0;
+    // The other shell's frame from the convex one's.
+    const Eigen::Isometry3d other_from_convex = a.convex ? pose : pose.inverse();
+    const Eigen::Isometry3d convex_from_other = other_from_convex.inverse();
+    const int n = static_cast<int>(convex.face_normals.size());
+    thread_local std::vector<double> lo, hi;
+    lo.assign(n, std::numeric_limits<double>::infinity());
+    hi.assign(n, -std::numeric_limits<double>::infinity());
+    for (int k = 0; k < n; ++k) {
+      for (const auto& c : convex.corners) {
+        const double d = convex.face_normals[k].dot(c);
+        lo[k] = std::min(lo[k], d);
+        hi[k] = std::max(hi[k], d);
+      }
+    }
+    const Eigen::Vector3d centre = other_from_convex * convex.center;
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(convex.radius + reach);
+    double gap = reach;
+    bool touches = false;
+    other.bvh().ForEachTriangleNear(centre - half, centre + half, [&](int t) {
+      if (touches) return;
+      const auto& tri = other.triangles()[t];
+      const Eigen::Vector3d p[3] = {convex_from_other * other.vertices()[tri[0]],
+                                    convex_from_other * other.vertices()[tri[1]],
+                                    convex_from_other * other.vertices()[tri[2]]};
+      double outside = -std::numeric_limits<double>::infinity();
+      for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d& normal = convex.face_normals[k];
+        const double d0 = normal.dot(p[0]), d1 = normal.dot(p[1]), d2 = normal.dot(p[2]);
+        const double min = std::min({d0, d1, d2}), max = std::max({d0, d1, d2});
+        outside = std::max({outside, min - hi[k], lo[k] - max});
+      }
+      if (outside <= 0) touches = true;
+      gap = std::min(gap, outside);
+    });
+    if (touches || gap <= 0) return 0;
+    if (other.SignedDistance(other_from_convex * convex.corners.front()) > 0) return 0;
+    return gap;
+  }
+
   // Two sheets (mesh_depth.h: neither bounds a volume) that meet have no
   // depth to measure: not measured (infinitely deep), as any crossing of two
   // surfaces must be.
@@ -156,6 +215,11 @@ struct PairMeasure {
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
     const DepthMask* mask = whole ? nullptr : MaskOf(r);  // the rigid rest of a shell with moulded fasteners
+    // Apart by a bound (a lower bound on the distance: the depth is minus
+    // it, as for a separating axis of two convex shells). The rigid rest of
+    // a shell with moulded fasteners lies inside the whole, so it is as far.
+    const double apart = SlabGap(r, pose, s, stop_gap > 0 ? stop_gap : a.radius + b.radius);
+    if (apart > 0) return -apart;
     if (Meet(r, pose, s, whole)) {
       if (contact_collides) return std::numeric_limits<double>::infinity();
       SurfaceDepthOptions options;
@@ -179,6 +243,7 @@ struct PairMeasure {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
+    if (SlabGap(r, pose, s, a.radius + b.radius) > 0) return false;
     if (!Meet(r, pose, s)) return false;
     if (contact_collides) return true;
     SurfaceDepthOptions options;
