@@ -306,12 +306,42 @@ TEST(RigidDepth, ACapOnAPostOverlappingLiftsOffButCannotBeTurnedIntoIt) {
   EXPECT_TRUE(parts->rigid_interference.empty());
   ASSERT_EQ(parts->fits.size(), 1u);
   EXPECT_NEAR(parts->fits[0].installed_depth, 0.3, 0.01);
+  EXPECT_GT(std::abs(parts->fits[0].release.z()), 0.99);  // it slides out along the post's axis
   const RigidDepthChecker checker(parts, 0.05, 0.01);
   for (double z : {0.0, 2.0, 5.0, 8.0, 12.0}) EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, z))) << z;
   EXPECT_FALSE(checker.IsValid(PoseAt(0.2, 0, 0)));  // sideways: 0.2 deeper on one side
   Pose tilted;
   tilted.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(checker.IsValid(tilted));
+}
+
+// Ridges interlocked: a ring whose inner ridges overlap a post's outer
+// ridges by 0.3 mm at their crests (45-degree flanks). The overlap is thin
+// and wide enough for a fit by size, but no direction slides it out: every
+// flank is 45 degrees across the axis (FitRule::kMaxAcrossRelease), so it is
+// a clash, as a nut's thread on a bolt is. A pin pressed into its bore (the
+// cap above) has its overlap all along the axis and stays a fit.
+TEST(RigidDepth, InterlockedRidgesAreAClashNotAFit) {
+  std::vector<Eigen::Vector2d> post = {{0, -1}, {4.0, -1}}, ring = {{7, -0.5}, {7, 5.5}};
+  for (int k = 0; k < 5; ++k) {
+    post.push_back({4.0, k + 0.0});
+    post.push_back({4.5, k + 0.5});
+  }
+  post.push_back({4.0, 5.0});
+  post.push_back({4.0, 6.0});
+  post.push_back({0, 6.0});
+  ring.push_back({4.8, 5.5});
+  for (int k = 5; k > 0; --k) {
+    ring.push_back({4.8, k + 0.0});
+    ring.push_back({4.2, k - 0.5});
+  }
+  ring.push_back({4.8, 0.0});
+  ring.push_back({4.8, -0.5});
+  const TriangleMesh ring_mesh = MakeSolidOfRevolution(ring, 96), post_mesh = MakeSolidOfRevolution(post, 96);
+  const auto parts = ClassifyParts(ring_mesh, post_mesh, Pose{}, 0.05);
+  EXPECT_TRUE(parts->fits.empty());
+  ASSERT_EQ(parts->rigid_interference.size(), 1u);
+  EXPECT_GT(parts->installed_depth[0], 0.05);
 }
 
 TEST(RigidDepth, ANonConvexShellInterferingIsMeasured) {

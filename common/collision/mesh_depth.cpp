@@ -683,7 +683,15 @@ class SurfaceDepthSearch {
     if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
     if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
       result_.upper = std::max(result_.upper, upper);
-      if (deep) area_[node.direction] += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).norm();
+      if (deep) {
+        const Eigen::Vector3d cross = (t[1] - t[0]).cross(t[2] - t[0]);
+        const double area = 0.5 * cross.norm();
+        area_[node.direction] += area;
+        if (area > 0) {
+          const Eigen::Vector3d n = to_world_[node.direction].linear() * (cross / (2 * area));
+          result_.region_normals += area * n * n.transpose();
+        }
+      }
       return true;
     }
     // Longest-edge bisection: a CAD sliver (a cylinder's facet, long and

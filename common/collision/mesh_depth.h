@@ -180,6 +180,11 @@ struct SurfaceDepth {
   // The area of that surface (of the sub-triangles whose centres are that
   // deep; the larger of the two surfaces).
   double region_area = 0;
+  // The normal tensor of that surface (both shells' sub-triangles there,
+  // world frame): the sum of area n n^T. Where some direction d has
+  // d^T N d near 0, the surfaces there are parallel to d (a pin in its
+  // bore: d its axis), and the overlap slides out along it.
+  Eigen::Matrix3d region_normals = Eigen::Matrix3d::Zero();
   long long sub_triangles = 0;  // the work done: sub-triangles bounded
 };
 

@@ -3,6 +3,8 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -344,8 +346,18 @@ bool IsFit(const PartModel& parts, int r, int s, double depth, const Eigen::Isom
   SurfaceDepthOptions options;
   options.resolution = parts.tolerance / 10;
   options.region_depth = parts.tolerance;
-  fit->area = MeasureSurfaceDepth(DepthSurface(a), pose, DepthSurface(b), options).region_area;
-  return fit->area >= FitRule::kAreaPerDepthSquared * depth * depth;
+  const SurfaceDepth measured = MeasureSurfaceDepth(DepthSurface(a), pose, DepthSurface(b), options);
+  fit->area = measured.region_area;
+  if (fit->area < FitRule::kAreaPerDepthSquared * depth * depth) return false;
+  // It must slide out (FitRule::kMaxAcrossRelease): the direction the
+  // overlapping surfaces are most parallel to is the normal tensor's
+  // eigenvector of the least eigenvalue, and that eigenvalue over the trace
+  // is the mean squared cosine of their normals with it.
+  const double trace = measured.region_normals.trace();
+  if (!(trace > 0)) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(measured.region_normals);
+  fit->release = eigen.eigenvectors().col(0);
+  return eigen.eigenvalues()(0) <= FitRule::kMaxAcrossRelease * trace;
 }
 
 // The mask of the features switched on (`on`): their boxes, and the

@@ -70,13 +70,22 @@ struct FitRule {
   double max_depth = -1;  // scene units; < 0: the default rule
   static constexpr double kShareOfSize = 0.05;
   static constexpr double kAreaPerDepthSquared = 100;
+  // And it slides out: along some direction d the overlapping surfaces lie
+  // parallel to d, the area-weighted mean of (n . d)^2 over their normals
+  // n at most this. A press fit's layer: only its rim (depth x perimeter
+  // against its two faces) is across d, a few percent (a pin in its bore,
+  // a block pressed into a wall: 0.02-0.04); an interlock is across every
+  // direction (a nut's thread flanks in the bolt's, 60 degrees off the
+  // axis: 0.25), and is a clash however thin.
+  static constexpr double kMaxAcrossRelease = 0.1;
 };
 
 // A rigid pair allowed its installed depth.
 struct FitInterference {
   int robot_shell = -1, static_shell = -1;
-  double installed_depth = 0;  // an upper bound (scene units)
-  double area = 0;             // of the surface overlapping deeper than the tolerance
+  double installed_depth = 0;                         // an upper bound (scene units)
+  double area = 0;                                    // of the surface overlapping deeper than the tolerance
+  Eigen::Vector3d release = Eigen::Vector3d::Zero();  // world: the direction it slides out along (up to sign)
 };
 
 // A fastener moulded into a rigid shell (docs/rigid-exact.md "Moulded
