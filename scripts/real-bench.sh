@@ -19,7 +19,10 @@
 # unscrewing is a rigid motion too) counts as right either way, provided a
 # removable verdict's exact check passed with no fastener deeper than the
 # tolerance either (the tool may take the nut's thread for snap fasteners that
-# give way: a straight pull through the thread is no unscrewing).
+# give way: a straight pull through the thread is no unscrewing), with no fit
+# interference allowed along it (an overlap passed as a fit lets a straight
+# pull through the thread within its installed depth: no unscrewing either),
+# and turning D by more than a radian (an unscrewing turns).
 # Exits 1 when any scene is wrongly removable, 0 otherwise (wrong NOT
 # REMOVABLE answers are reported, not failed: see bench/real/README.md).
 set -u
@@ -76,6 +79,10 @@ for scene_yaml in "$SCENES"/*/scene.yaml; do
     fdepth=$(json_value max_fastener_penetration "$verdict_json")
     tol=$(json_value rigid_tolerance "$verdict_json")
     rigid_only=$(awk -v f="${fdepth:-x}" -v t="${tol:-x}" 'BEGIN { print (f ~ /^[0-9.eE+-]+$/ && t ~ /^[0-9.eE+-]+$/ && f + 0 <= t + 0) ? "yes" : "no" }')
+    # The first "rotation" is the path's total turn (verdict.json "length").
+    turn=$(json_value rotation "$verdict_json")
+    tr -d ' \n' < "$verdict_json" | grep -q '"fit_interferences":\[\]' || rigid_only=no
+    awk -v r="${turn:-x}" 'BEGIN { exit !(r ~ /^[0-9.eE+-]+$/ && r + 0 > 1) }' || rigid_only=no
     case $removable in
       true) verdict=REMOVABLE ;;
       false) verdict="NOT REMOVABLE" ;;
