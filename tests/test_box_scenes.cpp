@@ -428,8 +428,7 @@ TEST(BoxScenes, MouldedTwinIsOneSolidOnTheBoxes) {
     for (const Vec3& v : d.vertices) {
       double outside = std::numeric_limits<double>::infinity(), inside = 0;
       for (const OrientedBox& b : boxes) {
-        const Vec3 q = (b.rotation.transpose() * (v - b.center)).cwiseAbs() - b.half_extents;
-        const double signed_distance = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+        const double signed_distance = BoxSignedDistance(b, v);
         outside = std::min(outside, std::max(signed_distance, 0.0));
         inside = std::min(inside, signed_distance);
       }

@@ -471,9 +471,10 @@ bool DepthSurface::MayMeetOutside(const std::vector<Eigen::Vector3d>& polygon, d
     const Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + gap;
     bool meets = false;
     bvh_.ForEachTriangleNear(lo, hi, [&](int k) {
-      if (meets || k == triangle || (group >= 0 && (*group_of)[k] == group)) return;
+      if (k == triangle || (group >= 0 && (*group_of)[k] == group)) return true;
       const auto& f = triangles_[k];
       meets = !TrianglesApart(t, {vertices_[f[0]], vertices_[f[1]], vertices_[f[2]]}, gap);
+      return !meets;
     });
     if (meets) return true;
   }
@@ -575,12 +576,13 @@ class SurfaceDepthSearch {
       query.Extend(b_to_a * p);
     }
     a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) {
-      if (skip && (*skip)[t]) return;
+      if (skip && (*skip)[t]) return true;
       const auto& tri = a.triangles_[t];
       Push(Node{std::numeric_limits<double>::infinity(),
                 {a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]},
                 k,
                 -1});
+      return true;
     });
   }
 

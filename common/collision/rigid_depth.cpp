@@ -79,6 +79,26 @@ class ShellTree {
   std::vector<Node> nodes_;
 };
 
+// What a caller of PairMeasure::Depth needs of the number.
+struct DepthQuery {
+  // > 0: a separated pair may stop at a gap larger than this (the value is
+  // then minus that gap).
+  double stop_gap = 0;
+  // A depth below which the caller needs no precision.
+  double settle = 0;
+  // A depth above which it needs only a share (mesh_depth.h).
+  double coarse_above = std::numeric_limits<double>::infinity();
+  // The robot shell with its moulded fasteners (for reports).
+  bool whole = false;
+  // A depth beyond which the caller needs no number at all (the pose is
+  // invalid): the search stops once the depth is known to exceed it, and
+  // what it returns then exceeds it too, but bounds nothing.
+  double decide = std::numeric_limits<double>::infinity();
+  // Surfaces that meet are a collision (+infinity), not measured
+  // (NewContacts::kCollide).
+  bool contact_collides = false;
+};
+
 // The pair depth of a robot shell at `pose` and a static shell: see
 // ConvexSignedDepth; for non-convex pairs the surface depth where their
 // surfaces meet (collision/mesh_depth.h), else minus FCL's distance.
@@ -148,22 +168,13 @@ struct PairMeasure {
     const Eigen::Isometry3d other_from_convex = a.convex ? pose : pose.inverse();
     const Eigen::Isometry3d convex_from_other = other_from_convex.inverse();
     const int n = static_cast<int>(convex.face_normals.size());
-    thread_local std::vector<double> lo, hi;
-    lo.assign(n, std::numeric_limits<double>::infinity());
-    hi.assign(n, -std::numeric_limits<double>::infinity());
-    for (int k = 0; k < n; ++k) {
-      for (const auto& c : convex.corners) {
-        const double d = convex.face_normals[k].dot(c);
-        lo[k] = std::min(lo[k], d);
-        hi[k] = std::max(hi[k], d);
-      }
-    }
+    const std::vector<double>& lo = convex.face_low;
+    const std::vector<double>& hi = convex.face_high;
     const Eigen::Vector3d centre = other_from_convex * convex.center;
     const Eigen::Vector3d half = Eigen::Vector3d::Constant(convex.radius + reach);
     double gap = reach;
     bool touches = false;
     other.bvh().ForEachTriangleNear(centre - half, centre + half, [&](int t) {
-      if (touches) return;
       const auto& tri = other.triangles()[t];
       const Eigen::Vector3d p[3] = {convex_from_other * other.vertices()[tri[0]],
                                     convex_from_other * other.vertices()[tri[1]],
@@ -177,6 +188,7 @@ struct PairMeasure {
       }
       if (outside <= 0) touches = true;
       gap = std::min(gap, outside);
+      return !touches;  // a touching triangle settles it: no bound
     });
     if (touches || gap <= 0) return 0;
     if (other.SignedDistance(other_from_convex * convex.corners.front()) > 0) return 0;
@@ -202,33 +214,23 @@ struct PairMeasure {
     return Surface(r, pose, s, options, MaskOf(r));
   }
 
-  // `settle`: a depth below which the caller needs no precision;
-  // `coarse_above`: one above which it needs only a share (mesh_depth.h).
-  // `whole`: the robot shell with its moulded fasteners (for reports).
-  // `decide`: a depth beyond which the caller needs no number at all (the
-  // pose is invalid): the search stops once the depth is known to exceed
-  // it, and what it returns then exceeds it too, but bounds nothing.
-  // `contact_collides`: surfaces that meet are a collision (+infinity), not
-  // measured (NewContacts::kCollide).
-  double Depth(int r, const Eigen::Isometry3d& pose, int s, double stop_gap, double settle,
-               double coarse_above = std::numeric_limits<double>::infinity(), bool whole = false,
-               double decide = std::numeric_limits<double>::infinity(), bool contact_collides = false) const {
+  double Depth(int r, const Eigen::Isometry3d& pose, int s, const DepthQuery& query) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
-    if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, stop_gap);
-    const DepthMask* mask = whole ? nullptr : MaskOf(r);  // the rigid rest of a shell with moulded fasteners
+    if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, query.stop_gap);
+    const DepthMask* mask = query.whole ? nullptr : MaskOf(r);  // the rigid rest of a shell with moulded fasteners
     // Apart by a bound (a lower bound on the distance: the depth is minus
     // it, as for a separating axis of two convex shells). The rigid rest of
     // a shell with moulded fasteners lies inside the whole, so it is as far.
-    const double apart = SlabGap(r, pose, s, stop_gap > 0 ? stop_gap : a.radius + b.radius);
+    const double apart = SlabGap(r, pose, s, query.stop_gap > 0 ? query.stop_gap : a.radius + b.radius);
     if (apart > 0) return -apart;
-    if (Meet(r, pose, s, whole)) {
-      if (contact_collides) return std::numeric_limits<double>::infinity();
+    if (Meet(r, pose, s, query.whole)) {
+      if (query.contact_collides) return std::numeric_limits<double>::infinity();
       SurfaceDepthOptions options;
       options.resolution = resolution;
-      options.settle = settle;
-      options.coarse_above = coarse_above;
-      options.decide = decide;
+      options.settle = query.settle;
+      options.coarse_above = query.coarse_above;
+      options.decide = query.decide;
       return Surface(r, pose, s, options, mask).upper;
     }
     const fcl::Transform3d& tf = pose;
@@ -504,7 +506,10 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
           fit_rule.max_depth >= 0
               ? fit_rule.max_depth
               : FitRule::kShareOfSize * std::min(s.box.Diagonal(), parts->static_shells[j].box.Diagonal());
-      const double depth = measure.Depth(i, pose, j, 0.0, tolerance / 2, std::max(fit_limit, tolerance));
+      DepthQuery query;
+      query.settle = tolerance / 2;
+      query.coarse_above = std::max(fit_limit, tolerance);
+      const double depth = measure.Depth(i, pose, j, query);
       parts->installed_depth[i] = std::max(parts->installed_depth[i], depth);
       if ((!s.convex || !parts->static_shells[j].convex) && depth >= -tolerance)
         parts->installed_contacts.emplace_back(i, j);
@@ -662,17 +667,25 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       // the limit either: a contact settled anywhere below it is stepped by
       // the floor, so refining its bound further (along every line where the
       // surfaces cross) buys no longer step. Reports print the number.
-      const double settle = !report_fasteners && min_step_ >= limit_ / 2 ? fit + limit_ : fit + limit_ / 2;
+      DepthQuery query;
+      query.stop_gap = margin_;
+      query.settle = !report_fasteners && min_step_ >= limit_ / 2 ? fit + limit_ : fit + limit_ / 2;
+      query.coarse_above = fit + limit_;
       // Beyond fit + allowed, a slack question needs no number: the search
       // stops once the depth is known to be there (a report measures it).
-      const double decide = report_fasteners ? std::numeric_limits<double>::infinity() : fit + allowed;
-      const double measured = impl_->measure.Depth(r, iso, s, margin_, settle, fit + limit_, false, decide,
-                                                   !report_fasteners && ContactCollides(r, s));
+      if (!report_fasteners) query.decide = fit + allowed;
+      query.contact_collides = !report_fasteners && ContactCollides(r, s);
+      const double measured = impl_->measure.Depth(r, iso, s, query);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
-      if (report_fasteners && parts.Mask(r) != nullptr)
-        report.fastener_depth =
-            std::max(report.fastener_depth, impl_->measure.Depth(r, iso, s, margin_, limit_ / 2, limit_, true));
+      if (report_fasteners && parts.Mask(r) != nullptr) {
+        DepthQuery whole;
+        whole.stop_gap = margin_;
+        whole.settle = limit_ / 2;
+        whole.coarse_above = limit_;
+        whole.whole = true;
+        report.fastener_depth = std::max(report.fastener_depth, impl_->measure.Depth(r, iso, s, whole));
+      }
       const double depth = measured - fit;
       report.slack = std::min(report.slack, allowed - depth);
       if (!rigid) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <unordered_map>
@@ -143,6 +144,15 @@ void Analyse(Shell& shell, double stored_magnitude) {
   for (std::size_t v = 0; v < shell.vertices.size(); ++v)
     if (vertex_groups[v].size() >= 3) shell.corners.push_back(shell.vertices[v]);
   if (shell.corners.size() < 4) shell.corners = shell.vertices;
+  for (const auto& normal : shell.face_normals) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const auto& c : shell.corners) {
+      lo = std::min(lo, normal.dot(c));
+      hi = std::max(hi, normal.dot(c));
+    }
+    shell.face_low.push_back(lo);
+    shell.face_high.push_back(hi);
+  }
   shell.convex = true;
 }
 

@@ -38,6 +38,9 @@ struct Shell {
   std::vector<Eigen::Vector3d> corners;
   std::vector<Eigen::Vector3d> face_normals;
   std::vector<Eigen::Vector3d> edge_directions;
+  // Convex shells only: the shell's extent along each face normal, k-th
+  // entry for face_normals[k] (min and max of the corners' projections).
+  std::vector<double> face_low, face_high;
   Aabb box;
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // centre of `box`
   double radius = 0;                                 // max distance of a vertex from `center`

@@ -166,7 +166,7 @@ TriangleBvh::Nearest TriangleBvh::NearestPoint(const Eigen::Vector3d& q, const s
 }
 
 void TriangleBvh::ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
-                                      const std::function<void(int)>& visit) const {
+                                      const std::function<bool(int)>& visit) const {
   if (nodes_.empty()) return;
   const auto overlaps = [&](const double* lo, const double* hi) {
     for (int k = 0; k < 3; ++k)
@@ -186,7 +186,7 @@ void TriangleBvh::ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::V
     }
     for (int s = node.first; s < node.first + node.count; ++s) {
       const Eigen::Vector3d lo = a_[s].cwiseMin(b_[s]).cwiseMin(c_[s]), hi = a_[s].cwiseMax(b_[s]).cwiseMax(c_[s]);
-      if (overlaps(lo.data(), hi.data())) visit(id_[s]);
+      if (overlaps(lo.data(), hi.data()) && !visit(id_[s])) return;
     }
   }
 }

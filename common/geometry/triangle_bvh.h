@@ -39,9 +39,10 @@ class TriangleBvh {
                      const std::function<bool(int)>& skip = nullptr) const;
 
   // Calls visit(triangle) for every triangle whose bounding box meets the
-  // box [min, max] (touching counts), in the tree's order (deterministic).
+  // box [min, max] (touching counts), in the tree's order (deterministic),
+  // until visit returns false (the caller has its answer).
   void ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
-                           const std::function<void(int)>& visit) const;
+                           const std::function<bool(int)>& visit) const;
 
   int TriangleCount() const { return static_cast<int>(a_.size()); }
 
