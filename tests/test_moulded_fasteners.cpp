@@ -8,6 +8,7 @@
 
 #include "collision/mesh_depth.h"
 #include "collision/rigid_depth.h"
+#include "fixtures/welded_union.h"
 #include "geometry/primitives.h"
 #include "geometry/protrusions.h"
 #include "geometry/shells.h"
@@ -195,6 +196,39 @@ TEST(MouldedFasteners, ThePlateItselfInSIsAClash) {
   EXPECT_EQ(parts->rigid_interference.size(), 1u);
   EXPECT_TRUE(parts->moulded.empty());
   EXPECT_NE(parts->moulded_note.find("the plate itself"), std::string::npos) << parts->moulded_note;
+}
+
+TEST(MouldedFasteners, AFitThatAFeatureHoldsIsAClipOnceTheShellHasMouldedFasteners) {
+  // The plate with two blocks under it, welded: block A hooks 1 mm into a
+  // box of S (a clash), block B only 0.3 mm into another, a thin layer
+  // along B's +x face that slides out along y or z: alone, a press fit. On
+  // a plate whose features hold clips, B is a clip too (its box-soup twin,
+  // a solid of its own, is a fastener): two moulded fasteners, no fit.
+  const TriangleMesh plate_and_blocks = WeldedUnion(
+      {MakeBox({0, 0, 0}, {100, 60, 3}), MakeBox({70, 20, -7}, {73, 32, 1}), MakeBox({20, 20, -7}, {23, 32, 1})});
+  const TriangleMesh hook_a = MakeBox({72, 15, -6}, {80, 40, -4});
+  TriangleMesh both = hook_a;
+  both.Append(MakeBox({22.7, 15, -6}, {30, 40, -4}));
+  const double tolerance = 0.05;
+  // B alone: all the shell's interference is that layer, a fit.
+  const auto only_b = ClassifyParts(plate_and_blocks, MakeBox({22.7, 15, -6}, {30, 40, -4}), Pose(), tolerance);
+  EXPECT_EQ(only_b->fits.size(), 1u);
+  EXPECT_TRUE(only_b->moulded.empty());
+  EXPECT_TRUE(only_b->rigid_interference.empty());
+
+  const auto parts = ClassifyParts(plate_and_blocks, both, Pose(), tolerance);
+  EXPECT_TRUE(parts->rigid_interference.empty()) << parts->moulded_note;
+  EXPECT_TRUE(parts->fits.empty());
+  ASSERT_EQ(parts->moulded.size(), 2u);
+  // Pulled 2 mm along +x: B's layer deepens to 2.3 mm, A's hook bends
+  // (their surfaces reach 1.5 mm into S, reported); the plate is free. With
+  // B a fit, that pose was invalid.
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  Pose pulled = Pose();
+  pulled.t = Vec3(2, 0, 0);
+  const DepthReport report = checker.Measure(pulled);
+  EXPECT_LE(report.rigid_depth, tolerance / 2);
+  EXPECT_GT(report.fastener_depth, 1.0);
 }
 
 }  // namespace

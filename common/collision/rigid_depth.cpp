@@ -378,17 +378,21 @@ std::shared_ptr<DepthMask> FeatureMask(const Shell& shell, const PlateFeatures& 
   return mask;
 }
 
-// Rigid shell r clashes with S at the installed pose (its deep pairs, none
-// of them all fits): is it a plate with fasteners moulded in (rigid_depth.h
+// Rigid shell r clashes with S at the installed pose (its deep pairs, not
+// all of them fits): is it a plate with fasteners moulded in (rigid_depth.h
 // MouldedFastener)? Then its fasteners are the fewest features whose boxes,
 // left out, leave the rest of the shell no deeper than the tolerance in any
-// pair (but its fits): each feature in turn is kept rigid where the rest
-// stays within the tolerance without it. False (and parts.moulded_note
-// says why) where the shell is no plate, where the rest still clashes, or
-// where a fastener is too large (MouldedRule).
+// pair (but the fits of the plate itself): each feature in turn is kept
+// rigid where the rest stays within the tolerance without it. A fit that
+// the features hold (gone with all of them left out) is no fit then but a
+// clip like the one that clashes: a snap hook 0.65 mm behind its rim looks
+// like a press fit, and its box-soup twin, a solid of its own, is a
+// fastener by the solid rule. Such fits leave `fits`. False (and
+// parts.moulded_note says why) where the shell is no plate, where the rest
+// still clashes, or where a fastener is too large (MouldedRule); `fits` is
+// then as it was.
 bool SplitMouldedFasteners(PartModel& parts, int r, const Eigen::Isometry3d& pose, const PairMeasure& measure,
-                           const std::vector<std::pair<int, double>>& deep_pairs,
-                           const std::vector<FitInterference>& fits) {
+                           const std::vector<std::pair<int, double>>& deep_pairs, std::vector<FitInterference>& fits) {
   const Shell& shell = parts.robot_shells[r];
   const PlateFeatures plate = FindPlateFeatures(shell);
   if (!plate.found) {
@@ -399,20 +403,29 @@ bool SplitMouldedFasteners(PartModel& parts, int r, const Eigen::Isometry3d& pos
   const auto is_fit = [&](int s) {
     return std::any_of(fits.begin(), fits.end(), [&](const FitInterference& fit) { return fit.static_shell == s; });
   };
-  const auto exceeds = [&](const DepthMask& mask) {
+  const auto pair_exceeds = [&](int s, const DepthMask& mask) {
     SurfaceDepthOptions options;
     options.resolution = tolerance / 10;
     options.decide = tolerance;
-    for (const auto& [s, depth] : deep_pairs)
-      if (!is_fit(s) && measure.Surface(r, pose, s, options, &mask).upper > tolerance) return true;
-    return false;
+    return measure.Surface(r, pose, s, options, &mask).upper > tolerance;
   };
   std::vector<char> on(plate.features.size(), 1);
-  if (exceeds(*FeatureMask(shell, plate, on))) {
-    parts.moulded_note = Fmt("no moulded fasteners in %s: %s, but the plate itself penetrates S",
-                             parts.Describe(r, true).c_str(), plate.reason.c_str());
-    return false;
+  const auto all_features = FeatureMask(shell, plate, on);
+  // The pairs the features must settle: the clashes, and the fits that the
+  // features hold.
+  std::vector<int> held;
+  for (const auto& [s, depth] : deep_pairs) {
+    if (!pair_exceeds(s, *all_features)) {
+      held.push_back(s);
+    } else if (!is_fit(s)) {
+      parts.moulded_note = Fmt("no moulded fasteners in %s: %s, but the plate itself penetrates S",
+                               parts.Describe(r, true).c_str(), plate.reason.c_str());
+      return false;
+    }
   }
+  const auto exceeds = [&](const DepthMask& mask) {
+    return std::any_of(held.begin(), held.end(), [&](int s) { return pair_exceeds(s, mask); });
+  };
   for (std::size_t f = 0; f < on.size(); ++f) {
     on[f] = 0;
     if (exceeds(*FeatureMask(shell, plate, on))) on[f] = 1;
@@ -457,6 +470,11 @@ bool SplitMouldedFasteners(PartModel& parts, int r, const Eigen::Isometry3d& pos
     parts.moulded.push_back(fastener);
   }
   parts.masks[r] = mask;
+  fits.erase(std::remove_if(fits.begin(), fits.end(),
+                            [&](const FitInterference& fit) {
+                              return std::find(held.begin(), held.end(), fit.static_shell) != held.end();
+                            }),
+             fits.end());
   return true;
 }
 
@@ -585,12 +603,10 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   parts->masks.assign(n, nullptr);
   for (int i = 0; i < n; ++i) {
     if (parts->role[i] != ShellRole::kRigid || parts->installed_depth[i] <= tolerance) continue;
+    const bool moulded = !only_fits[i] && std::isfinite(parts->installed_depth[i]) &&
+                         SplitMouldedFasteners(*parts, i, pose, measure, deep_pairs[i], fits[i]);
     parts->fits.insert(parts->fits.end(), fits[i].begin(), fits[i].end());
-    if (only_fits[i]) continue;
-    if (std::isfinite(parts->installed_depth[i]) &&
-        SplitMouldedFasteners(*parts, i, pose, measure, deep_pairs[i], fits[i]))
-      continue;
-    parts->rigid_interference.push_back(i);
+    if (!only_fits[i] && !moulded) parts->rigid_interference.push_back(i);
   }
   return parts;
 }
