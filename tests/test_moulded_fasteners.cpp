@@ -176,6 +176,32 @@ TEST(MouldedFasteners, ClassifyPartsSplitsTheClashIntoARigidPlateAndAFastener) {
   EXPECT_LE(checker.Measure(pulled).rigid_depth, tolerance / 2);
 }
 
+TEST(MouldedFasteners, AMouldedFastenerBendsOnlyIntoTheSolidItEngages) {
+  // The block hooks 1 mm into a box of S; a second box, 0.5 mm from that
+  // one and 0.7 mm under the block's tip, is a solid of S it does not
+  // engage at the installed pose.
+  const TriangleMesh d = PlateWithBlock(70, 73, 20, 32, 7);
+  TriangleMesh s = MakeBox({72, 15, -6}, {80, 40, -4});
+  s.Append(MakeBox({66, 20, -12}, {71.5, 32, -7.7}));
+  const double tolerance = 0.05;
+  const auto parts = ClassifyParts(d, s, Pose(), tolerance);
+  ASSERT_EQ(parts->moulded.size(), 1u) << parts->moulded_note;
+  EXPECT_EQ(parts->static_solid, (std::vector<int>{0, 1}));
+  EXPECT_TRUE(parts->Engages(0, 0));
+  EXPECT_FALSE(parts->Engages(0, 1));
+  const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4);
+  EXPECT_TRUE(checker.IsValid(Pose()));
+  Pose pulled = Pose();
+  pulled.t = Vec3(2, 0, 0);
+  EXPECT_TRUE(checker.IsValid(pulled));  // the block bends in the box it hooks
+  Pose down = Pose();
+  down.t = Vec3(0, 0, -1);
+  EXPECT_FALSE(checker.IsValid(down));  // its tip 0.3 mm into the other box
+  const DepthReport report = checker.Measure(down);
+  EXPECT_EQ(report.rigid_static_shell, 1);
+  EXPECT_NEAR(report.rigid_depth, 0.3, 0.03);
+}
+
 TEST(MouldedFasteners, AFeatureTooLargeToBeAFastenerStaysAClash) {
   // The same plate, its block 40 x 40 x 7: 11.2 kmm^3 against 18 kmm^3 of
   // plate, far over a fastener's 5%: a clash, with the reason (2 mm deep:

@@ -252,6 +252,37 @@ TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   EXPECT_EQ(checker.Measure(PoseAt(-1.5, 0, 0)).rigid_shell, 3);
 }
 
+TEST(RigidDepth, AFastenerBendsOnlyIntoTheSolidItEngages) {
+  // The clip of the test above, and under its hook, 0.3 mm below it, a
+  // bracket apart from the plate (2.2 mm under it): a solid of S the clip
+  // does not engage at the installed pose.
+  TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});            // panel (anchor)
+  robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));              // clip beam
+  robot.Append(MakeBox({-0.7, -5, -3.9}, {3, 5, -1.5}));               // hook, 0.5 mm into the rim
+  TriangleMesh environment = MakeBox({-100, -100, -2}, {-2, 100, 0});  // the plate: five boxes that touch
+  environment.Append(MakeBox({2, -100, -2}, {100, 100, 0}));
+  environment.Append(MakeBox({-2, -100, -2}, {2, -6, 0}));
+  environment.Append(MakeBox({-2, 6, -2}, {2, 100, 0}));
+  environment.Append(MakeBox({-1, -5, -8}, {4, 5, -4.2}));  // the bracket
+  const auto parts = ClassifyParts(robot, environment, Pose{}, 0.05);
+  ASSERT_EQ(parts->static_solid.size(), 5u);
+  EXPECT_EQ(parts->static_solid, (std::vector<int>{0, 0, 0, 0, 1}));
+  ASSERT_EQ(parts->cluster_engages.size(), 1u);
+  EXPECT_EQ(parts->cluster_engages[0], std::vector<int>{0});
+  EXPECT_TRUE(parts->Engages(2, 1));
+  EXPECT_FALSE(parts->Engages(2, 4));
+  const RigidDepthChecker checker(parts, 0.025, 0.01);
+  EXPECT_TRUE(checker.IsValid(Pose{}));
+  EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, 1.0)));  // out past the rim: the clip bends in the plate
+  // Down 1 mm: the beam 0.8 mm and the hook 0.7 mm into the bracket, the
+  // panel on the plate.
+  EXPECT_FALSE(checker.IsValid(PoseAt(0, 0, -1.0)));
+  const DepthReport down = checker.Measure(PoseAt(0, 0, -1.0));
+  EXPECT_EQ(down.rigid_shell, 1);
+  EXPECT_EQ(down.rigid_static_shell, 4);
+  EXPECT_NEAR(down.rigid_depth, 0.8, 1e-9);
+}
+
 TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
   // A solid peg pressed 0.3 mm into a hole's wall: the peg is the anchor,
   // and the overlap a layer of 0.3 x 10 x 2 mm (area 20 >= 100 x 0.3^2,

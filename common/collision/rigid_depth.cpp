@@ -14,6 +14,7 @@
 #include "collision/mesh_depth.h"
 #include "core/format.h"
 #include "geometry/protrusions.h"
+#include "geometry/triangle_bvh.h"
 
 namespace ausbau {
 namespace {
@@ -112,6 +113,13 @@ struct PairMeasure {
   // the plate, which holds the cut), and a vertex of it; null elsewhere.
   std::vector<std::shared_ptr<FclModel>> rigid_bvh;
   std::vector<Eigen::Vector3d> rigid_vertex;
+  // The same surface for SlabGap: its corners, triangles and their tree.
+  struct RestSurface {
+    std::vector<Eigen::Vector3d> vertices;
+    std::vector<std::array<int, 3>> triangles;
+    TriangleBvh bvh;
+  };
+  std::vector<std::shared_ptr<const RestSurface>> rigid_rest;
   std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
   double resolution = 0;  // of the surface depth
   // Per robot shell, the boxes of its moulded fasteners (PartModel::masks);
@@ -157,13 +165,21 @@ struct PairMeasure {
   // are that far apart at least. Cheap where they are near but apart (a
   // moulded panel over S's boxes, a T-key in its channel), which is most of
   // what a planner asks; where it says nothing, Meet and FCL decide.
-  double SlabGap(int r, const Eigen::Isometry3d& pose, int s, double reach) const {
+  //
+  // For a robot shell with moulded fasteners (unless `whole`), the bound is
+  // the rigid rest's: the triangles of the surface that bounds it (Meet).
+  // The fasteners' own triangles, which reach into S's holes, would leave
+  // most pairs of a clip panel without a bound and to FCL's distance.
+  double SlabGap(int r, const Eigen::Isometry3d& pose, int s, double reach, bool whole = false) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex == b.convex) return 0;
     const Shell& convex = a.convex ? a : b;
     const DepthSurface& other = a.convex ? *static_surface[s] : *robot_surface[r];
     if (!other.solid() || convex.corners.empty()) return 0;
+    const RestSurface* rest = !a.convex && !whole && MaskOf(r) != nullptr ? rigid_rest[r].get() : nullptr;
+    const std::vector<Eigen::Vector3d>& vertices = rest ? rest->vertices : other.vertices();
+    const std::vector<std::array<int, 3>>& triangles = rest ? rest->triangles : other.triangles();
     // The other shell's frame from the convex one's.
     const Eigen::Isometry3d other_from_convex = a.convex ? pose : pose.inverse();
     const Eigen::Isometry3d convex_from_other = other_from_convex.inverse();
@@ -174,11 +190,10 @@ struct PairMeasure {
     const Eigen::Vector3d half = Eigen::Vector3d::Constant(convex.radius + reach);
     double gap = reach;
     bool touches = false;
-    other.bvh().ForEachTriangleNear(centre - half, centre + half, [&](int t) {
-      const auto& tri = other.triangles()[t];
-      const Eigen::Vector3d p[3] = {convex_from_other * other.vertices()[tri[0]],
-                                    convex_from_other * other.vertices()[tri[1]],
-                                    convex_from_other * other.vertices()[tri[2]]};
+    (rest ? rest->bvh : other.bvh()).ForEachTriangleNear(centre - half, centre + half, [&](int t) {
+      const auto& tri = triangles[t];
+      const Eigen::Vector3d p[3] = {convex_from_other * vertices[tri[0]], convex_from_other * vertices[tri[1]],
+                                    convex_from_other * vertices[tri[2]]};
       double outside = -std::numeric_limits<double>::infinity();
       for (int k = 0; k < n; ++k) {
         const Eigen::Vector3d& normal = convex.face_normals[k];
@@ -191,6 +206,7 @@ struct PairMeasure {
       return !touches;  // a touching triangle settles it: no bound
     });
     if (touches || gap <= 0) return 0;
+    // (Inside the whole shell: the rest, a part of it, may hold it too.)
     if (other.SignedDistance(other_from_convex * convex.corners.front()) > 0) return 0;
     return gap;
   }
@@ -222,7 +238,7 @@ struct PairMeasure {
     // Apart by a bound (a lower bound on the distance: the depth is minus
     // it, as for a separating axis of two convex shells). The rigid rest of
     // a shell with moulded fasteners lies inside the whole, so it is as far.
-    const double apart = SlabGap(r, pose, s, query.stop_gap > 0 ? query.stop_gap : a.radius + b.radius);
+    const double apart = SlabGap(r, pose, s, query.stop_gap > 0 ? query.stop_gap : a.radius + b.radius, query.whole);
     if (apart > 0) return -apart;
     if (Meet(r, pose, s, query.whole)) {
       if (query.contact_collides) return std::numeric_limits<double>::infinity();
@@ -243,17 +259,19 @@ struct PairMeasure {
 
   // Depth(r, pose, s) > allowed (>= 0), without the distance a separated
   // non-convex pair would cost: a plain validity question.
-  bool Exceeds(int r, const Eigen::Isometry3d& pose, int s, double allowed, bool contact_collides = false) const {
+  // `whole`: the robot shell with its moulded fasteners.
+  bool Exceeds(int r, const Eigen::Isometry3d& pose, int s, double allowed, bool contact_collides = false,
+               bool whole = false) const {
     const Shell& a = (*robot)[r];
     const Shell& b = (*statics)[s];
     if (a.convex && b.convex) return ConvexSignedDepth(a, pose, b, 1e-300) > allowed;
-    if (SlabGap(r, pose, s, a.radius + b.radius) > 0) return false;
-    if (!Meet(r, pose, s)) return false;
+    if (SlabGap(r, pose, s, a.radius + b.radius, whole) > 0) return false;
+    if (!Meet(r, pose, s, whole)) return false;
     if (contact_collides) return true;
     SurfaceDepthOptions options;
     options.resolution = resolution;
     options.decide = allowed;
-    return Surface(r, pose, s, options).upper > allowed;
+    return Surface(r, pose, s, options, whole ? nullptr : MaskOf(r)).upper > allowed;
   }
 };
 
@@ -262,6 +280,16 @@ struct PairMeasure {
 bool PartModel::InstalledContact(int robot_shell, int static_shell) const {
   return std::binary_search(installed_contacts.begin(), installed_contacts.end(),
                             std::make_pair(robot_shell, static_shell));
+}
+
+bool PartModel::Engages(int robot_shell, int static_shell) const {
+  const std::vector<int>* engaged = nullptr;
+  if (role[robot_shell] == ShellRole::kFastener) {
+    engaged = &cluster_engages[cluster[robot_shell]];
+  } else if (robot_shell < static_cast<int>(mask_engages.size())) {
+    engaged = &mask_engages[robot_shell];
+  }
+  return engaged != nullptr && std::binary_search(engaged->begin(), engaged->end(), static_solid[static_shell]);
 }
 
 double PartModel::FitDepth(int robot_shell, int static_shell) const {
@@ -308,6 +336,7 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
   }
   // The rigid rest of each shell with moulded fasteners (PairMeasure::rigid_bvh).
   measure->rigid_bvh.assign(parts.robot_shells.size(), nullptr);
+  measure->rigid_rest.assign(parts.robot_shells.size(), nullptr);
   measure->rigid_vertex.assign(parts.robot_shells.size(), Eigen::Vector3d::Zero());
   for (std::size_t r = 0; r < parts.robot_shells.size(); ++r) {
     const DepthMask* mask = parts.Mask(static_cast<int>(r));
@@ -330,6 +359,11 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
       triangles.push_back({first, first + 3, first + 2});
     }
     measure->rigid_bvh[r] = BuildFclModel(vertices, triangles);
+    auto rest = std::make_shared<PairMeasure::RestSurface>();
+    rest->bvh = TriangleBvh(vertices, triangles);
+    rest->vertices = std::move(vertices);
+    rest->triangles = std::move(triangles);
+    measure->rigid_rest[r] = std::move(rest);
   }
 }
 
@@ -470,12 +504,63 @@ bool SplitMouldedFasteners(PartModel& parts, int r, const Eigen::Isometry3d& pos
     parts.moulded.push_back(fastener);
   }
   parts.masks[r] = mask;
+  std::vector<int>& engaged = parts.mask_engages[r];
+  for (int s : held) engaged.push_back(parts.static_solid[s]);
+  std::sort(engaged.begin(), engaged.end());
+  engaged.erase(std::unique(engaged.begin(), engaged.end()), engaged.end());
   fits.erase(std::remove_if(fits.begin(), fits.end(),
                             [&](const FitInterference& fit) {
                               return std::find(held.begin(), held.end(), fit.static_shell) != held.end();
                             }),
              fits.end());
   return true;
+}
+
+// The solid of S each static shell belongs to (PartModel::static_solid):
+// shells whose boxes come within the tolerance are joined where the shells
+// do too (convex pairs by their exact gap, others by FCL's distance or one
+// holding the other). Numbered in the order of their first shell.
+std::vector<int> StaticSolids(const PartModel& parts, const PairMeasure& measure, const ShellTree& tree) {
+  const std::vector<Shell>& shells = parts.static_shells;
+  const int n = static_cast<int>(shells.size());
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](int v) {
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
+  const double tolerance = parts.tolerance;
+  const auto touch = [&](int a, int b) {
+    const Shell& sa = shells[a];
+    const Shell& sb = shells[b];
+    Aabb grown = sa.box;
+    grown.min.array() -= tolerance;
+    grown.max.array() += tolerance;
+    if (grown.SeparatedFrom(sb.box)) return false;
+    if (sa.convex && sb.convex) return ConvexSignedDepth(sa, Eigen::Isometry3d::Identity(), sb) >= -tolerance;
+    if (measure.static_bvh.empty() || sa.vertices.empty() || sb.vertices.empty()) return false;
+    fcl::DistanceRequestd request;
+    fcl::DistanceResultd result;
+    fcl::distance(measure.static_bvh[a].get(), fcl::Transform3d::Identity(), measure.static_bvh[b].get(),
+                  fcl::Transform3d::Identity(), request, result);
+    if (result.min_distance <= tolerance) return true;
+    return measure.static_surface[b]->SignedDistance(sa.vertices.front()) > 0 ||
+           measure.static_surface[a]->SignedDistance(sb.vertices.front()) > 0;
+  };
+  for (int a = 0; a < n; ++a) {
+    tree.Query(shells[a].center, shells[a].radius + tolerance, [&](int b) {
+      if (b <= a || find(a) == find(b) || !touch(a, b)) return;
+      parent[find(b)] = find(a);
+    });
+  }
+  std::vector<int> solid(n, -1), number(n, -1);
+  int solids = 0;
+  for (int a = 0; a < n; ++a) {
+    const int root = find(a);
+    if (number[root] < 0) number[root] = solids++;
+    solid[a] = number[root];
+  }
+  return solid;
 }
 
 }  // namespace
@@ -563,6 +648,9 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     }
   }
 
+  // The solids of S: its shells joined where they overlap or touch.
+  parts->static_solid = StaticSolids(*parts, measure, tree);
+
   // 4. Fasteners: interfering shells other than the anchor, grown through
   // overlaps (touching counts) within D, never through the anchor.
   const double touch = 1e-6 * robot.Bounds().Diagonal();
@@ -576,10 +664,12 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
     if (std::isinf(parts->installed_depth[i]) && unmeasured == UnmeasuredInterference::kRigid) continue;
     parts->cluster[i] = clusters;
     open.push(i);
+    std::vector<int> engaged;
     while (!open.empty()) {
       const int k = open.front();
       open.pop();
       parts->role[k] = ShellRole::kFastener;
+      for (const auto& [j, depth] : deep_pairs[k]) engaged.push_back(parts->static_solid[j]);
       for (int j = 0; j < n; ++j) {
         if (j == parts->anchor || parts->cluster[j] >= 0 || !parts->robot_shells[j].convex) continue;
         const Shell& a = parts->robot_shells[k];
@@ -591,16 +681,22 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
         }
       }
     }
-    // Fasteners bend as far as removal needs: their penetration is reported,
-    // not limited (the volume modes bound it by tau instead). Bounding it by
-    // the installed depth was measured: it refuses rail-rotate-s11, whose
-    // clips must bend further than installed to pass their rims.
+    // Fasteners bend as far as removal needs into the solids they engage:
+    // their penetration there is reported, not limited (the volume modes
+    // bound it by tau instead). Bounding it by the installed depth was
+    // measured: it refuses rail-rotate-s11, whose clips must bend further
+    // than installed to pass their rims. Any other solid of S they may
+    // touch as a rigid shell does (PartModel::Engages).
     parts->cluster_limit.push_back(std::numeric_limits<double>::infinity());
+    std::sort(engaged.begin(), engaged.end());
+    engaged.erase(std::unique(engaged.begin(), engaged.end()), engaged.end());
+    parts->cluster_engages.push_back(std::move(engaged));
     ++clusters;
   }
   // 5. A rigid shell's installed interference: fits, fasteners moulded into
   // it, or a clash.
   parts->masks.assign(n, nullptr);
+  parts->mask_engages.assign(n, {});
   for (int i = 0; i < n; ++i) {
     if (parts->role[i] != ShellRole::kRigid || parts->installed_depth[i] <= tolerance) continue;
     const bool moulded = !only_fits[i] && std::isfinite(parts->installed_depth[i]) &&
@@ -638,20 +734,33 @@ DepthReport RigidDepthChecker::Measure(const Pose& pose) const { return MeasureP
 
 double RigidDepthChecker::Slack(const Pose& pose) const { return MeasurePairs(pose, false).slack; }
 
+RigidDepthChecker::PairRule RigidDepthChecker::Rule(int robot_shell, int static_shell) const {
+  const PartModel& parts = *parts_;
+  PairRule rule;
+  if (parts.role[robot_shell] == ShellRole::kRigid) {
+    rule.allowed = limit_ + parts.FitDepth(robot_shell, static_shell);
+    rule.whole = parts.Mask(robot_shell) != nullptr && !parts.Engages(robot_shell, static_shell);
+  } else if (parts.Engages(robot_shell, static_shell)) {
+    rule.allowed = parts.cluster_limit[parts.cluster[robot_shell]] + limit_;
+    rule.fastener = true;
+  } else {
+    rule.allowed = limit_;
+  }
+  return rule;
+}
+
 bool RigidDepthChecker::CheckValid(const Pose& pose) const {
   const Eigen::Isometry3d iso = pose.ToIsometry();
   const PartModel& parts = *parts_;
   bool valid = true;
   for (int r = 0; r < static_cast<int>(parts.robot_shells.size()) && valid; ++r) {
-    const bool rigid = parts.role[r] == ShellRole::kRigid;
-    const double allowed = rigid ? limit_ : parts.cluster_limit[parts.cluster[r]] + limit_;
-    if (std::isinf(allowed)) continue;
     const Shell& shell = parts.robot_shells[r];
     // Only pairs that can touch: those within the shell's radius.
     impl_->tree.Query(iso * shell.center, shell.radius, [&](int s) {
-      if (valid &&
-          impl_->measure.Exceeds(r, iso, s, allowed + (rigid ? parts.FitDepth(r, s) : 0.0), ContactCollides(r, s)))
-        valid = false;
+      if (!valid) return;
+      const PairRule rule = Rule(r, s);
+      if (std::isinf(rule.allowed)) return;  // a fastener in a solid it engages, unlimited
+      if (impl_->measure.Exceeds(r, iso, s, rule.allowed, ContactCollides(r, s), rule.whole)) valid = false;
     });
   }
   return valid;
@@ -668,13 +777,14 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
     if (!report_fasteners && report.slack < 0) break;
     const Shell& shell = parts.robot_shells[r];
     const bool rigid = parts.role[r] == ShellRole::kRigid;
-    const double allowed = rigid ? limit_ : parts.cluster_limit[parts.cluster[r]] + limit_;
-    // An unlimited fastener cannot lower the slack: measured for reports only.
-    if (!rigid && !report_fasteners && std::isinf(allowed)) continue;
     impl_->tree.Query(iso * shell.center, shell.radius + margin_, [&](int s) {
       if (!report_fasteners && report.slack < 0) return;
+      const PairRule rule = Rule(r, s);
+      // An unlimited fastener cannot lower the slack: measured for reports only.
+      if (!report_fasteners && std::isinf(rule.allowed)) return;
       // A fit pair counts only its depth beyond the installed fit.
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
+      const double allowed = rule.allowed - fit;
       // Beyond fit + limit the pose is invalid whatever the digits: the
       // number is measured to a share of itself (still an upper bound).
       // Below half the limit, the slack is no less than half the limit.
@@ -689,12 +799,13 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       query.coarse_above = fit + limit_;
       // Beyond fit + allowed, a slack question needs no number: the search
       // stops once the depth is known to be there (a report measures it).
-      if (!report_fasteners) query.decide = fit + allowed;
+      if (!report_fasteners) query.decide = rule.allowed;
+      query.whole = rule.whole;
       query.contact_collides = !report_fasteners && ContactCollides(r, s);
       const double measured = impl_->measure.Depth(r, iso, s, query);
       if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
-      if (report_fasteners && parts.Mask(r) != nullptr) {
+      if (report_fasteners && parts.Mask(r) != nullptr && !rule.whole) {
         DepthQuery whole;
         whole.stop_gap = margin_;
         whole.settle = limit_ / 2;
@@ -704,7 +815,7 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       }
       const double depth = measured - fit;
       report.slack = std::min(report.slack, allowed - depth);
-      if (!rigid) {
+      if (rule.fastener) {
         report.fastener_depth = std::max(report.fastener_depth, depth);
       } else if (depth > report.rigid_depth) {
         report.rigid_depth = depth;

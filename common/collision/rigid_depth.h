@@ -136,7 +136,23 @@ struct PartModel {
   // (a part on its seat, a fit, a clip in its hole): sorted, for
   // NewContacts::kCollide.
   std::vector<std::pair<int, int>> installed_contacts;
+  // Per static shell: the solid of S it belongs to. Shells that overlap or
+  // touch (within the tolerance) are one solid: a plate tiled of boxes with
+  // a rib on it is one, a neighbouring part apart from it another.
+  std::vector<int> static_solid;
+  // The solids of S a fastener engages at the installed pose (penetrates
+  // deeper than the tolerance), sorted: per fastener cluster, and per robot
+  // shell with moulded fasteners (empty elsewhere). A fastener bends into
+  // those only: any other solid of S (a wall, a rib or a part it does not
+  // hold on to) is to it what it is to a rigid shell (docs/rigid-exact.md
+  // "Fasteners stay physical").
+  std::vector<std::vector<int>> cluster_engages;
+  std::vector<std::vector<int>> mask_engages;
   double tolerance = 0;  // the one used to classify
+
+  // Whether robot shell r's fasteners (a fastener shell's cluster, or the
+  // moulded fasteners of a rigid shell) may bend into static shell s.
+  bool Engages(int robot_shell, int static_shell) const;
 
   bool InstalledContact(int robot_shell, int static_shell) const;
 
@@ -224,6 +240,16 @@ class RigidDepthChecker : public SlackValidity {
 
  private:
   DepthReport MeasurePairs(const Pose& pose, bool report_fasteners) const;
+  // How pair (robot shell, static shell) is judged: the depth allowed
+  // (infinite: not limited), whether the robot shell counts with its
+  // moulded fasteners (a solid of S they do not engage), and whether the
+  // depth is a fastener's (reported, not a rigid depth).
+  struct PairRule {
+    double allowed = 0;
+    bool whole = false;
+    bool fastener = false;
+  };
+  PairRule Rule(int robot_shell, int static_shell) const;
   // NewContacts::kCollide, a rigid shell, and no contact at the installed
   // pose (only a pair with a non-convex shell asks).
   bool ContactCollides(int robot_shell, int static_shell) const {

@@ -275,11 +275,18 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
         "a rigid part of D penetrates S at the installed pose (or intersects it where the depth is "
         "not measured): " +
         report.parts->Describe(report.parts->rigid_interference.front(), true));
-  if (report.max_rigid_depth > tolerance)
-    problems.push_back(Fmt("a rigid part of D penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",
-                           report.max_rigid_depth, tolerance, report.worst_segment,
-                           report.parts->Describe(report.rigid_shell, true).c_str(),
-                           report.parts->Describe(report.static_shell, false).c_str()));
+  if (report.max_rigid_depth > tolerance) {
+    // A fastener is judged like a rigid part in a solid of S it does not
+    // engage at the installed pose (PartModel::Engages).
+    const PartModel& parts = *report.parts;
+    const bool fastener = report.rigid_shell >= 0 && (parts.role[report.rigid_shell] == ShellRole::kFastener ||
+                                                      parts.Mask(report.rigid_shell) != nullptr);
+    problems.push_back(Fmt(
+        "%s penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",
+        fastener ? "a part of D (a rigid part, or a fastener in a solid of S it does not engage)" : "a rigid part of D",
+        report.max_rigid_depth, tolerance, report.worst_segment, parts.Describe(report.rigid_shell, true).c_str(),
+        parts.Describe(report.static_shell, false).c_str()));
+  }
   report.valid = problems.empty();
   for (const auto& p : problems) report.reason += (report.reason.empty() ? "" : "; ") + p;
   return report;

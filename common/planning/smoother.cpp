@@ -322,6 +322,8 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
             static_cast<long long>(planned.stats.iterations));
     return std::nullopt;
   }
+  LogInfo("translation-only alternative: a path after %lld iterations",
+          static_cast<long long>(planned.stats.iterations));
   SmoothResult result;
   result.path = planned.path;
   Random random(options.seed + 1);
@@ -410,6 +412,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   // alternative (step 5), should the limit be hit.
   const Clock::time_point first_deadline = EndIsFree(problem) ? start + (deadline - start) * 3 / 5 : deadline;
   SmoothOnce(problem, motion, guard, attempts, random, first_deadline, &result);
+  LogDebug("shortcuts: %d kept of %d attempts", result.shortcuts, result.attempts);
   result.after = MeasurePath(problem, result.path);
   const bool turns = result.after.rotation > 1e-9;
   if (EndIsFree(problem) && turns && Clock::now() < deadline) {
