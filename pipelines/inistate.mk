@@ -92,6 +92,9 @@ endif
 ifndef OUT
 $(error OUT=output/folder is required)
 endif
+include $(dir $(lastword $(MAKEFILE_LIST)))safe-names.mk
+$(call require_safe,SCENE,$(SCENE))
+$(call require_safe,OUT,$(OUT))
 
 include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
 ifeq ($(OUT_LOCKED),yes)
@@ -100,14 +103,17 @@ ifeq ($(OUT_LOCKED),yes)
 SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
 TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
-VALIDITY := $(strip $(VALIDITY))
+override VALIDITY := $(strip $(VALIDITY))
 BUDGET := $(strip $(BUDGET))
 ifneq ($(BUDGET),)
-ifneq ($(shell awk -v b='$(BUDGET)' 'BEGIN { print (b ~ /^[0-9]*\.?[0-9]+$$/ && b + 0 > 0) ? "ok" : "bad" }'),ok)
+$(call require_safe,BUDGET,$(BUDGET))
+ifneq ($(shell awk -v b='$(BUDGET)' 'BEGIN { print (b ~ /^[0-9]*\.?[0-9]+([eE][+]?[0-9]+)?$$/ && b + 0 > 0) ? "ok" : "bad" }'),ok)
 $(error BUDGET=$(BUDGET): must be a positive number of seconds)
 endif
 BUDGET_START := $(shell date +%s.%N)
-budget_deadline = $(shell awk -v s=$(BUDGET_START) -v b=$(BUDGET) -v f=$(1) 'BEGIN { printf "%.3f", s + f * b }')
+# (More than 1e9 s, 30 years, is as good as none: the deadlines stay numbers
+# the stages read.)
+budget_deadline = $(shell awk -v s=$(BUDGET_START) -v b=$(BUDGET) -v f=$(1) 'BEGIN { if (b > 1e9) b = 1e9; printf "%.3f", s + f * b }')
 TAU_DEADLINE := $(call budget_deadline,0.40)
 PLAN_DEADLINE := $(call budget_deadline,0.75)
 SMOOTH_DEADLINE := $(call budget_deadline,0.90)
@@ -116,7 +122,7 @@ endif
 # exact check cannot measure the depth (then labeled-mliv; ausbau-plan
 # --choose-validity). A plan stage that cannot answer gets rigid-exact.
 ifeq ($(VALIDITY),auto)
-VALIDITY := $(or $(filter rigid-exact labeled-mliv,$(shell $(PLAN) --scene $(SCENE) --choose-validity --rigid-tolerance $(strip $(RIGID_TOLERANCE)) --log-level error 2>/dev/null)),rigid-exact)
+override VALIDITY := $(or $(filter rigid-exact labeled-mliv,$(shell $(PLAN) --scene $(SCENE) --choose-validity --rigid-tolerance $(strip $(RIGID_TOLERANCE)) --log-level error 2>/dev/null)),rigid-exact)
 $(info inistate: VALIDITY=auto: $(VALIDITY))
 endif
 RIGID_TOLERANCE := $(strip $(RIGID_TOLERANCE))

@@ -25,6 +25,9 @@ endif
 ifndef OUT
 $(error OUT=output/folder is required)
 endif
+include $(dir $(lastword $(MAKEFILE_LIST)))safe-names.mk
+$(call require_safe,SCENE,$(SCENE))
+$(call require_safe,OUT,$(OUT))
 
 include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
 ifeq ($(OUT_LOCKED),yes)

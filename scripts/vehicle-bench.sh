@@ -39,7 +39,7 @@ mkdir -p "$OUT" || exit 2
 OUT=$(cd "$OUT" && pwd)
 
 gen_start=$(date +%s.%N)
-"$TIME" -v -o "$OUT/generate.time" "$BIN/ausbau-scene-gen" --family vehicle --parts "$PARTS" -o "$OUT/vehicle" \
+"$TIME" -v -o "$OUT/generate.time" "$BIN/ausbau-scene-gen" --family vehicle --parts "$PARTS" --force -o "$OUT/vehicle" \
   > "$OUT/parts.txt" || exit 1
 gen_s=$(awk -v a="$gen_start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
 shell_triangles=$(grep -c '^f ' "$OUT/vehicle/shell.obj")

@@ -525,6 +525,8 @@ std::vector<Case> FileSystemCases() {
       {"ReportOutputIsADirectory", kNothing, "ausbau-report --scene scene.yaml --path path.h5 -o .", 2,
        "is a directory"},
       {"SceneGenOutputIsAFile", kNothing, "ausbau-scene-gen --family two-boxes -o scene.yaml", 2, "scene\\.yaml"},
+      {"SceneGenOverAUsersScene", kNothing, "ausbau-scene-gen --family rod-in-cage -o .", 2,
+       "already holds a scene.*--force", Unchanged("part.obj")},
       {"OutputInAMissingFolderIsCreated", kNothing, "ausbau-plan --scene scene.yaml -o new/deeper/p.h5", 0, "",
        [](const fs::path& d, const Outcome&) { EXPECT_TRUE(fs::exists(d / "new/deeper/p.h5")); }},
       {"OutputFolderCannotBeCreated", kNothing, "ausbau-plan --scene scene.yaml -o /proc/no/such/p.h5", 1,
@@ -808,6 +810,24 @@ std::vector<std::string> TemporaryFiles(const fs::path& dir) {
     }
   }
   return found;
+}
+
+// OMP_NUM_THREADS far beyond the cores (with the default --threads 0) once
+// crashed voxelize and medial-spheres inside libgomp: clamped to the
+// cores, with a warning.
+TEST(Faults, AHugeOmpNumThreadsIsClampedToTheCores) {
+  const fs::path dir = FaultDir("omp-threads");
+  ASSERT_FALSE(dir.empty());
+  const Outcome outcome = Shell(dir,
+                                "export OMP_NUM_THREADS=100000; "
+                                "ausbau-voxelize --scene scene.yaml --voxel-budget 20000 -o v2.h5 && "
+                                "ausbau-medial-spheres --scene scene.yaml -o s2.h5");
+  EXPECT_EQ(outcome.exit_code, 0) << outcome.output;
+  EXPECT_TRUE(std::regex_search(outcome.output, std::regex("100000 threads .* more than the"))) << outcome.output;
+  EXPECT_TRUE(fs::exists(dir / "v2.h5"));
+  EXPECT_TRUE(fs::exists(dir / "s2.h5"));
+  std::error_code ignored;
+  fs::remove_all(dir, ignored);
 }
 
 // A full disk (the file size limit, ulimit -f, in the stage's shell): the

@@ -257,7 +257,9 @@ TEST_F(PipelineTest, TheDefaultPicksTheExactRigidCheckWhereItCanMeasure) {
   const Outcome gen = testing::RunStageCommand("scene-gen", "--family panel-tilt-slide --seed 1 -o " + scene.string());
   ASSERT_EQ(gen.exit_code, 0) << gen.output;
   const fs::path dir = *root_ / "exact";
-  const Outcome run = RunPipeline(scene / "scene.yaml", dir, "", "");
+  // VALIDITY=auto given on the command line (the default, as a user types
+  // it): resolved as when it is not given.
+  const Outcome run = RunPipeline(scene / "scene.yaml", dir, "", "auto");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   for (const char* name : {"voxels.h5", "spheres.h5", "labels.h5", "tau.h5", "distfield-static.h5"}) {
     EXPECT_FALSE(fs::exists(dir / name)) << name;
@@ -380,6 +382,33 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
   EXPECT_EQ(testing::RunStageCommand("verdict", scene + " --path " + (Out() / "path.h5").string() + " --budget -1" + o)
                 .exit_code,
             2);
+}
+
+// Names reach the recipes' shell: a scene folder named like a command, or
+// an OUT with a space, stops the run before any recipe (exit 2, naming it),
+// and nothing runs or is written.
+TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
+  const fs::path dir = testing::MakeTempDir("names");
+  const fs::path bad = dir / "scenes" / "x$(touch${IFS}PWNED)";
+  fs::create_directories(bad);
+  std::ofstream(bad / "scene.yaml") << "format: ausbau-scene/1\n";
+  fs::create_directories(dir / "scenes" / "good");
+  std::ofstream(dir / "scenes" / "good" / "scene.yaml") << "format: ausbau-scene/1\n";
+  const std::string batch = (testing::SourceDir() / "pipelines/batch.mk").string();
+  const Outcome outcome = Shell("make --no-print-directory -C '" + dir.string() + "' -f '" + batch +
+                                "' SCENES=scenes OUT=out BIN='" + testing::BinDir().string() + "'");
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
+  EXPECT_NE(outcome.output.find("would reach a shell"), std::string::npos) << outcome.output;
+  EXPECT_FALSE(fs::exists(dir / "PWNED"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+
+  const std::string inistate = (testing::SourceDir() / "pipelines/inistate.mk").string();
+  const Outcome spaced = Shell("make --no-print-directory -C '" + dir.string() + "' -f '" + inistate +
+                               "' SCENE=scenes/good/scene.yaml 'OUT=o ut' BIN='" + testing::BinDir().string() + "'");
+  EXPECT_EQ(spaced.exit_code, 2) << spaced.output;
+  EXPECT_NE(spaced.output.find("OUT=o ut"), std::string::npos) << spaced.output;
+  EXPECT_FALSE(fs::exists(dir / "o"));
+  EXPECT_FALSE(fs::exists(dir / "o ut"));
 }
 
 }  // namespace

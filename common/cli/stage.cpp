@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <thread>
 
 #include "core/hash.h"
 #include "core/log.h"
@@ -150,7 +151,18 @@ int StageDefinition::PrintValidation(const Provenance& provenance) const {
 }
 
 int StageDefinition::RunParsed(const StageWork& work) {
-  if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
+  if (threads_ && *threads_ > 0) {
+    omp_set_num_threads(*threads_);
+  } else {
+    // "All cores", whatever the environment says: OMP_NUM_THREADS=100000
+    // made libgomp crash the stage. Fewer (a cluster job's share) stay.
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (omp_get_max_threads() > cores) {
+      LogWarn("OpenMP's default of %d threads (OMP_NUM_THREADS) is more than the %d cores: using %d",
+              omp_get_max_threads(), cores, cores);
+      omp_set_num_threads(cores);
+    }
+  }
   const struct Scene scene = LoadScene(scene_path_);
   {
     // The outputs against the mesh files scene.yaml names (--csv onto D's

@@ -1,5 +1,6 @@
 // ausbau-scene-gen: writes a generated scene (meshes + scene.yaml).
 #include <cstdio>
+#include <filesystem>
 
 #include "cli/stage_main.h"
 #include "fixtures/scene_families.h"
@@ -14,6 +15,7 @@ struct SceneGenOptions {
   std::uint64_t seed = 1;
   std::int64_t triangles = 0;
   bool molded = false;
+  bool force = false;
   VehicleOptions vehicle;
   const CLI::App* app = nullptr;  // which flags were given
   bool Given(const char* flag) const { return app->count(flag) > 0; }
@@ -41,6 +43,8 @@ void DeclareSceneGen(CLI::App& app, SceneGenOptions* options) {
   app.add_option("--cell", options->vehicle.cell,
                  "vehicle: grid cell of the shell in mm (2 .. 100; 10: ~1.2M triangles)");
   app.add_option("-o,--output", options->output, "output folder");
+  app.add_flag("--force", options->force,
+               "replace the scene an output folder already holds (its scene.yaml and meshes)");
 }
 
 // Which flags fit the family (checked in the order the errors were always
@@ -67,6 +71,12 @@ int GenerateFamily(const SceneGenOptions& options) {
     throw InputError("--family: unknown family '" + options.family + "' (expected one of " + SceneFamilyNames() + ")");
   } else if (kind == SceneFamilyKind::kGenerated && options.triangles != 0) {
     throw InputError("--triangles: applies only to the clips-ds* families");
+  }
+  // A user's scene is not replaced unasked (the meshes it names would be).
+  std::error_code ignored;
+  if (!options.force && std::filesystem::exists(std::filesystem::path(options.output) / "scene.yaml", ignored)) {
+    throw InputError("-o " + options.output +
+                     ": the folder already holds a scene (scene.yaml); give --force to replace it, or another folder");
   }
   for (const std::string& line : GenerateSceneFamily(family, options.output)) std::printf("%s\n", line.c_str());
   return kExitOk;

@@ -68,7 +68,7 @@ rigid_case() {  # name scene.yaml
 
 inistate_case demo "$root/scenes/panel-tilt-slide-1/scene.yaml"
 inistate_case clips-ds1 "$root/scenes/clips-ds1/scene.yaml"
-"$bin/ausbau-scene-gen" --family clips-ds2 --seed 2 -o "$work/clips-ds2-scene" > /dev/null 2>&1
+"$bin/ausbau-scene-gen" --family clips-ds2 --seed 2 --force -o "$work/clips-ds2-scene" > /dev/null 2>&1
 inistate_case clips-ds2 "$work/clips-ds2-scene/scene.yaml"
 for scene in Easy alpha-1.5 Apartment; do
   if [ -f "$ompl/$scene.yaml" ]; then rigid_case "ompl-$scene" "$ompl/$scene.yaml"

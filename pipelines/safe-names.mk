@@ -1,0 +1,15 @@
+# Names that reach a shell: scene folder names, SCENE, SCENES, OUT, BIN.
+# Make pastes them into recipes as they are, so a folder named
+# `x$(touch${IFS}PWNED)` (from a data set or a CAD export) would run as a
+# command, and `OUT='o ut'` would write to ./o and delete ./ut/verdict.json.
+# Only letters, digits and _./+,:@- pass (as the Snakefile's safe_path);
+# anything else stops the run before any recipe, naming the value:
+#   $(call require_safe,OUT,$(OUT))
+# Pure make (no shell): each allowed character is removed in turn; what is
+# left is the unsafe rest. A name with a space arrives as two words and is
+# refused as well.
+SAFE_NAME_CHARS := a b c d e f g h i j k l m n o p q r s t u v w x y z \
+  A B C D E F G H I J K L M N O P Q R S T U V W X Y Z 0 1 2 3 4 5 6 7 8 9 _ . / + , : @ -
+unsafe_rest = $(if $(2),$(call unsafe_rest,$(subst $(firstword $(2)),,$(1)),$(wordlist 2,$(words $(2)),$(2))),$(1))
+safe_name = $(and $(1),$(if $(word 2,$(1)),,$(if $(call unsafe_rest,$(1),$(SAFE_NAME_CHARS)),,yes)))
+require_safe = $(if $(call safe_name,$(2)),,$(error $(1)=$(2): only letters, digits and _./+,:@- are supported (the name reaches a shell)))
