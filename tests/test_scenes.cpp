@@ -7,11 +7,46 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "fixtures/generators.h"
 
 namespace ausbau::testing {
+
+namespace {
+
+// Every folder MakeTempDir made, removed when the test process ends (a
+// `make test` left about a thousand behind). AUSBAU_KEEP_TEST_DIRS=1 keeps
+// them, for a look after a failure. Only the process that made them
+// removes them (a forked child ends with _exit anyway).
+class TempDirs {
+ public:
+  void Add(const std::filesystem::path& dir) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    dirs_.push_back(dir);
+  }
+  ~TempDirs() {
+    const char* keep = std::getenv("AUSBAU_KEEP_TEST_DIRS");
+    if ((keep != nullptr && *keep != '\0' && std::string(keep) != "0") || ::getpid() != owner_) return;
+    std::error_code ignored;
+    for (const auto& dir : dirs_) std::filesystem::remove_all(dir, ignored);
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<std::filesystem::path> dirs_;
+  pid_t owner_ = ::getpid();
+};
+
+TempDirs& MadeTempDirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+
+}  // namespace
 
 std::filesystem::path MakeTempDir(const std::string& prefix) {
   static std::atomic<int> counter{0};
@@ -19,6 +54,7 @@ std::filesystem::path MakeTempDir(const std::string& prefix) {
                    ("ausbau-test-" + prefix + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  MadeTempDirs().Add(dir);
   return dir;
 }
 
