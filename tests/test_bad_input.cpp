@@ -186,6 +186,10 @@ std::vector<Case> SceneCases() {
     return [k, v](const fs::path& dir) { SetSceneKey(dir, k, v); };
   };
   return {
+      {"SceneNameWithAnEscapeSequence", key("name", "\"panel\\e[2J\\e[31mred\""), check, 2,
+       "name must not hold control characters"},
+      {"SceneUnitsWithANewline", key("units", "\"mm\\n=HYPERLINK(1)\""), check, 2,
+       "units must not hold control characters"},
       {"SceneMissing", kNothing, "ausbau-scene-check --scene none.yaml", 2,
        "none\\.yaml: .*(not found|no such|cannot)"},
       {"SceneEmpty", [](const fs::path& d) { Write(d / "scene.yaml", ""); }, check, 2, "scene\\.yaml"},

@@ -126,6 +126,15 @@ class Reader {
     if (!node.IsScalar() || node.Scalar().empty()) {
       Fail(what + " must be a non-empty string (got " + Show(node) + ", line " + std::to_string(Line(node)) + ")");
     }
+    // Names, units and file names reach terminals, logs, CSV headers and
+    // reports: an escape sequence or a newline there is an injection, not
+    // a name (the value itself is not echoed, for the same reason).
+    for (const unsigned char c : node.Scalar()) {
+      if (c < 0x20 || c == 0x7f) {
+        Fail(what + " must not hold control characters (a newline, a tab, an escape sequence; line " +
+             std::to_string(Line(node)) + ")");
+      }
+    }
     return node.Scalar();
   }
 
