@@ -281,7 +281,7 @@ std::vector<PartPick> ReadPicks(const Reader& r, const YAML::Node& node, const s
              std::to_string(Reader::Line(item)) + ")");
     }
     PartPick pick;
-    const std::string& text = item.Scalar();
+    const std::string text = r.String(item, what);  // (no control characters)
     const bool digits = item.Tag() != "!" && text.size() <= 9 &&
                         std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
     if (digits) {
