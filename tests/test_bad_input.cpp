@@ -262,7 +262,29 @@ std::vector<Case> MeshCases() {
     };
   };
   const std::string tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  // Both meshes moved 1e7 along x: single precision stores them 1 apart.
+  const Setup far_away = [](const fs::path& d) {
+    for (const char* file : {"part.obj", "environment.obj"}) {
+      std::istringstream in(Read(d / file));
+      std::string line, text;
+      while (std::getline(in, line)) {
+        if (line.rfind("v ", 0) == 0) {
+          std::istringstream v(line.substr(2));
+          double x = 0, y = 0, z = 0;
+          v >> x >> y >> z;
+          std::ostringstream moved;
+          moved.precision(17);
+          moved << "v " << x + 1e7 << " " << y << " " << z;
+          line = moved.str();
+        }
+        text += line + "\n";
+      }
+      Write(d / file, text);
+    }
+  };
   return {
+      {"MeshesFarFromTheOriginLosePrecision", far_away, "ausbau-plan --scene scene.yaml --validity rigid-exact -o p.h5",
+       2, "coordinates reach 1e\\+07.*single precision"},
       {"MeshEmptyObj", part(""), check, 2, "part\\.obj"},
       {"MeshBinaryGarbage",
        part(std::string("\x7f"
