@@ -17,8 +17,8 @@ $(error OUT=output/folder is required)
 endif
 
 include $(BATCH_MK_DIR)safe-names.mk
-$(call require_safe,SCENES,$(SCENES))
-$(call require_safe,OUT,$(OUT))
+$(call require_safe,SCENES)
+$(call require_safe,OUT)
 SCENE_FILES := $(sort $(wildcard $(SCENES)/*/scene.yaml))
 NAMES := $(patsubst $(SCENES)/%/scene.yaml,%,$(SCENE_FILES))
 ifeq ($(strip $(NAMES)),)
@@ -26,8 +26,8 @@ $(error no $(SCENES)/*/scene.yaml found)
 endif
 # Folder names name the outputs and reach the recipes below. (A name with a
 # space arrives split in two, the second part ending in /scene.yaml.)
-$(foreach name,$(NAMES),$(if $(and $(call safe_name,$(name)),$(if $(findstring /,$(name)),,yes)),,\
-  $(error SCENES=$(SCENES): a scene folder name has a space or characters that would reach a shell (near '$(name)'); use letters, digits and _.+-)))
+$(foreach name,$(NAMES),$(if $(and $(call safe_var,name),$(if $(findstring /,$(name)),,yes)),,\
+  $(error SCENES=$(SCENES): a scene folder name has a space or characters that would reach a shell (near '$(name)'); use letters, digits and _.+@-)))
 
 .PHONY: all $(addprefix scene-,$(NAMES))
 .DEFAULT_GOAL := all

@@ -93,8 +93,8 @@ ifndef OUT
 $(error OUT=output/folder is required)
 endif
 include $(dir $(lastword $(MAKEFILE_LIST)))safe-names.mk
-$(call require_safe,SCENE,$(SCENE))
-$(call require_safe,OUT,$(OUT))
+$(call require_safe,SCENE)
+$(call require_safe,OUT)
 
 include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
 ifeq ($(OUT_LOCKED),yes)
@@ -106,7 +106,7 @@ TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
 override VALIDITY := $(strip $(VALIDITY))
 BUDGET := $(strip $(BUDGET))
 ifneq ($(BUDGET),)
-$(call require_safe,BUDGET,$(BUDGET))
+$(call require_safe,BUDGET)
 ifneq ($(shell awk -v b='$(BUDGET)' 'BEGIN { print (b ~ /^[0-9]*\.?[0-9]+([eE][+]?[0-9]+)?$$/ && b + 0 > 0) ? "ok" : "bad" }'),ok)
 $(error BUDGET=$(BUDGET): must be a positive number of seconds)
 endif

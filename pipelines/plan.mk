@@ -26,8 +26,8 @@ ifndef OUT
 $(error OUT=output/folder is required)
 endif
 include $(dir $(lastword $(MAKEFILE_LIST)))safe-names.mk
-$(call require_safe,SCENE,$(SCENE))
-$(call require_safe,OUT,$(OUT))
+$(call require_safe,SCENE)
+$(call require_safe,OUT)
 
 include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
 ifeq ($(OUT_LOCKED),yes)

@@ -392,6 +392,10 @@ TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
   const fs::path bad = dir / "scenes" / "x$(touch${IFS}PWNED)";
   fs::create_directories(bad);
   std::ofstream(bad / "scene.yaml") << "format: ausbau-scene/1\n";
+  // A comma would split make's function arguments around the check.
+  const fs::path comma = dir / "scenes" / "a,$(touch${IFS}COMMA)";
+  fs::create_directories(comma);
+  std::ofstream(comma / "scene.yaml") << "format: ausbau-scene/1\n";
   fs::create_directories(dir / "scenes" / "good");
   std::ofstream(dir / "scenes" / "good" / "scene.yaml") << "format: ausbau-scene/1\n";
   const std::string batch = (testing::SourceDir() / "pipelines/batch.mk").string();
@@ -400,6 +404,7 @@ TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
   EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
   EXPECT_NE(outcome.output.find("would reach a shell"), std::string::npos) << outcome.output;
   EXPECT_FALSE(fs::exists(dir / "PWNED"));
+  EXPECT_FALSE(fs::exists(dir / "COMMA"));
   EXPECT_FALSE(fs::exists(dir / "out"));
 
   const std::string inistate = (testing::SourceDir() / "pipelines/inistate.mk").string();
