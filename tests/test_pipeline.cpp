@@ -389,27 +389,27 @@ TEST_F(PipelineTest, VerdictExitCodesAndBadInputs) {
 // and nothing runs or is written.
 TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
   const fs::path dir = testing::MakeTempDir("names");
-  const fs::path bad = dir / "scenes" / "x$(touch${IFS}PWNED)";
-  fs::create_directories(bad);
-  std::ofstream(bad / "scene.yaml") << "format: ausbau-scene/1\n";
-  // A comma would split make's function arguments around the check.
-  const fs::path comma = dir / "scenes" / "a,$(touch${IFS}COMMA)";
-  fs::create_directories(comma);
-  std::ofstream(comma / "scene.yaml") << "format: ausbau-scene/1\n";
-  fs::create_directories(dir / "scenes" / "good");
-  std::ofstream(dir / "scenes" / "good" / "scene.yaml") << "format: ausbau-scene/1\n";
-  const std::string batch = (testing::SourceDir() / "pipelines/batch.mk").string();
-  const Outcome outcome = Shell("make --no-print-directory -C '" + dir.string() + "' -f '" + batch +
-                                "' SCENES=scenes OUT=out BIN='" + testing::BinDir().string() + "'");
+  const auto scene_folder = [&](const std::string& name) {
+    fs::create_directories(dir / "scenes" / name);
+    std::ofstream(dir / "scenes" / name / "scene.yaml") << "format: ausbau-scene/1\n";
+  };
+  scene_folder("x$(touch${IFS}PWNED)");
+  scene_folder("a,$(touch${IFS}COMMA)");  // a comma would split make's function arguments around the check
+  scene_folder("good");
+  // make -f pipelines/<makefile> in `dir`, every name single-quoted.
+  const auto make = [&](const std::string& makefile, const std::string& variables) {
+    return Shell("make --no-print-directory -C '" + dir.string() + "' -f '" +
+                 (testing::SourceDir() / "pipelines" / makefile).string() + "' " + variables + " BIN='" +
+                 testing::BinDir().string() + "'");
+  };
+  const Outcome outcome = make("batch.mk", "SCENES=scenes OUT=out");
   EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
   EXPECT_NE(outcome.output.find("would reach a shell"), std::string::npos) << outcome.output;
   EXPECT_FALSE(fs::exists(dir / "PWNED"));
   EXPECT_FALSE(fs::exists(dir / "COMMA"));
   EXPECT_FALSE(fs::exists(dir / "out"));
 
-  const std::string inistate = (testing::SourceDir() / "pipelines/inistate.mk").string();
-  const Outcome spaced = Shell("make --no-print-directory -C '" + dir.string() + "' -f '" + inistate +
-                               "' SCENE=scenes/good/scene.yaml 'OUT=o ut' BIN='" + testing::BinDir().string() + "'");
+  const Outcome spaced = make("inistate.mk", "SCENE=scenes/good/scene.yaml 'OUT=o ut'");
   EXPECT_EQ(spaced.exit_code, 2) << spaced.output;
   EXPECT_NE(spaced.output.find("OUT=o ut"), std::string::npos) << spaced.output;
   EXPECT_FALSE(fs::exists(dir / "o"));
