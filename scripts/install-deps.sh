@@ -19,6 +19,9 @@ packages=(
   libeigen3-dev libfcl-dev libassimp-dev libhdf5-dev hdf5-tools
   libyaml-cpp-dev libcli11-dev libgtest-dev libxxhash-dev
   libcgal-dev  # header-only; the test fixtures' welded unions (moulded twins)
+  # OpenCASCADE: STEP assemblies (ausbau-assembly), their product tree (XCAF)
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev
+  libtbb-dev  # named by OpenCASCADE's CMake targets, not pulled in by its -dev packages
   nodejs npm
 )
 case "${1:-}" in

@@ -373,6 +373,24 @@ TEST(RigidDepth, InterlockedRidgesAreAClashNotAFit) {
   EXPECT_TRUE(parts->fits.empty());
   ASSERT_EQ(parts->rigid_interference.size(), 1u);
   EXPECT_GT(parts->installed_depth[0], 0.05);
+  // A tessellation whose chord error is known (scene key
+  // tessellation_deflection, FitRule::tessellation_depth): an overlap no
+  // deeper than it is a fit whatever its shape (surfaces touching in CAD);
+  // a deeper one goes by the rule above.
+  // The overlap is 0.3 mm across the crests, 0.21 mm deep along the flanks'
+  // normals (the depth measured).
+  FitRule rule;
+  rule.tessellation_depth = 0.25;
+  const auto coarse = ClassifyParts(ring_mesh, post_mesh, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule);
+  EXPECT_TRUE(coarse->rigid_interference.empty());
+  ASSERT_EQ(coarse->fits.size(), 1u);
+  const RigidDepthChecker checker(coarse, 0.05, 0.01);
+  EXPECT_TRUE(checker.IsValid(Pose{}));
+  EXPECT_FALSE(checker.IsValid(PoseAt(0.2, 0, 0)));  // sideways: deeper on one side
+  rule.tessellation_depth = 0.15;
+  EXPECT_EQ(ClassifyParts(ring_mesh, post_mesh, Pose{}, 0.05, UnmeasuredInterference::kRigid, rule)
+                ->rigid_interference.size(),
+            1u);
 }
 
 TEST(RigidDepth, ANonConvexShellInterferingIsMeasured) {

@@ -377,6 +377,7 @@ bool IsFit(const PartModel& parts, int r, int s, double depth, const Eigen::Isom
   fit->installed_depth = depth;
   if (!std::isfinite(depth)) return false;
   if (rule.max_depth >= 0) return depth <= rule.max_depth;
+  if (depth <= rule.tessellation_depth) return true;
   const Shell& a = parts.robot_shells[r];
   const Shell& b = parts.static_shells[s];
   if (depth > FitRule::kShareOfSize * std::min(a.box.Diagonal(), b.box.Diagonal())) return false;
@@ -623,7 +624,8 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
       const double fit_limit =
           fit_rule.max_depth >= 0
               ? fit_rule.max_depth
-              : FitRule::kShareOfSize * std::min(s.box.Diagonal(), parts->static_shells[j].box.Diagonal());
+              : std::max(fit_rule.tessellation_depth,
+                         FitRule::kShareOfSize * std::min(s.box.Diagonal(), parts->static_shells[j].box.Diagonal()));
       DepthQuery query;
       query.settle = tolerance / 2;
       query.coarse_above = std::max(fit_limit, tolerance);

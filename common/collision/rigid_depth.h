@@ -68,6 +68,11 @@ enum class ShellRole { kRigid, kFastener };
 // is a fit).
 struct FitRule {
   double max_depth = -1;  // scene units; < 0: the default rule
+  // The meshes' chord error (scene units; 0: unknown): with the default
+  // rule, an installed interference no deeper than this is a fit whatever
+  // its shape, since surfaces touching in CAD overlap that deep after
+  // tessellation (a bore's polygon lies inside the bore).
+  double tessellation_depth = 0;
   static constexpr double kShareOfSize = 0.05;
   static constexpr double kAreaPerDepthSquared = 100;
   // And it slides out: along some direction d the overlapping surfaces lie

@@ -23,6 +23,8 @@ FitRule SceneFitRule(const Scene& scene) {
   FitRule rule;
   if (scene.fit_interference_mm)
     rule.max_depth = RigidToleranceInSceneUnits(*scene.fit_interference_mm, scene.units, nullptr);
+  if (scene.tessellation_deflection_mm)
+    rule.tessellation_depth = RigidToleranceInSceneUnits(*scene.tessellation_deflection_mm, scene.units, nullptr);
   return rule;
 }
 

@@ -33,9 +33,11 @@ std::string Lower(const std::string& text) {
   return out;
 }
 
-std::string PartsJson(const fs::path& assembly, const std::vector<AssemblyPart>& parts, const fs::path& output) {
+std::string PartsJson(const fs::path& assembly, const std::vector<AssemblyPart>& parts, const fs::path& output,
+                      const AssemblyOptions& options) {
   JsonWriter list(true);
   for (const AssemblyPart& part : parts) {
+    if (part.scene.empty()) continue;  // not asked for (AssemblyOptions::only)
     JsonWriter entry;
     entry.Int("index", part.index)
         .String("name", part.name)
@@ -44,6 +46,8 @@ std::string PartsJson(const fs::path& assembly, const std::vector<AssemblyPart>&
         .Int("triangles", part.triangles)
         .Add("box_min", JsonVector(part.box.min))
         .Add("box_max", JsonVector(part.box.max));
+    if (part.index < static_cast<int>(options.part_source_json.size()) && !options.part_source_json[part.index].empty())
+      entry.Add("source", options.part_source_json[part.index]);
     list.Append(entry.Text());
   }
   JsonWriter root;
@@ -51,8 +55,9 @@ std::string PartsJson(const fs::path& assembly, const std::vector<AssemblyPart>&
                               .lexically_normal()
                               .lexically_relative(fs::absolute(output).lexically_normal())
                               .generic_string())
-      .Int("parts", static_cast<long long>(parts.size()))
-      .Add("scenes", list.Text());
+      .Int("parts", static_cast<long long>(parts.size()));
+  if (!options.source_json.empty()) root.Add("source", options.source_json);
+  root.Add("scenes", list.Text());
   return root.Text() + "\n";
 }
 
@@ -111,14 +116,22 @@ std::vector<AssemblyPart> WriteAssemblyScenes(const fs::path& assembly, const fs
                                               "`g`, glTF or COLLADA nodes)");
   }
   const std::string prefix = options.name.empty() ? assembly.stem().string() : options.name;
+  std::vector<bool> wanted(parts.size(), options.only.empty());
+  for (const int k : options.only) {
+    if (k < 0 || k >= static_cast<int>(parts.size()))
+      throw std::runtime_error("WriteAssemblyScenes: part out of range");
+    wanted[k] = true;
+  }
   std::error_code error;
   for (AssemblyPart& part : parts) {
+    if (!wanted[part.index]) continue;
     const fs::path folder = output / part.folder;
     fs::create_directories(folder, error);
     if (error) throw InputErrorAt(folder.string(), "cannot create the folder (" + error.message() + ")");
     Scene scene;
     scene.name = prefix + "-" + (part.name.empty() ? std::to_string(part.index) : part.name);
     scene.units = options.units;
+    scene.tessellation_deflection_mm = options.tessellation_deflection_mm;
     MeshSource whole;
     whole.file = fs::absolute(assembly);
     scene.assembly = whole;
@@ -136,11 +149,16 @@ std::vector<AssemblyPart> WriteAssemblyScenes(const fs::path& assembly, const fs
     SaveSceneYaml(scene, part.scene);
   }
   RefuseToReplace(assembly, output / "assembly.json");
-  WriteTextFileAtomically(output / "assembly.json", PartsJson(assembly, parts, output));
+  WriteTextFileAtomically(output / "assembly.json", PartsJson(assembly, parts, output, options));
   // Each scene read back: a part that S holds as well (two parts with the
   // same geometry at the same place) is refused here, not in a later stage.
-  for (const AssemblyPart& part : parts) LoadScene(part.scene);
-  return parts;
+  std::vector<AssemblyPart> written;
+  for (const AssemblyPart& part : parts) {
+    if (part.scene.empty()) continue;
+    LoadScene(part.scene);
+    written.push_back(part);
+  }
+  return written;
 }
 
 }  // namespace ausbau

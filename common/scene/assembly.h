@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,15 @@ struct AssemblyPart {
 std::vector<AssemblyPart> ListAssemblyParts(const std::filesystem::path& assembly);
 
 struct AssemblyOptions {
-  std::string units;  // the scenes' `units:` (empty: none written); IsSceneUnitsName
-  std::string name;   // the scenes' name prefix; empty: the assembly file's stem
+  std::string units;                                 // the scenes' `units:` (empty: none written); IsSceneUnitsName
+  std::string name;                                  // the scenes' name prefix; empty: the assembly file's stem
+  std::optional<double> tessellation_deflection_mm;  // written into every scene (Scene::tessellation_deflection_mm)
+  std::vector<int> only;                             // the parts (indices) to write a scene for; empty: every part
+  // Where the assembly file came from (a STEP file it was tessellated
+  // from): a JSON object written as assembly.json's "source", and per part
+  // index one written as that part's "source" (empty: none).
+  std::string source_json;
+  std::vector<std::string> part_source_json;
 };
 
 // Writes <output>/<folder>/scene.yaml per part (D = the part, picked by name

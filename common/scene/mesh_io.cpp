@@ -763,4 +763,31 @@ void SaveObj(const TriangleMesh& mesh, const fs::path& path) {
   WriteTextFileAtomically(path, text);
 }
 
+void SaveObjParts(const std::vector<ObjPart>& parts, const fs::path& path, const std::vector<std::string>& header) {
+  std::string text;
+  for (const std::string& line : header) text += "# " + line + "\n";
+  char line[128];
+  long long first = 1;
+  for (const ObjPart& part : parts) {
+    if (part.name.empty()) throw std::runtime_error("SaveObjParts: a part without a name");
+    for (const char c : part.name) {
+      const auto u = static_cast<unsigned char>(c);
+      if (!(std::isalnum(u) || c == '.' || c == '_' || c == '-')) {
+        throw std::runtime_error("SaveObjParts: part name '" + part.name + "' is not safe for OBJ");
+      }
+    }
+    text += "o " + part.name + "\n";
+    for (const auto& v : part.mesh->vertices) {
+      std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+      text += line;
+    }
+    for (const auto& t : part.mesh->triangles) {
+      std::snprintf(line, sizeof line, "f %lld %lld %lld\n", t[0] + first, t[1] + first, t[2] + first);
+      text += line;
+    }
+    first += static_cast<long long>(part.mesh->vertices.size());
+  }
+  WriteTextFileAtomically(path, text);
+}
+
 }  // namespace ausbau

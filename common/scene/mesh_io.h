@@ -71,4 +71,16 @@ std::string PartListText(const MeshFile& file, std::size_t limit = 40);
 // Writes a mesh as Wavefront OBJ (used by generators and tests).
 void SaveObj(const TriangleMesh& mesh, const std::filesystem::path& path);
 
+// One named part of an OBJ file to write (SaveObjParts).
+struct ObjPart {
+  std::string name;  // letters, digits, '.', '_', '-' only (assimp ends a name at a blank)
+  const TriangleMesh* mesh = nullptr;
+};
+
+// Writes several parts into one OBJ, atomically: an object `o name` per
+// part, in order, so that LoadMeshFile reads them back as its parts.
+// `header` lines are written as comments first.
+void SaveObjParts(const std::vector<ObjPart>& parts, const std::filesystem::path& path,
+                  const std::vector<std::string>& header = {});
+
 }  // namespace ausbau

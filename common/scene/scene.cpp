@@ -606,8 +606,17 @@ Scene LoadScene(const fs::path& path) {
   Scene scene;
   try {
     scene.format_version = ReadFormatVersion(r, root);
-    std::set<std::string> keys = {"format",         "name",  "units", "static", "dynamic",
-                                  "dynamic_origin", "start", "goal",  "bounds", "fit_interference"};
+    std::set<std::string> keys = {"format",
+                                  "name",
+                                  "units",
+                                  "static",
+                                  "dynamic",
+                                  "dynamic_origin",
+                                  "start",
+                                  "goal",
+                                  "bounds",
+                                  "fit_interference",
+                                  "tessellation_deflection"};
     if (scene.format_version >= 2) keys.insert("assembly");
     r.CheckKeys(root, keys, "");
 
@@ -637,6 +646,15 @@ Scene LoadScene(const fs::path& path) {
                std::to_string(Reader::Line(f)) + ")");
       }
       scene.fit_interference_mm = mm;
+    }
+    if (root["tessellation_deflection"]) {
+      const YAML::Node f = root["tessellation_deflection"];
+      double mm = 0;
+      if (!Reader::ToNumber(f, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
+        r.Fail("tessellation_deflection must be a chord error in mm >= 0 (got " + Reader::Show(f) + ", line " +
+               std::to_string(Reader::Line(f)) + ")");
+      }
+      scene.tessellation_deflection_mm = mm;
     }
   } catch (const YAML::Exception& e) {
     // Should not happen after the checks above; keep the one-line contract anyway.
@@ -690,6 +708,11 @@ std::string SceneYamlText(const Scene& scene, const fs::path& path) {
   if (scene.fit_interference_mm) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "fit_interference: %.17g\n", *scene.fit_interference_mm);
+    y += buf;
+  }
+  if (scene.tessellation_deflection_mm) {
+    char buf[80];
+    std::snprintf(buf, sizeof buf, "tessellation_deflection: %.17g  # mm\n", *scene.tessellation_deflection_mm);
     y += buf;
   }
   return y;

@@ -92,6 +92,12 @@ struct Scene {
   // mm (collision/rigid_depth.h FitRule; 0: none is). None: the default
   // rule (a thin layer along a surface, small against the parts).
   std::optional<double> fit_interference_mm;
+  // `tessellation_deflection`: the chord error of the meshes (mm), as the
+  // tessellation of a CAD model recorded it (ausbau-assembly from STEP).
+  // Two surfaces that touch in CAD overlap by at most this in the meshes,
+  // so an installed interference no deeper is a fit whatever its shape
+  // (FitRule::tessellation_depth). Absent: unknown.
+  std::optional<double> tessellation_deflection_mm;
 };
 
 // Reads and validates scene.yaml (format /1 or /2) and loads its meshes. Throws InputError with

@@ -1,8 +1,10 @@
-// ausbau-assembly: one assembly file (several parts in one OBJ, glTF,
-// COLLADA, ... file) in, one scene per part out: D = the part, S = the rest.
-// The work is in common/scene/assembly.h; see README.md beside this file.
+// ausbau-assembly: one assembly file (a STEP assembly, or several parts in
+// one OBJ, glTF, COLLADA, ... file) in, one scene per part out: D = the
+// part, S = the rest. The work is in common/scene/assembly.h and, for STEP,
+// common/cad/step_scenes.h; see README.md beside this file.
 #include <cstdio>
 
+#include "cad/step_scenes.h"
 #include "cli/stage_main.h"
 #include "core/log.h"
 #include "scene/assembly.h"
@@ -17,11 +19,15 @@ const StageInfo kAssemblyStage{
 struct AssemblyStageOptions {
   std::string assembly, output = "assembly";
   AssemblyOptions scenes;
+  StepTessellation tessellation;
+  std::vector<std::string> dynamic;
   bool list = false;
 };
 
 void DeclareAssembly(CLI::App& app, AssemblyStageOptions* options) {
-  app.add_option("--assembly", options->assembly, "the assembly: one mesh file holding several parts")->required();
+  app.add_option("--assembly", options->assembly,
+                 "the assembly: a STEP file (.step, .stp), or one mesh file holding several parts")
+      ->required();
   app.add_option("-o,--output-dir", options->output,
                  "output folder: one folder per part with scene.yaml, and assembly.json")
       ->capture_default_str();
@@ -29,6 +35,56 @@ void DeclareAssembly(CLI::App& app, AssemblyStageOptions* options) {
                  "the scenes' units: mm, cm, m, inch, unitless or none (empty: not written)");
   app.add_option("--name", options->scenes.name, "the scenes' name prefix (default: the assembly file's stem)");
   app.add_flag("--list", options->list, "print the parts (index, name, triangles, box) and write nothing");
+  app.add_option("--dynamic", options->dynamic,
+                 "STEP: write scenes only for these parts (name, or path in the product tree: every part below "
+                 "it); repeatable");
+  app.add_option("--deflection", options->tessellation.deflection_mm,
+                 "STEP: the tessellation's chord error in mm (recorded in every scene as tessellation_deflection)")
+      ->capture_default_str();
+  app.add_option("--angular-deflection", options->tessellation.angular_deflection_rad,
+                 "STEP: the tessellation's angle between neighbouring triangles' normals, radians")
+      ->capture_default_str();
+}
+
+int ListStepParts(const AssemblyStageOptions& options) {
+  const StepAssembly assembly = ReadStepAssembly(options.assembly, options.tessellation);
+  const std::vector<std::string> names = StepPartNames(assembly, StepMeshFileName(options.assembly));
+  std::printf("index\tname\ttriangles\tbox_min\tbox_max\tpath\n");
+  int index = 0;  // in the tessellated OBJ (scene.yaml `part: index`)
+  for (std::size_t k = 0; k < assembly.parts.size(); ++k) {
+    const StepPart& part = assembly.parts[k];
+    const Aabb box = part.mesh.Bounds();
+    std::string path;
+    for (const std::string& node : part.path) path += (path.empty() ? "" : "/") + node;
+    if (part.mesh.triangles.empty()) {  // left out of the OBJ: no surface (a wireframe, an empty compound)
+      std::printf("-\t%s\t0\t-\t-\t%s\n", names[k].c_str(), path.c_str());
+      continue;
+    }
+    std::printf("%d\t%s\t%zu\t%g %g %g\t%g %g %g\t%s\n", index++, names[k].c_str(), part.mesh.triangles.size(),
+                box.min.x(), box.min.y(), box.min.z(), box.max.x(), box.max.y(), box.max.z(), path.c_str());
+  }
+  return kExitOk;
+}
+
+int SplitStepAssembly(const AssemblyStageOptions& options) {
+  if (options.list) return ListStepParts(options);
+  StepSceneOptions step;
+  step.tessellation = options.tessellation;
+  if (!options.scenes.units.empty()) step.units = options.scenes.units;
+  step.name = options.scenes.name;
+  step.dynamic = options.dynamic;
+  LogInfo("reading and tessellating %s (chord error %g mm)", options.assembly.c_str(),
+          options.tessellation.deflection_mm);
+  const StepScenes scenes = WriteStepAssemblyScenes(options.assembly, options.output, step);
+  for (const AssemblyPart& part : scenes.parts) std::printf("%s\n", part.scene.string().c_str());
+  LogInfo("%d instances of %d products, %lld triangles (file units: %s) -> %s; wrote %zu scenes and %s/assembly.json",
+          scenes.instances, scenes.products, scenes.triangles,
+          scenes.file_units.empty() ? "not given" : scenes.file_units.c_str(), scenes.mesh.string().c_str(),
+          scenes.parts.size(), options.output.c_str());
+  if (scenes.faces_without_triangles > 0) {
+    LogWarn("%d CAD faces could not be tessellated and are missing from the meshes", scenes.faces_without_triangles);
+  }
+  return kExitOk;
 }
 
 int ListParts(const std::string& assembly) {
@@ -41,6 +97,10 @@ int ListParts(const std::string& assembly) {
 }
 
 int SplitAssembly(const AssemblyStageOptions& options) {
+  if (IsStepFileName(options.assembly)) return SplitStepAssembly(options);
+  if (!options.dynamic.empty()) {
+    throw InputError("--dynamic: picks parts of a STEP assembly; a mesh file's scenes pick D by name or index");
+  }
   if (options.list) return ListParts(options.assembly);
   const std::vector<AssemblyPart> parts = WriteAssemblyScenes(options.assembly, options.output, options.scenes);
   for (const AssemblyPart& part : parts) std::printf("%s\n", part.scene.string().c_str());

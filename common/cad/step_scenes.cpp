@@ -1,0 +1,200 @@
+#include "cad/step_scenes.h"
+
+#include <Standard_Version.hxx>
+#include <cctype>
+#include <map>
+#include <set>
+#include <system_error>
+
+#include "core/error.h"
+#include "core/hash.h"
+#include "core/json_writer.h"
+#include "core/log.h"
+#include "scene/mesh_io.h"
+#include "scene/units.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Lower(const std::string& text) {
+  std::string out;
+  for (const char c : text) out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+std::string SafeName(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (std::isalnum(u) || c == '.' || c == '_' || c == '-') ? c : '_';
+  }
+  if (out.empty() || out == "." || out == "..") out = "part";
+  return out;
+}
+
+std::string JoinPath(const std::vector<std::string>& path, std::size_t length) {
+  std::string out;
+  for (std::size_t k = 0; k < length && k < path.size(); ++k) out += (k > 0 ? "/" : "") + path[k];
+  return out;
+}
+
+// On one line: [a, b, ...].
+std::string JsonList(const std::vector<std::string>& raw_values) {
+  std::string out = "[";
+  for (std::size_t k = 0; k < raw_values.size(); ++k) out += (k > 0 ? ", " : "") + raw_values[k];
+  return out + "]";
+}
+
+// The rotation and translation, row by row: [[r00, r01, r02, t0], ...].
+std::string PlacementJson(const Eigen::Isometry3d& placement) {
+  std::vector<std::string> rows;
+  for (int r = 0; r < 3; ++r) {
+    std::vector<std::string> row;
+    for (int c = 0; c < 4; ++c) row.push_back(JsonNumber(placement.matrix()(r, c)));
+    rows.push_back(JsonList(row));
+  }
+  return JsonList(rows);
+}
+
+std::string PartSourceJson(const StepPart& part) {
+  std::vector<std::string> path;
+  for (const std::string& node : part.path) path.push_back(JsonString(node));
+  JsonWriter out;
+  out.String("name", part.name)
+      .String("product", part.product)
+      .Add("path", JsonList(path))
+      .Add("placement", PlacementJson(part.placement))
+      .Int("faces", part.faces)
+      .Int("faces_without_triangles", part.faces_without_triangles);
+  return out.Text();
+}
+
+}  // namespace
+
+std::string StepMeshFileName(const fs::path& step) { return step.stem().string() + ".tessellated.obj"; }
+
+std::vector<std::string> StepPartNames(const StepAssembly& assembly, const std::string& reserved_file) {
+  std::set<std::string> used = {Lower("assembly.json"), Lower(reserved_file)};
+  std::vector<std::string> names;
+  for (const StepPart& part : assembly.parts) {
+    const std::string base = SafeName(part.name);
+    std::string name = base;
+    for (int k = 2; !used.insert(Lower(name)).second; ++k) name = base + "-" + std::to_string(k);
+    names.push_back(name);
+  }
+  return names;
+}
+
+std::vector<int> PickStepParts(const StepAssembly& assembly, const std::vector<std::string>& names,
+                               const std::string& pick) {
+  std::vector<int> picked;
+  for (int k = 0; k < static_cast<int>(assembly.parts.size()); ++k) {
+    const StepPart& part = assembly.parts[k];
+    bool match = pick == names[k] || pick == part.name || pick == JoinPath(part.path, part.path.size());
+    for (std::size_t length = 1; !match && length < part.path.size(); ++length) {
+      match = pick == JoinPath(part.path, length) || pick == part.path[length - 1];
+    }
+    if (match) picked.push_back(k);
+  }
+  if (picked.empty()) {
+    std::string list;
+    for (std::size_t k = 0; k < names.size() && k < 40; ++k) list += (k > 0 ? ", " : "") + names[k];
+    if (names.size() > 40) list += ", ... (" + std::to_string(names.size() - 40) + " more)";
+    throw InputError("--dynamic: '" + pick + "' names no part of the assembly (parts: " + list + ")");
+  }
+  return picked;
+}
+
+StepScenes WriteStepAssemblyScenes(const fs::path& step, const fs::path& output, const StepSceneOptions& options) {
+  const std::optional<double> mm_per_unit = MillimetresPerUnit(options.units);
+  if (!mm_per_unit) {
+    throw InputError("--units: a STEP assembly is tessellated in a length unit: mm, cm, m or inch (got '" +
+                     options.units + "')");
+  }
+  StepAssembly assembly = ReadStepAssembly(step, options.tessellation);
+  const std::string mesh_name = StepMeshFileName(step);
+  const std::vector<std::string> names = StepPartNames(assembly, mesh_name);
+  std::vector<int> picked;
+  for (const std::string& pick : options.dynamic) {
+    for (const int k : PickStepParts(assembly, names, pick)) picked.push_back(k);
+  }
+
+  StepScenes out;
+  out.file_units = assembly.file_units;
+  out.products = assembly.products;
+  out.instances = static_cast<int>(assembly.parts.size());
+  // The OBJ holds the instances with triangles, in order; a part of the
+  // OBJ is one of those (LoadMeshFile skips an object without triangles).
+  const double scale = 1.0 / *mm_per_unit;
+  std::vector<ObjPart> obj_parts;
+  std::vector<int> obj_index(assembly.parts.size(), -1);
+  std::vector<std::string> part_source_json;
+  for (std::size_t k = 0; k < assembly.parts.size(); ++k) {
+    StepPart& part = assembly.parts[k];
+    out.faces_without_triangles += part.faces_without_triangles;
+    if (part.mesh.triangles.empty()) {
+      LogWarn("%s: part '%s' (%s) has no triangle after tessellation; it is left out", step.string().c_str(),
+              part.name.c_str(), JoinPath(part.path, part.path.size()).c_str());
+      continue;
+    }
+    for (Eigen::Vector3d& v : part.mesh.vertices) v *= scale;
+    out.triangles += static_cast<long long>(part.mesh.triangles.size());
+    obj_index[k] = static_cast<int>(obj_parts.size());
+    obj_parts.push_back({names[k], &part.mesh});
+    part_source_json.push_back(PartSourceJson(part));
+  }
+  std::vector<int> only;
+  for (const int k : picked) {
+    if (obj_index[k] < 0) {
+      throw InputError("--dynamic: part '" + names[k] + "' has no triangle after tessellation");
+    }
+    only.push_back(obj_index[k]);
+  }
+  std::error_code error;
+  fs::create_directories(output, error);
+  if (error) throw InputErrorAt(output.string(), "cannot create the folder (" + error.message() + ")");
+  out.mesh = output / mesh_name;
+  if (fs::equivalent(step, out.mesh, error) && !error) {
+    throw InputErrorAt(out.mesh.string(), "is the STEP file itself; choose another -o");
+  }
+  char deflection[64];
+  std::snprintf(deflection, sizeof deflection, "%.17g mm, angular %.17g rad", options.tessellation.deflection_mm,
+                options.tessellation.angular_deflection_rad);
+  SaveObjParts(obj_parts, out.mesh,
+               {"ausbau-assembly: " + step.filename().string() + " tessellated by OpenCASCADE " + OCC_VERSION_COMPLETE,
+                std::string("chord error ") + deflection + "; units: " + options.units +
+                    "; one object per instance of the product tree (assembly.json: paths, placements)"});
+
+  const std::string hash = HashFile(step);
+  JsonWriter source;
+  source
+      .String("file", fs::absolute(step)
+                          .lexically_normal()
+                          .lexically_relative(fs::absolute(output).lexically_normal())
+                          .generic_string())
+      .String("format", "STEP")
+      .String("content_hash", hash)
+      .String("file_units", assembly.file_units)
+      .String("units", options.units)
+      .String("tessellated_by", std::string("OpenCASCADE ") + OCC_VERSION_COMPLETE)
+      .Number("deflection_mm", options.tessellation.deflection_mm)
+      .Number("angular_deflection_rad", options.tessellation.angular_deflection_rad)
+      .Int("products", assembly.products)
+      .Int("instances", out.instances)
+      .Int("triangles", out.triangles)
+      .Int("faces_without_triangles", out.faces_without_triangles);
+
+  AssemblyOptions scenes;
+  scenes.units = options.units;
+  scenes.name = options.name.empty() ? step.stem().string() : options.name;
+  scenes.tessellation_deflection_mm = options.tessellation.deflection_mm;
+  scenes.only = only;
+  scenes.source_json = source.Text();
+  scenes.part_source_json = std::move(part_source_json);
+  out.parts = WriteAssemblyScenes(out.mesh, output, scenes);
+  return out;
+}
+
+}  // namespace ausbau

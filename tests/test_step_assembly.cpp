@@ -1,0 +1,230 @@
+// STEP assemblies (issue 31 item 1): a product tree written by OpenCASCADE
+// here (tests/step_fixture.h: a plate with a bore, a pin in it, a
+// sub-assembly of two studs placed twice), read back by ReadStepAssembly:
+// names, paths, placements, units (mm and inch), closed meshes within the
+// chord error; ausbau-assembly end to end (scenes, assembly.json, --dynamic,
+// the tessellation recorded) and ausbau-plan taking the pin out of its bore;
+// and the bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cad/step_assembly.h"
+#include "cad/step_scenes.h"
+#include "core/error.h"
+#include "geometry/primitives.h"
+#include "scene/mesh_io.h"
+#include "scene/scene.h"
+#include "step_fixture.h"
+#include "test_scenes.h"
+
+namespace ausbau {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string PathText(const StepPart& part) {
+  std::string out;
+  for (const std::string& node : part.path) out += (out.empty() ? "" : "/") + node;
+  return out;
+}
+
+// Every edge of a closed, consistently oriented mesh is used once in each
+// direction.
+bool IsClosedAndOriented(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> directed;
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+  }
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return false;
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (reverse == directed.end() || reverse->second != 1) return false;
+  }
+  return true;
+}
+
+double Volume(const TriangleMesh& mesh) {
+  double six = 0;
+  for (const auto& t : mesh.triangles) {
+    six += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  }
+  return six / 6;
+}
+
+class StepAssemblyTest : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = testing::MakeTempDir("step"); }
+  fs::path dir_;
+};
+
+TEST_F(StepAssemblyTest, TheProductTreeComesBackWithNamesPlacementsAndClosedMeshes) {
+  const fs::path file = dir_ / "bench.step";
+  testing::WriteStepFixture(file);
+  StepTessellation tessellation;
+  const StepAssembly assembly = ReadStepAssembly(file, tessellation);
+  ASSERT_EQ(assembly.parts.size(), 6u);
+  EXPECT_EQ(assembly.products, 3);  // plate, pin, stud: each tessellated once
+  std::vector<std::string> paths;
+  for (const StepPart& part : assembly.parts) paths.push_back(PathText(part));
+  EXPECT_EQ(paths, (std::vector<std::string>{"bench/plate", "bench/pin", "bench/pair:1/stud", "bench/pair:1/stud",
+                                             "bench/pair:2/stud", "bench/pair:2/stud"}));
+  // Placements: the second stud of the second pair at (60 + 20, 45, 10).
+  EXPECT_TRUE(assembly.parts[5].placement.translation().isApprox(Eigen::Vector3d(80, 45, 10), 1e-12));
+  const Aabb stud = assembly.parts[5].mesh.Bounds();
+  EXPECT_NEAR(stud.min.x(), 77, tessellation.deflection_mm);
+  EXPECT_NEAR(stud.max.z(), 25, 1e-9);
+  const Aabb pin = assembly.parts[1].mesh.Bounds();
+  EXPECT_NEAR(pin.min.z(), -5, 1e-9);
+  EXPECT_NEAR(pin.max.z(), 25, 1e-9);
+  for (const StepPart& part : assembly.parts) {
+    EXPECT_TRUE(IsClosedAndOriented(part.mesh)) << PathText(part);
+    EXPECT_EQ(part.faces_without_triangles, 0) << PathText(part);
+  }
+  // Volumes within the chord error: the plate 60000 - 250 pi (its bore's
+  // polygon is inscribed, so a little more), the pin 750 pi (a little less).
+  const double plate = Volume(assembly.parts[0].mesh), pin_volume = Volume(assembly.parts[1].mesh);
+  EXPECT_GE(plate, 60000 - 250 * M_PI);
+  EXPECT_LE(plate, 60000 - 250 * M_PI + 2 * M_PI * 5 * 10 * tessellation.deflection_mm);
+  EXPECT_LE(pin_volume, 750 * M_PI);
+  EXPECT_GE(pin_volume, 750 * M_PI - 2 * M_PI * 5 * 30 * tessellation.deflection_mm);
+  // The chord error: the pin's vertices lie on its cylinder, the middle of
+  // each edge at most the deflection inside it.
+  const TriangleMesh& mesh = assembly.parts[1].mesh;
+  double deepest = 0;
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d a = mesh.vertices[t[k]], b = mesh.vertices[t[(k + 1) % 3]];
+      for (const Eigen::Vector3d& p : {a, Eigen::Vector3d((a + b) / 2)}) {
+        const double r = std::hypot(p.x() - 30, p.y() - 30);
+        if (p.z() > -5 + 1e-9 && p.z() < 25 - 1e-9) deepest = std::max(deepest, 5 - r);
+        EXPECT_LE(r, 5 + 1e-9);
+      }
+    }
+  }
+  EXPECT_LE(deepest, tessellation.deflection_mm + 1e-9);
+  EXPECT_GT(deepest, 0);  // the check above checked something
+}
+
+TEST_F(StepAssemblyTest, AnInchFileComesBackInMillimetres) {
+  const fs::path mm = dir_ / "mm.step", inch = dir_ / "inch.stp";
+  testing::WriteStepFixture(mm);
+  testing::StepFixtureOptions options;
+  options.unit = "INCH";
+  testing::WriteStepFixture(inch, options);
+  const StepAssembly a = ReadStepAssembly(mm, {}), b = ReadStepAssembly(inch, {});
+  EXPECT_EQ(a.file_units, "millimetre");
+  EXPECT_EQ(b.file_units, "INCH");  // as the file names it
+  ASSERT_EQ(a.parts.size(), b.parts.size());
+  for (std::size_t k = 0; k < a.parts.size(); ++k) {
+    const Aabb x = a.parts[k].mesh.Bounds(), y = b.parts[k].mesh.Bounds();
+    EXPECT_TRUE(x.min.isApprox(y.min, 1e-9) && x.max.isApprox(y.max, 1e-9)) << k;
+  }
+}
+
+TEST_F(StepAssemblyTest, NamesAreUniqueAndPicksFollowTheTree) {
+  const fs::path file = dir_ / "bench.step";
+  testing::WriteStepFixture(file);
+  const StepAssembly assembly = ReadStepAssembly(file, {});
+  const std::vector<std::string> names = StepPartNames(assembly, "bench.tessellated.obj");
+  EXPECT_EQ(names, (std::vector<std::string>{"plate", "pin", "stud", "stud-2", "stud-3", "stud-4"}));
+  EXPECT_EQ(PickStepParts(assembly, names, "pin"), (std::vector<int>{1}));
+  EXPECT_EQ(PickStepParts(assembly, names, "stud-3"), (std::vector<int>{4}));
+  EXPECT_EQ(PickStepParts(assembly, names, "bench/pair:2"), (std::vector<int>{4, 5}));
+  EXPECT_EQ(PickStepParts(assembly, names, "pair:1"), (std::vector<int>{2, 3}));
+  EXPECT_EQ(PickStepParts(assembly, names, "stud"), (std::vector<int>{2, 3, 4, 5}));  // its name in the file
+  EXPECT_THROW(PickStepParts(assembly, names, "lid"), InputError);
+}
+
+TEST_F(StepAssemblyTest, AssemblyWritesScenesWithTheTessellationAndThePinComesOut) {
+  const fs::path file = dir_ / "bench.step", out = dir_ / "scenes";
+  testing::StepFixtureOptions fixture;
+  fixture.gap_mm = 0.03;  // a tight fit: the pin's radius 0.03 mm under the bore's
+  testing::WriteStepFixture(file, fixture);
+  const auto run = testing::RunStageCommand(
+      "assembly", "--assembly " + file.string() + " -o " + out.string() + " --dynamic pin --dynamic bench/pair:2 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(out / "bench.tessellated.obj"));
+  for (const std::string part : {"pin", "stud-3", "stud-4"}) EXPECT_TRUE(fs::exists(out / part / "scene.yaml"));
+  EXPECT_FALSE(fs::exists(out / "plate" / "scene.yaml"));
+  const std::string yaml = testing::ReadTextFile(out / "pin" / "scene.yaml");
+  EXPECT_NE(yaml.find("tessellation_deflection: 0.02"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("units: \"mm\""), std::string::npos) << yaml;
+  const Scene scene = LoadScene(out / "pin" / "scene.yaml");
+  ASSERT_TRUE(scene.tessellation_deflection_mm.has_value());
+  EXPECT_EQ(*scene.tessellation_deflection_mm, 0.02);
+  EXPECT_EQ(scene.static_part_names.size(), 5u);  // the plate and the four studs
+  const std::string json = testing::ReadTextFile(out / "assembly.json");
+  for (const std::string expected :
+       {"\"format\": \"STEP\"", "\"file_units\": \"millimetre\"", "\"deflection_mm\": 0.02", "\"instances\": 6",
+        "\"path\": [\"bench\", \"pair:2\", \"stud\"]", "\"file\": \"../bench.step\""}) {
+    EXPECT_NE(json.find(expected), std::string::npos) << expected << "\n" << json;
+  }
+  // The pin sits in its bore with 0.03 mm of clearance, less than the chord
+  // error lets the polygons differ from the cylinders: it comes out along
+  // its axis, and the exact check passes the written path. (With no
+  // clearance at all it comes out too, but the exact depth of two faceted
+  // cylinders in contact takes minutes: README "STEP assemblies".)
+  const auto plan = testing::RunStageCommand("plan", "--scene " + (out / "pin" / "scene.yaml").string() + " -o " +
+                                                         (out / "pin" / "path.h5").string() +
+                                                         " --validity rigid-exact --time-limit 30 2>&1");
+  EXPECT_EQ(plan.exit_code, 0) << plan.output;
+}
+
+TEST_F(StepAssemblyTest, TheSceneKeyTessellationDeflectionReadsBackAndRefusesNonsense) {
+  SaveObj(MakeBox({0, 0, 0}, {1, 1, 1}), dir_ / "d.obj");
+  SaveObj(MakeBox({2, 0, 0}, {3, 1, 1}), dir_ / "s.obj");
+  const auto write = [&](const std::string& value) {
+    std::ofstream(dir_ / "scene.yaml") << "format: ausbau-scene/1\nunits: mm\nstatic: s.obj\ndynamic: d.obj\n"
+                                       << "tessellation_deflection: " << value << "\n";
+    return dir_ / "scene.yaml";
+  };
+  Scene scene = LoadScene(write("0.05"));
+  ASSERT_TRUE(scene.tessellation_deflection_mm.has_value());
+  EXPECT_EQ(*scene.tessellation_deflection_mm, 0.05);
+  SaveSceneYaml(scene, dir_ / "again.yaml");
+  EXPECT_EQ(LoadScene(dir_ / "again.yaml").tessellation_deflection_mm, 0.05);
+  for (const std::string bad : {"-1", ".nan", "\"0.1\"", "[1]"}) {
+    try {
+      LoadScene(write(bad));
+      ADD_FAILURE() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("tessellation_deflection must be a chord error in mm >= 0"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST_F(StepAssemblyTest, BadInputIsAClearError) {
+  const fs::path file = dir_ / "bench.step";
+  testing::WriteStepFixture(file);
+  std::ofstream(dir_ / "mesh.step") << "solid x\nendsolid x\n";
+  const std::string full = testing::ReadTextFile(file);
+  std::ofstream(dir_ / "cut.step") << full.substr(0, full.size() / 2);
+  const struct {
+    std::string arguments, message;
+  } cases[] = {
+      {"--assembly " + (dir_ / "none.step").string(), "none.step: file not found"},
+      {"--assembly " + (dir_ / "mesh.step").string(), "mesh.step: not a STEP file"},
+      {"--assembly " + (dir_ / "cut.step").string(), "cut.step: "},
+      {"--assembly " + file.string() + " --deflection 0", "--deflection: must be a finite number > 0"},
+      {"--assembly " + file.string() + " --deflection nan", "--deflection"},
+      {"--assembly " + file.string() + " --angular-deflection 2", "--angular-deflection: must be at most 1.5"},
+      {"--assembly " + file.string() + " --dynamic lid", "'lid' names no part of the assembly (parts: plate, pin"},
+      {"--assembly " + file.string() + " --units none", "--units: a STEP assembly is tessellated in a length unit"},
+  };
+  for (const auto& c : cases) {
+    const auto run = testing::RunStageCommand("assembly", c.arguments + " -o " + (dir_ / "o").string() + " 2>&1");
+    EXPECT_EQ(run.exit_code, 2) << c.arguments << "\n" << run.output;
+    EXPECT_NE(run.output.find(c.message), std::string::npos) << c.arguments << "\n" << run.output;
+  }
+}
+
+}  // namespace
+}  // namespace ausbau
