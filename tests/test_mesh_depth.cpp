@@ -266,6 +266,65 @@ TEST(MeshDepth, TheFaceBoundsNeverFallBelowTheDepth) {
   EXPECT_GT(straddle_bounds, 0);
 }
 
+TEST(MeshDepth, TheShiftOffBoundNeverFallsBelowTheDepth) {
+  // Random triangles about the U's surface (as above): wherever the bound
+  // moving a triangle off the surface holds, no sampled point of it is
+  // deeper than the bound.
+  TriangleMesh u = Subdivided(MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5));
+  const DepthSurface s(OneShell(u));
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const double gap = 1e-4, shift = 0.05;
+  int bounds = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Eigen::Vector3d centre(10 * (unit(random) + 1) / 2, 10 * (unit(random) + 1) / 2, 5 * (unit(random) + 1) / 2);
+    const double size = 0.01 + 0.5 * (unit(random) + 1);
+    std::array<Eigen::Vector3d, 3> t;
+    for (auto& corner : t) corner = centre + size * Eigen::Vector3d(unit(random), unit(random), unit(random));
+    // Flattened onto the nearest face now and then: contact, the case it is for.
+    const TriangleBvh::Nearest nearest = s.bvh().NearestPoint((t[0] + t[1] + t[2]) / 3.0);
+    if (trial % 2 == 0) {
+      const auto& f = s.triangles()[nearest.triangle];
+      const Eigen::Vector3d n =
+          (s.vertices()[f[1]] - s.vertices()[f[0]]).cross(s.vertices()[f[2]] - s.vertices()[f[0]]).normalized();
+      for (auto& corner : t) corner -= (corner - nearest.point).dot(n) * n;
+    }
+    const double bound = s.ShiftOffBound(t, s.bvh().NearestPoint((t[0] + t[1] + t[2]) / 3.0), shift, gap);
+    if (std::isinf(bound)) continue;
+    EXPECT_EQ(bound, shift);
+    ++bounds;
+    double deepest = 0;
+    constexpr int kGrid = 24;
+    for (int i = 0; i <= kGrid; ++i)
+      for (int j = 0; i + j <= kGrid; ++j) {
+        const double a = double(i) / kGrid, b = double(j) / kGrid;
+        deepest = std::max(deepest, s.SignedDistance((1 - a - b) * t[0] + a * t[1] + b * t[2]));
+      }
+    EXPECT_LE(deepest, bound + 1e-9) << "trial " << trial;
+  }
+  EXPECT_GT(bounds, 300);  // the bound was tried where it holds
+}
+
+TEST(MeshDepth, APinLyingOnItsBoresFacetsIsSettledWhole) {
+  // A pin in a bore of the same radius, both the same 32-sided polygon (one
+  // tessellator, one radius): the facets coincide, the depth is 0. Each
+  // facet of the pin crosses the block's rims, where no single face bounds
+  // it; moving the pieces off the bore (ShiftOffBound) settles them, where
+  // before a measurement refined every rim to an eighth of the resolution
+  // (about 100,000 sub-triangles).
+  const TriangleMesh block = MakeSolidOfRevolution({{4, 0}, {8, 0}, {8, 5}, {4, 5}}, 32);
+  const TriangleMesh pin = Post(4, 32);
+  const SurfaceDepth depth = Measure(pin, block, 5e-3);
+  EXPECT_LE(depth.upper, 5e-3);
+  EXPECT_LT(depth.sub_triangles, 10000);
+  // Pushed 0.1 sideways the pin is 0.1 deep in the bore's wall, and found so.
+  const DepthSurface sa(OneShell(pin)), sb(OneShell(block));
+  SurfaceDepthOptions options;
+  options.resolution = 5e-3;
+  const SurfaceDepth pushed = MeasureSurfaceDepth(sa, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0, 0)), sb, options);
+  EXPECT_GE(pushed.upper, 0.09);
+}
+
 TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   // Four segments turn the profile into a square block with a square hole,
   // both rotated 45 degrees: the hole's sides lie on |x| + |y| = 2. A square

@@ -143,9 +143,7 @@ TEST_F(StepAssemblyTest, NamesAreUniqueAndPicksFollowTheTree) {
 
 TEST_F(StepAssemblyTest, AssemblyWritesScenesWithTheTessellationAndThePinComesOut) {
   const fs::path file = dir_ / "bench.step", out = dir_ / "scenes";
-  testing::StepFixtureOptions fixture;
-  fixture.gap_mm = 0.03;  // a tight fit: the pin's radius 0.03 mm under the bore's
-  testing::WriteStepFixture(file, fixture);
+  testing::WriteStepFixture(file);
   const auto run = testing::RunStageCommand(
       "assembly", "--assembly " + file.string() + " -o " + out.string() + " --dynamic pin --dynamic bench/pair:2 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -165,15 +163,27 @@ TEST_F(StepAssemblyTest, AssemblyWritesScenesWithTheTessellationAndThePinComesOu
         "\"path\": [\"bench\", \"pair:2\", \"stud\"]", "\"file\": \"../bench.step\""}) {
     EXPECT_NE(json.find(expected), std::string::npos) << expected << "\n" << json;
   }
-  // The pin sits in its bore with 0.03 mm of clearance, less than the chord
-  // error lets the polygons differ from the cylinders: it comes out along
-  // its axis, and the exact check passes the written path. (With no
-  // clearance at all it comes out too, but the exact depth of two faceted
-  // cylinders in contact takes minutes: README "STEP assemblies".)
+  // The pin sits in its bore with no clearance (one radius in CAD, one
+  // polygon after tessellation: the facets coincide): it comes out along
+  // its axis, and the exact check passes the written path (contact is
+  // settled by mesh_depth.h's ShiftOffBound, in well under a second).
   const auto plan = testing::RunStageCommand("plan", "--scene " + (out / "pin" / "scene.yaml").string() + " -o " +
                                                          (out / "pin" / "path.h5").string() +
                                                          " --validity rigid-exact --time-limit 30 2>&1");
   EXPECT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("straight pull: D comes out along [0.0000, 0.0000, 1.0000]"), std::string::npos)
+      << plan.output;
+  // A tight fit: 0.03 mm of clearance, finer than the chord error.
+  testing::StepFixtureOptions tight;
+  tight.gap_mm = 0.03;
+  testing::WriteStepFixture(dir_ / "tight.step", tight);
+  const auto scenes = testing::RunStageCommand("assembly", "--assembly " + (dir_ / "tight.step").string() + " -o " +
+                                                               (dir_ / "tight").string() + " --dynamic pin 2>&1");
+  ASSERT_EQ(scenes.exit_code, 0) << scenes.output;
+  const auto tight_plan = testing::RunStageCommand(
+      "plan", "--scene " + (dir_ / "tight" / "pin" / "scene.yaml").string() + " -o " +
+                  (dir_ / "tight" / "pin" / "path.h5").string() + " --validity rigid-exact --time-limit 30 2>&1");
+  EXPECT_EQ(tight_plan.exit_code, 0) << tight_plan.output;
 }
 
 TEST_F(StepAssemblyTest, TheSceneKeyTessellationDeflectionReadsBackAndRefusesNonsense) {
@@ -199,6 +209,33 @@ TEST_F(StepAssemblyTest, TheSceneKeyTessellationDeflectionReadsBackAndRefusesNon
           << e.what();
     }
   }
+}
+
+// Two CAx-IF test models from other exporters (data/step/README.md).
+TEST(PublicStepAssemblies, As1AndDm1ComeBackAsTheirTreesSay) {
+  const fs::path data = testing::SourceDir() / "data" / "step";
+  const StepAssembly as1 = ReadStepAssembly(data / "as1-oc-214.step", {});
+  EXPECT_EQ(as1.file_units, "millimetre");
+  ASSERT_EQ(as1.parts.size(), 18u);  // plate, rod, 2 rod nuts, 2 l-brackets, 6 bolts, 6 nuts
+  EXPECT_EQ(as1.products, 5);        // plate, rod, nut, bolt, l-bracket
+  std::map<std::string, int> by_product;
+  for (const StepPart& part : as1.parts) {
+    ++by_product[part.product];
+    EXPECT_TRUE(IsClosedAndOriented(part.mesh)) << PathText(part);
+    EXPECT_GT(Volume(part.mesh), 0) << PathText(part);
+  }
+  EXPECT_EQ(by_product,
+            (std::map<std::string, int>{{"bolt", 6}, {"l-bracket", 2}, {"nut", 8}, {"plate", 1}, {"rod", 1}}));
+  EXPECT_EQ(PathText(as1.parts[3]), "as1/l-bracket-assembly_1/nut-bolt-assembly_1/bolt_1");
+  const Aabb plate = as1.parts[10].mesh.Bounds();
+  EXPECT_NEAR(plate.max.x(), 180, 1e-6);
+  EXPECT_NEAR(plate.max.y(), 150, 1e-6);
+
+  const StepAssembly dm1 = ReadStepAssembly(data / "dm1-id-214-inch.step", {});
+  EXPECT_EQ(dm1.file_units, "INCH");
+  ASSERT_EQ(dm1.parts.size(), 7u);  // the material products have no shape
+  const Aabb bracket = dm1.parts[0].mesh.Bounds();
+  EXPECT_NEAR(bracket.max.z() - bracket.min.z(), 100, 1e-6);  // in mm
 }
 
 TEST_F(StepAssemblyTest, BadInputIsAClearError) {

@@ -523,6 +523,10 @@ double DepthSurface::WindingNumber(const Eigen::Vector3d& p) const {
 bool DepthSurface::Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const {
   if (nearest.triangle < 0 || nearest.distance_squared == 0 || !solid_) return false;
   if (!oriented_) return std::abs(WindingNumber(p)) > 0.5;
+  return (p - nearest.point).dot(NormalAtNearest(p, nearest)) < 0;
+}
+
+Eigen::Vector3d DepthSurface::NormalAtNearest(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const {
   const auto& tri = triangles_[nearest.triangle];
   Eigen::Vector3d weights;
   ClosestPointOnTriangle(p, vertices_[tri[0]], vertices_[tri[1]], vertices_[tri[2]], kDegenerate, kWeights, &weights);
@@ -533,13 +537,29 @@ bool DepthSurface::Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& 
     if (weights[k] <= kZero) ++zeros, zero = k;
     if (weights[k] >= 1 - kZero) one = k;
   }
-  Eigen::Vector3d normal = face_normal_[nearest.triangle];
-  if (zeros >= 2 && one >= 0) {
-    normal = vertex_normal_[tri[one]];
-  } else if (zeros == 1) {
-    normal = edge_normal_[nearest.triangle][zero];
+  if (zeros >= 2 && one >= 0) return vertex_normal_[tri[one]];
+  if (zeros == 1) return edge_normal_[nearest.triangle][zero];
+  return face_normal_[nearest.triangle];
+}
+
+double DepthSurface::ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest,
+                                   double shift, double gap) const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  if (!oriented_ || !solid_ || nearest.triangle < 0 || !(shift > gap)) return kNone;
+  const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
+  const Eigen::Vector3d directions[2] = {face_normal_[nearest.triangle], NormalAtNearest(centre, nearest)};
+  for (int k = 0; k < 2; ++k) {
+    if (k == 1 && directions[1].isApprox(directions[0])) break;
+    const double length = directions[k].norm();
+    if (!(length > 0)) continue;
+    const Eigen::Vector3d move = (shift / length) * directions[k];
+    const std::array<Eigen::Vector3d, 3> moved = {t[0] + move, t[1] + move, t[2] + move};
+    const Eigen::Vector3d moved_centre = centre + move;
+    if (Inside(moved_centre, bvh_.NearestPoint(moved_centre, nearest.triangle))) continue;
+    if (MayMeet(moved, gap)) continue;
+    return shift;
   }
-  return (p - nearest.point).dot(normal) < 0;
+  return kNone;
 }
 
 double DepthSurface::SignedDistance(const Eigen::Vector3d& p, int* triangle) const {
@@ -555,7 +575,8 @@ double DepthSurface::SignedDistance(const Eigen::Vector3d& p, int* triangle) con
 // measurement's lower bound rises early and settles the rest).
 class SurfaceDepthSearch {
  public:
-  SurfaceDepthSearch(const SurfaceDepthOptions& options, double floor) : options_(options), floor_(floor) {}
+  SurfaceDepthSearch(const SurfaceDepthOptions& options, double floor)
+      : options_(options), floor_(floor), shift_(std::max(options.resolution / 2, 4 * floor)) {}
 
   // Direction k: the triangles of `a`, moved into b's coordinates by a_to_b,
   // against `b`; b_to_world maps b's coordinates to the world (for region).
@@ -683,6 +704,7 @@ class SurfaceDepthSearch {
     if (!measuring_region && !Settled(upper))
       upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
     if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
+    if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_));
     if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
       result_.upper = std::max(result_.upper, upper);
       if (deep) {
@@ -713,6 +735,9 @@ class SurfaceDepthSearch {
 
   SurfaceDepthOptions options_;
   double floor_;
+  // How far ShiftOffBound moves a sub-triangle: a bound within the
+  // resolution (settled), and well beyond the gap MayMeet keeps.
+  double shift_;
   const DepthSurface* target_[2] = {nullptr, nullptr};
   const DepthMask* mask_[2] = {nullptr, nullptr};
   Eigen::Isometry3d to_world_[2];

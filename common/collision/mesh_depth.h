@@ -29,7 +29,9 @@
 //     surface, or when m is outside and t crosses no triangle of B;
 //   - against a flat face region of B (any outline, its measured
 //     deviation from flat added) or across a convex planar patch of B:
-//     FaceRegionBound and StraddleBound below.
+//     FaceRegionBound and StraddleBound below;
+//   - `shift` when t moved that far off B's surface is wholly outside:
+//     ShiftOffBound below (surfaces in contact).
 // A sub-triangle is refined until its upper bound is within `resolution` of
 // the best lower bound (or, for a yes/no question, below the allowed
 // depth). The answer's `upper` is thus never below the true depth and at
@@ -110,6 +112,19 @@ class DepthSurface {
   double FaceRegionBound(const std::array<Eigen::Vector3d, 3>& t, int face, double gap,
                          double below = std::numeric_limits<double>::infinity()) const;
 
+  // An upper bound on the depth of every point of triangle t from moving t
+  // off the surface: when t moved by `shift` along the outward normal at
+  // the nearest point of its centre (`nearest`; that triangle's face
+  // normal, else the pseudo-normal of the nearest edge or corner) is wholly
+  // outside (its centre outside, crossing no triangle nearer than `gap`),
+  // each point of t is within `shift` of a point outside, so its depth (its
+  // distance to the surface) is at most `shift`. Infinite where neither
+  // move frees t. Surfaces in contact (a pin's facets lying on its bore's,
+  // the same polygon from one tessellator) are settled whole, instead of
+  // being refined along every edge where a facet meets the bore's rim.
+  double ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest, double shift,
+                       double gap) const;
+
   // A convex planar patch (see below).
   struct Patch {
     Eigen::Vector3d normal, origin;
@@ -119,6 +134,9 @@ class DepthSurface {
  private:
   friend class SurfaceDepthSearch;
   bool Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
+  // The outward pseudo-normal at the nearest point's feature (the face, an
+  // edge or a corner of the nearest triangle); oriented shells only.
+  Eigen::Vector3d NormalAtNearest(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
   double WindingNumber(const Eigen::Vector3d& p) const;
 
   std::vector<Eigen::Vector3d> vertices_;
