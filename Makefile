@@ -8,6 +8,7 @@
 #   make batch SCENES=dir OUT=dir [-j N]          every dir/*/scene.yaml, then a table
 #   make snakemake SCENES=dir OUT=dir [CORES=N | PROFILE=pipelines/slurm]
 #                                                 the same through Snakemake (pipelines/Snakefile), locally or on Slurm
+#   make step STEP=assembly.step OUT=dir [-j N]   a STEP assembly: a scene per part, every part's verdict (pipelines/step.mk)
 #   make demo-rigid                               the rigid planning demo (pipelines/plan.mk)
 # Everything builds into build/; stage executables land in build/bin/.
 
@@ -37,7 +38,7 @@ STUDY_SCENES ?= alpha-1.5,Easy
 STUDY_OUT ?= out/study
 STUDY_ARGS ?=
 
-.PHONY: all deps configure build demo demo-rigid run batch test clean bench-deps bench-build bench study fuzz
+.PHONY: all deps configure build demo demo-rigid run batch step test clean bench-deps bench-build bench study fuzz
 .DELETE_ON_ERROR:
 
 all: build
@@ -91,6 +92,14 @@ batch: build
 	@test -n "$(SCENES)" || { echo "make batch: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
 	@$(MAKE) --no-print-directory -f pipelines/batch.mk SCENES=$(SCENES) BIN=$(abspath $(BUILD)/bin) \
 	  OUT=$(or $(OUT),out/batch)
+
+# A STEP assembly: ausbau-assembly writes a scene per part (OUT/scenes),
+# then the batch above runs them all (pipelines/step.mk; DYNAMIC=name or
+# path in the product tree for some parts only, DEFLECTION=mm).
+step: build
+	@test -n "$(STEP)" || { echo "make step: STEP=assembly.step is required" >&2; exit 2; }
+	@$(MAKE) --no-print-directory -f pipelines/step.mk STEP=$(STEP) BIN=$(abspath $(BUILD)/bin) \
+	  OUT=$(or $(OUT),out/step)
 
 # The same batch through Snakemake (pipelines/Snakefile; needs
 # `scripts/install-deps.sh snakemake`): locally on CORES cores, or on a

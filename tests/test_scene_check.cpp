@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 #include "scene/scene_check.h"
 #include "test_scenes.h"
+#include "workflow/installed_check.h"
 
 namespace ausbau {
 namespace {
@@ -68,6 +69,57 @@ void ExpectFinding(const SceneSummary& summary, const std::string& code, Severit
   EXPECT_EQ(finding->severity, severity) << code;
   EXPECT_NE(finding->message.find(fragment), std::string::npos) << finding->message;
   EXPECT_EQ(finding->message.find('\n'), std::string::npos) << "not one line: " << finding->message;
+}
+
+// ---------------------------------------------- at the installed pose
+// (workflow/installed_check.h): measured, as the planning stages classify.
+
+SceneSummary CheckInstalled(const TriangleMesh& d, const TriangleMesh& s) {
+  const fs::path dir = testing::MakeTempDir("scene-check-installed");
+  SaveObj(d, dir / "d.obj");
+  SaveObj(s, dir / "s.obj");
+  std::ofstream(dir / "scene.yaml") << "format: ausbau-scene/1\nunits: mm\nstatic: [s.obj]\ndynamic: d.obj\n";
+  const Scene scene = LoadScene(dir / "scene.yaml");
+  SceneSummary summary = CheckScene(scene);
+  for (const SceneFinding& finding : CheckInstalledPose(scene, {})) summary.findings.push_back(finding);
+  return summary;
+}
+
+TEST(SceneCheck, AtTheInstalledPoseACapOverlappingItsPostIsAFit) {
+  // A cap (bore radius 4) on a post of radius 4.3: 0.3 mm of overlap all
+  // round, as a CAD export of a press fit has (docs/rigid-exact.md).
+  const TriangleMesh cap = MakeSolidOfRevolution({{0, 8}, {4, 8}, {4, 0}, {6, 0}, {6, 10}, {0, 10}}, 64);
+  const TriangleMesh post = MakeSolidOfRevolution({{0, -5}, {4.3, -5}, {4.3, 7}, {0, 7}}, 64);
+  const SceneSummary summary = CheckInstalled(cap, post);
+  ExpectFinding(summary, "installed-fit", Severity::kWarning, "D overlaps s.obj by 0.3");
+  EXPECT_EQ(Find(summary, "installed-clash"), nullptr) << Codes(summary);
+}
+
+TEST(SceneCheck, AtTheInstalledPoseAFitFinerThanThePlannersStepIsSaid) {
+  // A 10 mm square peg, 30 long, in a square hole 57 um wider on each side
+  // (the hole: four blocks around it).
+  const double c = 0.057;
+  TriangleMesh plate = MakeBox({-40, -40, 0}, {-5 - c, 40, 10});
+  plate.Append(MakeBox({5 + c, -40, 0}, {40, 40, 10}));
+  plate.Append(MakeBox({-5 - c, -40, 0}, {5 + c, -5 - c, 10}));
+  plate.Append(MakeBox({-5 - c, 5 + c, 0}, {5 + c, 40, 10}));
+  const SceneSummary summary = CheckInstalled(MakeBox({-5, -5, -10}, {5, 5, 20}), plate);
+  ExpectFinding(summary, "fit-finer-than-step", Severity::kWarning, "D is 0.057 mm from S");
+  // With 2 mm on each side it is not said.
+  TriangleMesh wide = MakeBox({-40, -40, 0}, {-7, 40, 10});
+  wide.Append(MakeBox({7, -40, 0}, {40, 40, 10}));
+  EXPECT_EQ(Find(CheckInstalled(MakeBox({-5, -5, -10}, {5, 5, 20}), wide), "fit-finer-than-step"), nullptr);
+}
+
+TEST(SceneCheck, AtTheInstalledPoseAClashAndAContactAreSaid) {
+  // A block 3 mm into a wall: more than 5% of its size, no fit.
+  TriangleMesh wall = MakeBox({5, -20, -2}, {20, 20, 0});
+  wall.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
+  ExpectFinding(CheckInstalled(MakeBox({-5, -5, -10}, {8, 5, 10}), wall), "installed-clash", Severity::kWarning,
+                "3 mm deep in");
+  // A cube standing on a plate: contact.
+  ExpectFinding(CheckInstalled(MakeBox({0, 0, 0}, {10, 10, 10}), MakeBox({-50, -50, -5}, {50, 50, 0})),
+                "installed-contact", Severity::kInfo, "touches S");
 }
 
 TEST(SceneCheck, CleanSceneHasNoFindingAndTheRightNumbers) {
@@ -248,7 +300,12 @@ TEST(SceneCheckStage, ExitCodesAndJson) {
   const SceneFiles clean = WriteScene("units: mm\n");
   const auto ok = testing::RunStageCommand("scene-check", "--scene " + clean.yaml.string() + " --strict");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
-  EXPECT_NE(ok.output.find("0 warnings, 0 info"), std::string::npos) << ok.output;
+  // The cube stands on the plate: the one finding is the measured contact.
+  EXPECT_NE(ok.output.find("0 warnings, 1 info"), std::string::npos) << ok.output;
+  EXPECT_NE(ok.output.find("info installed-contact: D touches S"), std::string::npos) << ok.output;
+  const auto unmeasured =
+      testing::RunStageCommand("scene-check", "--scene " + clean.yaml.string() + " --strict --no-installed");
+  EXPECT_NE(unmeasured.output.find("0 warnings, 0 info"), std::string::npos) << unmeasured.output;
 
   const SceneFiles suspicious = WriteScene("units: mm\nstart: {t: [500, 0, 0]}\n");
   const auto lenient = testing::RunStageCommand("scene-check", "--scene " + suspicious.yaml.string());

@@ -231,6 +231,22 @@ TEST(PublicStepAssemblies, As1AndDm1ComeBackAsTheirTreesSay) {
   EXPECT_NEAR(plate.max.x(), 180, 1e-6);
   EXPECT_NEAR(plate.max.y(), 150, 1e-6);
 
+  // The same model from Pro/ENGINEER, in inch: each product holds its solid
+  // and an empty compound, which XCAF makes components "SOLID" and
+  // "COMPOUND"; the parts are named after their product, the compounds
+  // have no triangles (left out of the scenes). Every length is 25.4 times
+  // as1-oc's (the file has the mm model's numbers in inch).
+  const StepAssembly pe = ReadStepAssembly(data / "as1-pe-203-inch.step", {});
+  EXPECT_EQ(pe.file_units, "INCH");
+  int solids = 0;
+  for (const StepPart& part : pe.parts) solids += !part.mesh.triangles.empty();
+  EXPECT_EQ(solids, 18);
+  const std::vector<std::string> names = StepPartNames(pe, "x.obj");
+  EXPECT_EQ(names[0], "PLATE");
+  EXPECT_EQ(PathText(pe.parts[0]), "AS1_PE_ASM/PLATE/SOLID");
+  const Aabb pe_plate = pe.parts[0].mesh.Bounds();
+  EXPECT_NEAR((pe_plate.max - pe_plate.min).maxCoeff(), 180 * 25.4, 1e-6);
+
   const StepAssembly dm1 = ReadStepAssembly(data / "dm1-id-214-inch.step", {});
   EXPECT_EQ(dm1.file_units, "INCH");
   ASSERT_EQ(dm1.parts.size(), 7u);  // the material products have no shape

@@ -765,7 +765,12 @@ void SaveObj(const TriangleMesh& mesh, const fs::path& path) {
 
 void SaveObjParts(const std::vector<ObjPart>& parts, const fs::path& path, const std::vector<std::string>& header) {
   std::string text;
-  for (const std::string& line : header) text += "# " + line + "\n";
+  for (std::string line : header) {
+    // A comment stays one line (a file name may hold a line break).
+    for (char& c : line)
+      if (static_cast<unsigned char>(c) < 0x20) c = '?';
+    text += "# " + line + "\n";
+  }
   char line[128];
   long long first = 1;
   for (const ObjPart& part : parts) {

@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "scene/scene.h"
 #include "scene/scene_check.h"
+#include "workflow/installed_check.h"
 
 namespace ausbau {
 namespace {
@@ -21,15 +22,30 @@ constexpr StageSpec kSceneCheckStage{
 struct SceneCheckOptions {
   std::string json;     // empty: no JSON file
   bool strict = false;  // exit 1 when any finding is a warning
+  InstalledCheckOptions installed;
+  bool no_installed = false;  // skip the look at the installed pose (measured: can take seconds)
 };
 
 void DeclareCheck(StageDefinition& stage, SceneCheckOptions* options) {
   stage.ExtraOutput("--json", &options->json, "also write the summary and the findings as JSON (atomically)");
   stage.Flag("--strict", &options->strict, "exit 1 when any finding is a warning", CacheKey::kNo);
+  stage.Option("--rigid-tolerance", &options->installed.rigid_tolerance_mm,
+               "at the installed pose: how deep D may touch into S and still be in contact, in mm (converted by "
+               "the scene's units), as the planning stages take it",
+               CacheKey::kNo);
+  stage.Option("--resolution", &options->installed.resolution,
+               "the planner's edge check step, a fraction of D's box diagonal (fits finer than it are reported)",
+               CacheKey::kNo);
+  stage.Flag("--no-installed", &options->no_installed,
+             "skip the measured look at the installed pose (contacts, fits, clashes, fasteners)", CacheKey::kNo);
 }
 
 int Check(const StageRun& run, const SceneCheckOptions& options) {
-  const SceneSummary summary = CheckScene(run.scene);
+  SceneSummary summary = CheckScene(run.scene);
+  if (!options.no_installed) {
+    for (SceneFinding& finding : CheckInstalledPose(run.scene, options.installed))
+      summary.findings.push_back(std::move(finding));
+  }
   std::fputs(SceneSummaryText(summary).c_str(), stdout);
   std::fflush(stdout);
   if (!options.json.empty()) WriteTextFileAtomically(options.json, SceneSummaryJson(summary));
