@@ -77,12 +77,19 @@ std::string StepMeshFileName(const fs::path& step) { return step.stem().string()
 
 std::vector<std::string> StepPartNames(const StepAssembly& assembly, const std::string& reserved_file) {
   std::set<std::string> used = {Lower("assembly.json"), Lower(reserved_file)};
-  std::vector<std::string> names;
-  for (const StepPart& part : assembly.parts) {
-    const std::string base = SafeName(part.name);
-    std::string name = base;
-    for (int k = 2; !used.insert(Lower(name)).second; ++k) name = base + "-" + std::to_string(k);
-    names.push_back(name);
+  std::vector<std::string> names(assembly.parts.size());
+  // The parts with triangles first (they become the scenes' parts), so that
+  // an empty compound beside a solid (a Pro/ENGINEER product) does not take
+  // the solid's number.
+  for (const bool with_triangles : {true, false}) {
+    for (std::size_t k = 0; k < assembly.parts.size(); ++k) {
+      const StepPart& part = assembly.parts[k];
+      if (part.mesh.triangles.empty() == with_triangles) continue;
+      const std::string base = SafeName(part.name);
+      std::string name = base;
+      for (int n = 2; !used.insert(Lower(name)).second; ++n) name = base + "-" + std::to_string(n);
+      names[k] = name;
+    }
   }
   return names;
 }
@@ -131,12 +138,14 @@ StepScenes WriteStepAssemblyScenes(const fs::path& step, const fs::path& output,
   std::vector<ObjPart> obj_parts;
   std::vector<int> obj_index(assembly.parts.size(), -1);
   std::vector<std::string> part_source_json;
+  std::vector<std::string> empty;  // the first few instances without triangles, for the message
+  int empty_count = 0;
   for (std::size_t k = 0; k < assembly.parts.size(); ++k) {
     StepPart& part = assembly.parts[k];
     out.faces_without_triangles += part.faces_without_triangles;
     if (part.mesh.triangles.empty()) {
-      LogWarn("%s: part '%s' (%s) has no triangle after tessellation; it is left out", step.string().c_str(),
-              part.name.c_str(), JoinPath(part.path, part.path.size()).c_str());
+      if (empty.size() < 3) empty.push_back(JoinPath(part.path, part.path.size()));
+      ++empty_count;
       continue;
     }
     for (Eigen::Vector3d& v : part.mesh.vertices) v *= scale;
@@ -144,6 +153,13 @@ StepScenes WriteStepAssemblyScenes(const fs::path& step, const fs::path& output,
     obj_index[k] = static_cast<int>(obj_parts.size());
     obj_parts.push_back({names[k], &part.mesh});
     part_source_json.push_back(PartSourceJson(part));
+  }
+  if (empty_count > 0) {
+    std::string list;
+    for (const std::string& path : empty) list += (list.empty() ? "" : ", ") + path;
+    LogWarn("%s: %d instance%s without triangles (no surface: an empty compound, a wireframe) left out: %s%s",
+            step.string().c_str(), empty_count, empty_count == 1 ? "" : "s", list.c_str(),
+            empty_count > static_cast<int>(empty.size()) ? ", ..." : "");
   }
   std::vector<int> only;
   for (const int k : picked) {
