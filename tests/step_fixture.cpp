@@ -14,16 +14,20 @@
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
+#include <cmath>
+#include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
 #include <stdexcept>
 
 namespace ausbau::testing {
 namespace {
 
-TopLoc_Location At(double x, double y, double z) {
-  gp_Trsf trsf;
-  trsf.SetTranslation(gp_Vec(x, y, z));
-  return TopLoc_Location(trsf);
+// A translation, after a turn of `degrees` about z.
+TopLoc_Location At(double x, double y, double z, double degrees = 0) {
+  gp_Trsf turn, move;
+  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp::DZ()), degrees * M_PI / 180);
+  move.SetTranslation(gp_Vec(x, y, z));
+  return TopLoc_Location(move * turn);
 }
 
 void Name(const TDF_Label& label, const char* name) { TDataStd_Name::Set(label, TCollection_ExtendedString(name)); }
@@ -59,7 +63,7 @@ void WriteStepFixture(const std::filesystem::path& file, const StepFixtureOption
   tool->AddComponent(bench, plate_label, At(0, 0, 0));
   tool->AddComponent(bench, pin_label, At(30, 30, -5));
   Name(tool->AddComponent(bench, pair, At(60, 15, 10)), "pair:1");
-  Name(tool->AddComponent(bench, pair, At(60, 45, 10)), "pair:2");
+  Name(tool->AddComponent(bench, pair, At(60, 45, 10, 90)), "pair:2");
   tool->UpdateAssemblies();
 
   Interface_Static::SetCVal("write.step.unit", options.unit.c_str());

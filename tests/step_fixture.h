@@ -18,7 +18,8 @@ struct StepFixtureOptions {
 //   plate  box [0,100] x [0,60] x [0,10] with a bore of radius 5 at (30, 30) along z
 //   pin    cylinder radius 5 - gap, z from -5 to 25, in the bore
 //   pair   a sub-assembly: two cylinders "stud" (radius 3, height 15) 20 mm apart,
-//          placed twice ("pair" instances at (60, 15, 10) and (60, 45, 10))
+//          placed twice ("pair" instances at (60, 15, 10), and at (60, 45, 10)
+//          turned 90 degrees about z: its second stud at (60, 65, 10))
 // Product tree: bench / {plate, pin, pair:1 / {stud, stud}, pair:2 / {stud, stud}}.
 void WriteStepFixture(const std::filesystem::path& file, const StepFixtureOptions& options = {});
 

@@ -74,10 +74,13 @@ TEST_F(StepAssemblyTest, TheProductTreeComesBackWithNamesPlacementsAndClosedMesh
   for (const StepPart& part : assembly.parts) paths.push_back(PathText(part));
   EXPECT_EQ(paths, (std::vector<std::string>{"bench/plate", "bench/pin", "bench/pair:1/stud", "bench/pair:1/stud",
                                              "bench/pair:2/stud", "bench/pair:2/stud"}));
-  // Placements: the second stud of the second pair at (60 + 20, 45, 10).
-  EXPECT_TRUE(assembly.parts[5].placement.translation().isApprox(Eigen::Vector3d(80, 45, 10), 1e-12));
+  // Placements multiply down the tree: the second stud of the second pair,
+  // (20, 0, 0) in the pair, which is turned 90 degrees about z and placed
+  // at (60, 45, 10), is at (60, 65, 10).
+  EXPECT_TRUE(assembly.parts[5].placement.translation().isApprox(Eigen::Vector3d(60, 65, 10), 1e-12));
   const Aabb stud = assembly.parts[5].mesh.Bounds();
-  EXPECT_NEAR(stud.min.x(), 77, tessellation.deflection_mm);
+  EXPECT_NEAR(stud.min.x(), 57, tessellation.deflection_mm);
+  EXPECT_NEAR(stud.max.y(), 68, tessellation.deflection_mm);
   EXPECT_NEAR(stud.max.z(), 25, 1e-9);
   const Aabb pin = assembly.parts[1].mesh.Bounds();
   EXPECT_NEAR(pin.min.z(), -5, 1e-9);
