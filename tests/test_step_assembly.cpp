@@ -189,6 +189,22 @@ TEST_F(StepAssemblyTest, AssemblyWritesScenesWithTheTessellationAndThePinComesOu
   EXPECT_EQ(tight_plan.exit_code, 0) << tight_plan.output;
 }
 
+// make step's pipeline (pipelines/step.mk): STEP in, the picked part's
+// verdict and the batch's table out, through the real executables.
+TEST_F(StepAssemblyTest, StepPipelineGoesFromTheStepFileToAVerdict) {
+  const fs::path file = dir_ / "bench.step", out = dir_ / "run";
+  testing::WriteStepFixture(file);
+  const auto run =
+      testing::RunShellCommand("make --no-print-directory -f " + (testing::SourceDir() / "pipelines/step.mk").string() +
+                               " BIN=" + testing::BinDir().string() + " STEP=" + file.string() +
+                               " OUT=" + out.string() + " DYNAMIC=pin THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 2>&1");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(fs::exists(out / "scenes" / "assembly.json"));
+  const std::string verdict = testing::ReadTextFile(out / "pin" / "verdict.json");
+  EXPECT_NE(verdict.find("\"removable\": true"), std::string::npos) << verdict << run.output;
+  EXPECT_NE(run.output.find("pin"), std::string::npos) << run.output;
+}
+
 TEST_F(StepAssemblyTest, TheSceneKeyTessellationDeflectionReadsBackAndRefusesNonsense) {
   SaveObj(MakeBox({0, 0, 0}, {1, 1, 1}), dir_ / "d.obj");
   SaveObj(MakeBox({2, 0, 0}, {3, 1, 1}), dir_ / "s.obj");
