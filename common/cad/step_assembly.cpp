@@ -38,8 +38,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Valid UTF-8 without control characters: a name reaches terminals, JSON
-// and YAML; anything else becomes '?'.
+// Valid UTF-8 without control characters (C0, DEL, C1): a name reaches
+// terminals, JSON and YAML; anything else becomes '?'.
 std::string Printable(const std::string& text) {
   std::string out;
   for (std::size_t i = 0; i < text.size();) {
@@ -47,7 +47,10 @@ std::string Printable(const std::string& text) {
     const int length = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
     bool valid = length > 0 && i + length <= text.size();
     for (int k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 2;
-    if (!valid || c < 0x20 || c == 0x7f) {
+    // C1 controls (U+0080-U+009F: "\xC2\x80"-"\xC2\x9F") are escape
+    // sequences to some terminals, as C0 ones are.
+    const bool c1 = valid && length == 2 && c == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0;
+    if (!valid || c < 0x20 || c == 0x7f || c1) {
       out += '?';
       ++i;
       continue;
