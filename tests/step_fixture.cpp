@@ -30,7 +30,9 @@ TopLoc_Location At(double x, double y, double z, double degrees = 0) {
   return TopLoc_Location(move * turn);
 }
 
-void Name(const TDF_Label& label, const char* name) { TDataStd_Name::Set(label, TCollection_ExtendedString(name)); }
+void Name(const TDF_Label& label, const char* name) {
+  TDataStd_Name::Set(label, TCollection_ExtendedString(name, Standard_True));  // UTF-8
+}
 
 }  // namespace
 
@@ -49,7 +51,7 @@ void WriteStepFixture(const std::filesystem::path& file, const StepFixtureOption
   const TopoDS_Shape stud = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), 3, 15).Shape();
 
   const TDF_Label plate_label = tool->AddShape(plate, Standard_False);
-  Name(plate_label, "plate");
+  Name(plate_label, options.plate_name.c_str());
   const TDF_Label pin_label = tool->AddShape(pin, Standard_False);
   Name(pin_label, "pin");
   const TDF_Label stud_label = tool->AddShape(stud, Standard_False);

@@ -10,8 +10,9 @@
 namespace ausbau::testing {
 
 struct StepFixtureOptions {
-  std::string unit = "MM";  // OpenCASCADE's write.step.unit: MM, INCH, M, CM
-  double gap_mm = 0;        // the pin's radius is the bore's minus this
+  std::string unit = "MM";           // OpenCASCADE's write.step.unit: MM, INCH, M, CM
+  double gap_mm = 0;                 // the pin's radius is the bore's minus this
+  std::string plate_name = "plate";  // UTF-8, written as it is (control characters too)
 };
 
 // Writes the assembly; sizes in mm whatever the unit (the writer converts):

@@ -130,6 +130,23 @@ TEST_F(StepAssemblyTest, AnInchFileComesBackInMillimetres) {
   }
 }
 
+TEST_F(StepAssemblyTest, ControlCharactersInANameDoNotReachTheTerminal) {
+  // An escape sequence (C0: ESC [31m) and a C1 control (U+009B, CSI) in a
+  // product's name, written raw into the STEP file: they come back as '?'.
+  testing::StepFixtureOptions options;
+  options.plate_name = "ev\x1b[31mil\xc2\x9bx";
+  testing::WriteStepFixture(dir_ / "evil.step", options);
+  const StepAssembly assembly = ReadStepAssembly(dir_ / "evil.step", {});
+  const std::string& name = assembly.parts[0].name;
+  EXPECT_EQ(name.substr(0, 3), "ev?") << name;
+  for (std::size_t k = 0; k < name.size(); ++k) {
+    const auto c = static_cast<unsigned char>(name[k]);
+    EXPECT_FALSE(c < 0x20 || c == 0x7f) << name;
+    if (c == 0xC2 && k + 1 < name.size()) EXPECT_GE(static_cast<unsigned char>(name[k + 1]), 0xA0) << name;
+  }
+  EXPECT_EQ(StepPartNames(assembly, "x.obj")[0], "ev__31mil__x");
+}
+
 TEST_F(StepAssemblyTest, NamesAreUniqueAndPicksFollowTheTree) {
   const fs::path file = dir_ / "bench.step";
   testing::WriteStepFixture(file);
