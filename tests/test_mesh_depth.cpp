@@ -230,6 +230,19 @@ TEST(MeshDepth, AFlatFaceOfAnyOutlineBoundsWhatLiesUnderIt) {
 // origin is flat to about that), and triangles across and under its faces
 // at random; wherever a bound is given, no point of the triangle inside
 // the U is deeper (SignedDistance at a grid of points on it).
+// The deepest of a grid of points on t (25 per edge) inside s: what a
+// bound on t must not fall below.
+double DeepestSample(const DepthSurface& s, const std::array<Eigen::Vector3d, 3>& t) {
+  double deepest = 0;
+  constexpr int kGrid = 24;
+  for (int i = 0; i <= kGrid; ++i)
+    for (int j = 0; i + j <= kGrid; ++j) {
+      const double a = double(i) / kGrid, b = double(j) / kGrid;
+      deepest = std::max(deepest, s.SignedDistance((1 - a - b) * t[0] + a * t[1] + b * t[2]));
+    }
+  return deepest;
+}
+
 TEST(MeshDepth, TheFaceBoundsNeverFallBelowTheDepth) {
   TriangleMesh u = Subdivided(MakePrism({{0, 0}, {10, 0}, {10, 10}, {8, 10}, {8, 2}, {2, 2}, {2, 10}, {0, 10}}, 0, 5));
   std::mt19937 random(7);
@@ -251,13 +264,7 @@ TEST(MeshDepth, TheFaceBoundsNeverFallBelowTheDepth) {
     if (std::isinf(region) && std::isinf(straddle)) continue;
     region_bounds += !std::isinf(region);
     straddle_bounds += !std::isinf(straddle);
-    double deepest = 0;
-    constexpr int kGrid = 24;
-    for (int i = 0; i <= kGrid; ++i)
-      for (int j = 0; i + j <= kGrid; ++j) {
-        const double a = double(i) / kGrid, b = double(j) / kGrid;
-        deepest = std::max(deepest, s.SignedDistance((1 - a - b) * t[0] + a * t[1] + b * t[2]));
-      }
+    const double deepest = DeepestSample(s, t);
     EXPECT_LE(deepest, region + 1e-9) << "trial " << trial;
     EXPECT_LE(deepest, straddle + 1e-9) << "trial " << trial;
   }
@@ -293,13 +300,7 @@ TEST(MeshDepth, TheShiftOffBoundNeverFallsBelowTheDepth) {
     if (std::isinf(bound)) continue;
     EXPECT_EQ(bound, shift);
     ++bounds;
-    double deepest = 0;
-    constexpr int kGrid = 24;
-    for (int i = 0; i <= kGrid; ++i)
-      for (int j = 0; i + j <= kGrid; ++j) {
-        const double a = double(i) / kGrid, b = double(j) / kGrid;
-        deepest = std::max(deepest, s.SignedDistance((1 - a - b) * t[0] + a * t[1] + b * t[2]));
-      }
+    const double deepest = DeepestSample(s, t);
     EXPECT_LE(deepest, bound + 1e-9) << "trial " << trial;
   }
   EXPECT_GT(bounds, 300);  // the bound was tried where it holds

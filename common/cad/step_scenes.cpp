@@ -24,14 +24,10 @@ std::string Lower(const std::string& text) {
   return out;
 }
 
+// SafeFolderName, never empty: an OBJ object needs a name.
 std::string SafeName(const std::string& name) {
-  std::string out;
-  for (const char c : name) {
-    const auto u = static_cast<unsigned char>(c);
-    out += (std::isalnum(u) || c == '.' || c == '_' || c == '-') ? c : '_';
-  }
-  if (out.empty() || out == "." || out == "..") out = "part";
-  return out;
+  const std::string safe = SafeFolderName(name);
+  return safe.empty() ? "part" : safe;
 }
 
 std::string JoinPath(const std::vector<std::string>& path, std::size_t length) {

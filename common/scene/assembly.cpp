@@ -17,16 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string SafeFolderName(const std::string& name) {
-  std::string out;
-  for (const char c : name) {
-    const auto u = static_cast<unsigned char>(c);
-    out += (std::isalnum(u) || c == '.' || c == '_' || c == '-') ? c : '_';
-  }
-  if (out == "." || out == "..") out.clear();
-  return out;
-}
-
 std::string Lower(const std::string& text) {
   std::string out;
   for (const char c : text) out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -70,6 +60,16 @@ void RefuseToReplace(const fs::path& input, const fs::path& output) {
 }
 
 }  // namespace
+
+std::string SafeFolderName(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    out += (std::isalnum(u) || c == '.' || c == '_' || c == '-') ? c : '_';
+  }
+  if (out == "." || out == "..") out.clear();
+  return out;
+}
 
 std::vector<AssemblyPart> ListAssemblyParts(const fs::path& assembly) {
   const MeshFile file = LoadMeshFile(assembly);

@@ -23,6 +23,10 @@ struct AssemblyPart {
   bool picked_by_index = false;  // its name is empty or shared with another part
 };
 
+// A part's name made safe for a folder or an OBJ object name: letters,
+// digits, '.', '_', '-' kept, anything else '_'; empty for "", "." and "..".
+std::string SafeFolderName(const std::string& name);
+
 // The parts of an assembly file (LoadMeshFile's order), with their folder
 // names: the part's name made safe for a path ([A-Za-z0-9._-], others '_'),
 // or "part-<index>" when it is empty, "." / "..", or not unique (ignoring

@@ -578,6 +578,19 @@ std::string GoalConditionYaml(const GoalCondition& goal, const fs::path& file) {
   return "{" + y + "}";
 }
 
+// A top-level length in mm >= 0 (`fit_interference`, `tessellation_deflection`);
+// none when the key is absent.
+std::optional<double> ReadMillimetres(Reader& r, const YAML::Node& root, const char* key, const char* what) {
+  if (!root[key]) return std::nullopt;
+  const YAML::Node node = root[key];
+  double mm = 0;
+  if (!Reader::ToNumber(node, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
+    r.Fail(std::string(key) + " must be " + what + " in mm >= 0 (got " + Reader::Show(node) + ", line " +
+           std::to_string(Reader::Line(node)) + ")");
+  }
+  return mm;
+}
+
 }  // namespace
 
 Scene LoadScene(const fs::path& path) {
@@ -638,24 +651,8 @@ Scene LoadScene(const fs::path& path) {
     if (root["start"]) scene.start = r.ReadPose(root["start"], "start");
     if (root["goal"]) r.ReadGoal(root["goal"], &scene);
     if (root["bounds"]) scene.bounds = r.ReadBounds(root["bounds"]);
-    if (root["fit_interference"]) {
-      const YAML::Node f = root["fit_interference"];
-      double mm = 0;
-      if (!Reader::ToNumber(f, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
-        r.Fail("fit_interference must be a depth in mm >= 0 (got " + Reader::Show(f) + ", line " +
-               std::to_string(Reader::Line(f)) + ")");
-      }
-      scene.fit_interference_mm = mm;
-    }
-    if (root["tessellation_deflection"]) {
-      const YAML::Node f = root["tessellation_deflection"];
-      double mm = 0;
-      if (!Reader::ToNumber(f, mm) || !(mm >= 0) || mm > kMaxMeshCoordinate) {
-        r.Fail("tessellation_deflection must be a chord error in mm >= 0 (got " + Reader::Show(f) + ", line " +
-               std::to_string(Reader::Line(f)) + ")");
-      }
-      scene.tessellation_deflection_mm = mm;
-    }
+    scene.fit_interference_mm = ReadMillimetres(r, root, "fit_interference", "a depth");
+    scene.tessellation_deflection_mm = ReadMillimetres(r, root, "tessellation_deflection", "a chord error");
   } catch (const YAML::Exception& e) {
     // Should not happen after the checks above; keep the one-line contract anyway.
     r.Fail("invalid scene at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
