@@ -187,12 +187,11 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   DistanceFieldOptions field_options;
   field_options.resolution = options.resolution;
   field_options.threads = options.threads;
-  field_options.progress = false;
   start = Clock::now();
-  const auto static_field = BuildDistanceField(problem.environment, field_options, "S");
+  const auto static_field = BuildDistanceField(problem.environment, field_options);
   r.build_static_s = Seconds(start);
   start = Clock::now();
-  const auto dynamic_field = BuildDistanceField(problem.robot, field_options, "D");
+  const auto dynamic_field = BuildDistanceField(problem.robot, field_options);
   r.build_dynamic_s = Seconds(start);
   r.dims_static = static_field->dims();
   r.dims_dynamic = dynamic_field->dims();

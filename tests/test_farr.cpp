@@ -19,6 +19,7 @@
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/random.h"
 #include "fixtures/flange.h"
@@ -113,8 +114,7 @@ TriangleMesh RingB() {
 std::shared_ptr<DistanceField> Field(const TriangleMesh& mesh, int resolution) {
   DistanceFieldOptions options;
   options.resolution = resolution;
-  options.progress = false;
-  return BuildDistanceField(mesh, options);
+    return BuildDistanceField(mesh, options);
 }
 
 // Checks a field against the references on a sample of cells: class of
@@ -254,8 +254,7 @@ TEST(DistanceField, IndependentOfThreadCount) {
   rings.Append(RingB());
   DistanceFieldOptions options;
   options.resolution = 48;
-  options.progress = false;
-  options.threads = 1;
+    options.threads = 1;
   const auto one = BuildDistanceField(rings, options);
   options.threads = 2;
   const auto two = BuildDistanceField(rings, options);
@@ -282,6 +281,23 @@ TEST(DistanceField, MemoryGuard) {
   options.memory_budget_bytes = std::uint64_t{1} << 30;
   EXPECT_NO_THROW(PlanDistanceField(cube, options));
   EXPECT_THROW(PlanDistanceField(TriangleMesh{}, options), InputError);
+}
+
+// Cancelled between its steps (core/cancel.h), after reporting progress.
+TEST(DistanceField, CancelStopsTheBuild) {
+  const TriangleMesh cube = MakeBox({0, 0, 0}, {1, 1, 1});
+  DistanceFieldOptions options;
+  options.resolution = 16;
+  std::int64_t last = -1;
+  options.progress = [&last](std::int64_t done, std::int64_t total) {
+    EXPECT_EQ(total, 1000);
+    last = done;
+  };
+  EXPECT_NO_THROW(BuildDistanceField(cube, options));
+  EXPECT_EQ(last, 1000);
+  RequestCancel();
+  EXPECT_THROW(BuildDistanceField(cube, options), Cancelled);
+  ResetCancel();
 }
 
 TEST(DistanceField, ArtifactRoundTripAndCache) {
@@ -329,8 +345,7 @@ TEST(DistanceField, ArtifactRoundTripAndCache) {
   const auto cache = dir / "cache";
   DistanceFieldOptions options;
   options.resolution = 40;
-  options.progress = false;
-  CachedFieldInfo info;
+    CachedFieldInfo info;
   const auto first = LoadOrBuildDistanceField(rings, options, cache, "rings", "", "", &info);
   EXPECT_FALSE(info.reused);
   EXPECT_EQ(info.path, DistanceFieldCachePath(cache, MeshContentHash(rings), 40));

@@ -11,6 +11,7 @@
 
 #include "artifact/artifact.h"
 #include "collision/fcl_checker.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/random.h"
 #include "fixtures/clip_scenes.h"
@@ -61,6 +62,20 @@ TEST(Voxelize, CubeVolume) {
   const Eigen::Vector3i cell = ((c - grid.geometry.origin) / h).array().floor().cast<int>();
   EXPECT_EQ(grid.cells[grid.geometry.Index(cell.x(), cell.y(), cell.z())], kVoxelInside);
   EXPECT_EQ(grid.cells[0], kVoxelEmpty);
+}
+
+// Cancelled (core/cancel.h): the parallel passes skip their work and the
+// voxelization throws after them, and reports progress up to then.
+TEST(Voxelize, CancelStopsTheParallelPasses) {
+  const TriangleMesh cube = MakeBox({0, 0, 0}, {1, 1, 1});
+  VoxelizeOptions options;
+  std::int64_t reports = 0;
+  options.progress = [&reports](std::int64_t, std::int64_t) { ++reports; };
+  EXPECT_NO_THROW(VoxelizeMesh(cube, GridAround(cube.Bounds(), 0.05), options));
+  EXPECT_GT(reports, 0);
+  RequestCancel();
+  EXPECT_THROW(VoxelizeMesh(cube, GridAround(cube.Bounds(), 0.05), options), Cancelled);
+  ResetCancel();
 }
 
 TEST(Voxelize, InvertedCubeIsStillFilled) {

@@ -4,6 +4,8 @@
 #include <atomic>
 
 #include "collision/fcl_checker.h"
+#include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "planning/dense_check.h"
 #include "planning/nearest_neighbors.h"
@@ -145,6 +147,59 @@ TEST(Planner, CancelFlagStopsThePlanner) {
     EXPECT_TRUE(result.path.empty());
     EXPECT_LT(result.stats.time_s, 5.0);
   }
+}
+
+// The process-wide flag (core/cancel.h, raised by the stage runner on
+// SIGINT) stops every planner the same way; the callers that turn a search
+// into an answer (restarts, straight pulls) throw Cancelled instead of
+// reporting "no path", and nothing is committed to disk afterwards.
+TEST(Planner, ProcessWideCancelStopsPlannersAndIsNoAnswer) {
+  Fixture f("rod-in-cage");
+  RequestCancel();
+  for (const char* planner : {"rrt", "rrtc", "cr-rrtc", "est", "prm"}) {
+    SCOPED_TRACE(planner);
+    PlannerOptions options;
+    options.planner = planner;
+    const PlanResult result = Plan(f.problem, f.checker, options);
+    EXPECT_EQ(result.status, PlanStatus::kCancelled);
+    EXPECT_TRUE(result.path.empty());
+  }
+  PlannerOptions options;
+  EXPECT_THROW(PlanWithRestarts(f.problem, f.checker, options), Cancelled);
+  EXPECT_THROW(TryStraightPulls(f.problem, f.checker, options), Cancelled);
+  const auto file = std::filesystem::temp_directory_path() / "ausbau-cancel-test.txt";
+  ResetCancel();
+  WriteTextFileAtomically(file, "before");
+  RequestCancel();
+  EXPECT_THROW(WriteTextFileAtomically(file, "after"), Cancelled);
+  ResetCancel();
+  EXPECT_EQ(testing::ReadTextFile(file), "before");
+  std::filesystem::remove(file);
+}
+
+// The progress callback reports iterations against the limit, and whether
+// it is given changes nothing in the answer.
+TEST(Planner, ProgressIsReportedAndChangesNothing) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 4;
+  options.max_iterations = 200000;
+  const PlanResult silent = Plan(f.problem, f.checker, options);
+  std::int64_t calls = 0, last_total = -1;
+  options.progress = [&](std::int64_t, std::int64_t total) {
+    ++calls;
+    last_total = total;
+  };
+  const PlanResult reported = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(silent.solved());
+  ASSERT_EQ(reported.path.size(), silent.path.size());
+  for (std::size_t i = 0; i < silent.path.size(); ++i) {
+    EXPECT_EQ(reported.path[i].t, silent.path[i].t);
+    EXPECT_EQ(reported.path[i].q.coeffs(), silent.path[i].q.coeffs());
+  }
+  EXPECT_EQ(reported.stats.iterations, silent.stats.iterations);
+  EXPECT_GE(calls, 1);  // the first iteration reports
+  EXPECT_EQ(last_total, 200000);
 }
 
 TEST(Planner, RejectsBadOptions) {

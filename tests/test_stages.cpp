@@ -207,6 +207,31 @@ TEST(PlanStage, NoPathWithinTheBudgetHasItsOwnExitCode) {
   EXPECT_FALSE(ReadPathArtifact(dir / "p.h5").success);
 }
 
+// An interrupted stage (SIGINT, as Ctrl-C; `timeout` sends it here) stops
+// at its next safe point, says so, exits 130 and leaves the output that was
+// there before untouched: a planner stopped early is no "not removable".
+TEST(PlanStage, AnInterruptedRunWritesNothingAndExits130) {
+  const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 1);
+  const auto dir = yaml.parent_path();
+  const Scene scene = LoadScene(yaml);
+  TriangleMesh closed = scene.static_mesh;
+  const Aabb box = closed.Bounds();
+  closed.Append(MakeBox({box.min.x(), box.min.y(), box.max.z() - 1.0}, box.max));  // a solid lid: no way out
+  SaveObj(closed, dir / "environment.obj");
+  WriteFile(dir / "p.h5", "what was there before");
+  const Outcome plan = testing::RunStageCommand(
+      "plan",
+      "--scene " + yaml.string() + " --time-limit 60 --force -o " + (dir / "p.h5").string() + " --csv " +
+          (dir / "p.csv").string(),
+      "timeout --preserve-status -s INT 3");
+  EXPECT_EQ(plan.exit_code, 130) << plan.output;
+  EXPECT_NE(plan.output.find("ausbau-plan: cancelled; no output written"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("ausbau-plan: planning 0% ("), std::string::npos) << "no progress line: " << plan.output;
+  EXPECT_EQ(plan.output.find("no path within the budget"), std::string::npos) << plan.output;
+  EXPECT_EQ(ReadFile(dir / "p.h5"), "what was there before");
+  EXPECT_FALSE(std::filesystem::exists(dir / "p.csv"));
+}
+
 class BadSceneTest : public ::testing::Test {
  protected:
   void SetUp() override {

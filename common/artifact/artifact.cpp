@@ -33,6 +33,7 @@
 #include <system_error>
 
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/hash.h"
 
@@ -523,6 +524,7 @@ void ArtifactWriter::Commit() {
   impl_->EnsureOpen();
   CheckTarget(H5Fflush(impl_->file.get(), H5F_SCOPE_GLOBAL), impl_->target, "cannot flush temporary file");
   CheckTarget(impl_->file.Close() ? 0 : -1, impl_->target, "cannot close temporary file");
+  ThrowIfCancelled();  // a cancelled run commits nothing (core/cancel.h); the destructor removes the temporary
   std::error_code ec;
   std::filesystem::rename(impl_->temp, impl_->target, ec);
   if (ec) {

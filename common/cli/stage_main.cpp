@@ -1,5 +1,7 @@
 #include "cli/stage_main.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -8,6 +10,7 @@
 #include <new>
 
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "scene/scene.h"
@@ -148,11 +151,35 @@ void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::stri
   }
 }
 
+// The first SIGINT, SIGTERM or SIGHUP raises the cancel flag (core/cancel.h):
+// the work stops at its next safe point, writes nothing and exits 130. A
+// second one, while that is under way, ends the process at once (the
+// default action): temporary files are then left, and the next write of the
+// same output removes them (RemoveStaleTemporaries).
+extern "C" void OnInterrupt(int signal_number) {
+  RequestCancel();
+  static const char kLine[] = "\ncancelling at the next safe point (again to stop at once)\n";
+  const ssize_t ignored = write(STDERR_FILENO, kLine, sizeof kLine - 1);
+  (void)ignored;
+  (void)signal_number;
+}
+
+void CancelOnInterrupt() {
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction action = {};
+    action.sa_handler = OnInterrupt;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESETHAND;  // the second signal takes the default action
+    sigaction(signal_number, &action, nullptr);
+  }
+}
+
 int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG instead of
   // killing the process, so that the writer can remove its temporary file
   // and say which output could not be written.
   std::signal(SIGXFSZ, SIG_IGN);
+  CancelOnInterrupt();
   try {
     BoundSharedFlags(app);
     RefuseUnknownFlags(app, argc, argv);
@@ -174,6 +201,9 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
 int RunWithExitCodes(const std::string& name, const std::function<int()>& work) {
   try {
     return work();
+  } catch (const Cancelled&) {
+    std::fprintf(stderr, "%s: cancelled; no output written (what was there before is unchanged)\n", name.c_str());
+    return kExitCancelled;
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
     return kExitBadInput;

@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "artifact/artifact.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/log.h"
@@ -28,7 +29,7 @@ namespace ausbau {
 // members (friend of DistanceField).
 class DistanceFieldBuilder {
  public:
-  DistanceFieldBuilder(const TriangleMesh& mesh, const DistanceFieldOptions& options, const std::string& name);
+  DistanceFieldBuilder(const TriangleMesh& mesh, const DistanceFieldOptions& options);
   std::shared_ptr<DistanceField> Build();
 
  private:
@@ -53,7 +54,6 @@ class DistanceFieldBuilder {
 
   const TriangleMesh& mesh_;
   DistanceFieldOptions options_;
-  std::string name_;
   int threads_ = 1;
   std::shared_ptr<DistanceField> field_;
   Vec3 origin_;
@@ -66,7 +66,6 @@ class DistanceFieldBuilder {
   std::vector<std::int16_t> vote_;  // sum of the six ray winding numbers
   std::vector<std::uint8_t> band_;  // 1 = surface band (exact nearest point)
   bool winding_ = true;             // votes are winding numbers (closed, oriented) or parities
-  Progress progress_;
 };
 
 namespace {
@@ -213,12 +212,14 @@ std::array<int, 3> DistanceField::LocateCell(const Eigen::Vector3d& p) const {
 // ---------------------------------------------------------------------------
 // Construction
 
-DistanceFieldBuilder::DistanceFieldBuilder(const TriangleMesh& mesh, const DistanceFieldOptions& options,
-                                           const std::string& name)
-    : mesh_(mesh), options_(options), name_(name), progress_(name, 1000) {}
+DistanceFieldBuilder::DistanceFieldBuilder(const TriangleMesh& mesh, const DistanceFieldOptions& options)
+    : mesh_(mesh), options_(options) {}
 
+// Between the build's steps: the progress, and the place to stop when
+// cancelled (the steps' parallel loops must not throw).
 void DistanceFieldBuilder::Report(double fraction) {
-  if (options_.progress) progress_.Update(static_cast<std::int64_t>(1000 * std::clamp(fraction, 0.0, 1.0)));
+  ThrowIfCancelled();
+  if (options_.progress) options_.progress(static_cast<std::int64_t>(1000 * std::clamp(fraction, 0.0, 1.0)), 1000);
 }
 
 std::shared_ptr<DistanceField> DistanceFieldBuilder::Build() {
@@ -274,7 +275,6 @@ std::shared_ptr<DistanceField> DistanceFieldBuilder::Build() {
   Report(0.95);
   Classify();
   Report(1.0);
-  progress_.Finish();
   LogDebug("distance field: %zu surface cells, %zu triangle references", list_begin_.size() - 1, list_tris_.size());
   return field_;
 }
@@ -788,9 +788,8 @@ void DistanceFieldBuilder::Classify() {
   std::vector<std::uint8_t>().swap(band_);
 }
 
-std::shared_ptr<DistanceField> BuildDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options,
-                                                  const std::string& name) {
-  DistanceFieldBuilder builder(mesh, options, name);
+std::shared_ptr<DistanceField> BuildDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options) {
+  DistanceFieldBuilder builder(mesh, options);
   return builder.Build();
 }
 
@@ -992,7 +991,7 @@ std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh
         LogWarn("%s: cached field unreadable, rebuilding: %s", name.c_str(), e.what());
       }
     }
-    auto field = BuildDistanceField(mesh, options, name);
+    auto field = BuildDistanceField(mesh, options);
     const double build_s = seconds();
     try {
       std::filesystem::create_directories(cache_dir);
@@ -1007,7 +1006,7 @@ std::shared_ptr<DistanceField> LoadOrBuildDistanceField(const TriangleMesh& mesh
             field->dims()[2], build_s, out.path.empty() ? "" : ", cached in ", out.path.string().c_str());
     return field;
   }
-  auto field = BuildDistanceField(mesh, options, name);
+  auto field = BuildDistanceField(mesh, options);
   out.seconds = seconds();
   return field;
 }
@@ -1038,7 +1037,7 @@ std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const Dist
     LogInfo("%s: copied from the cache %s", name.c_str(), cached.string().c_str());
     return target;
   }
-  const auto field = BuildDistanceField(mesh, options, name);
+  const auto field = BuildDistanceField(mesh, options);
   WriteDistanceField(target, *field, units, frame);
   LogInfo("%s: %d x %d x %d cells (cell %g %s), written to %s", name.c_str(), field->dims()[0], field->dims()[1],
           field->dims()[2], field->spacing(), units.empty() ? "units" : units.c_str(), target.string().c_str());

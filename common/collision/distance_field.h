@@ -64,6 +64,7 @@
 #include <string>
 #include <vector>
 
+#include "core/log.h"
 #include "geometry/mesh.h"
 
 namespace ausbau {
@@ -75,7 +76,7 @@ struct DistanceFieldOptions {
   int threads = 0;       // 0 = all cores
   double padding = 1.3;  // the grid covers this factor times the AABB (about its centre)
   std::uint64_t memory_budget_bytes = std::uint64_t{4} << 30;  // refuse larger fields
-  bool progress = true;                                        // report progress through core/log.h
+  ProgressCallback progress;  // permille of the build (core/log.h); empty = silent
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;
@@ -162,9 +163,9 @@ struct DistanceFieldPlan {
 // field larger than the memory budget, before anything is allocated.
 DistanceFieldPlan PlanDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options);
 
-// Builds the field (see the top of this file). `name` labels progress lines.
-std::shared_ptr<DistanceField> BuildDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options,
-                                                  const std::string& name = "distance field");
+// Builds the field (see the top of this file). Throws Cancelled between its
+// steps when cancelled (core/cancel.h).
+std::shared_ptr<DistanceField> BuildDistanceField(const TriangleMesh& mesh, const DistanceFieldOptions& options);
 
 // The artifact (schemas/distfield.md): schema ausbau-distfield, version 1.
 inline constexpr const char* kDistanceFieldSchema = "ausbau-distfield";

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/cancel.h"
 #include "core/error.h"
 
 namespace ausbau {
@@ -92,6 +93,11 @@ void WriteTextFileAtomically(const std::filesystem::path& file, const std::strin
       std::filesystem::remove(temporary, ignored);
       throw std::runtime_error(file.string() + ": cannot write file (" + reason + ")");
     }
+  }
+  // A cancelled run commits nothing (core/cancel.h).
+  if (CancelRequested()) {
+    std::filesystem::remove(temporary, ignored);
+    throw Cancelled();
   }
   std::error_code error;
   std::filesystem::rename(temporary, file, error);

@@ -15,6 +15,7 @@ enum ExitCode : int {
   kExitInternal = 1,  // a bug or an environment failure (disk full, ...)
   kExitBadInput = 2,  // bad input or usage: the message names file and problem
   kExitNoPath = 3,    // the planner found no path within its budget
+  kExitCancelled = 130,  // interrupted (SIGINT, SIGTERM, SIGHUP; core/cancel.h): nothing written, as a shell's 128+2
 };
 
 // Bad input: a missing or malformed file, a wrong option value, an invalid

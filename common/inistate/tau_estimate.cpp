@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "core/cancel.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/log.h"
@@ -46,6 +47,7 @@ TauProbe RunProbe(const PlanningProblem& problem, const IntersectionVolume& volu
   probe.max_iterations = options.probe_attempts;
   probe.time_limit_s = 1e6;  // the attempt budget ends a probe, never the clock (determinism)
   probe.cancel = cancel;
+  probe.progress = nullptr;  // probes run on two threads; the rounds log lines instead
   const PlanResult result = Plan(problem, validity, probe);
   TauProbe out;
   out.tau = tau;
@@ -110,7 +112,6 @@ class TauSearch {
 
   void Say(const std::string& line) const {
     LogInfo("%s", line.c_str());
-    if (options_.progress) options_.progress(line);
   }
   double Candidate(int k) const { return estimate_.tau_lowest + delta_ * (std::ldexp(1.0, k) - 1.0); }
   Search FindRoundTau(int round, double target, std::vector<TauProbe>* round_trace, std::vector<std::string>* lines,
@@ -144,7 +145,7 @@ class TauSearch {
 TauSearch::Search TauSearch::FindRoundTau(int round, double target, std::vector<TauProbe>* round_trace,
                                           std::vector<std::string>* lines, double* tau_out,
                                           const std::atomic<bool>* cancel) {
-  auto cancelled = [&] { return cancel != nullptr && cancel->load(); };
+  auto cancelled = [&] { return (cancel != nullptr && cancel->load()) || CancelRequested(); };
   auto record = [&](TauProbe probe) {
     probe.round = round;
     probe.target_speed = target;
@@ -216,6 +217,7 @@ void TauSearch::PlanRound(Round* round, const std::atomic<bool>* cancel) const {
   PlannerOptions planner = LocalPlannerOptions(problem_, psi_, options_.planner);
   planner.time_limit_s = LimitByDeadline(planner.time_limit_s, options_.deadline, 0.5, nullptr);
   planner.cancel = cancel;
+  planner.progress = nullptr;  // rounds run on two threads; each logs its line instead
   round->result = Plan(problem_, validity, planner);
   round->seconds = Seconds(round_begin);
   round->planned = true;
@@ -276,6 +278,7 @@ TauEstimate TauSearch::Run() {
   Round current = NewRound(0);
   SearchRound(&current, nullptr);
   while (true) {
+    ThrowIfCancelled();
     if (current.search != Search::kFound) {
       Accept(current);  // no tau reaches the target
       break;
@@ -306,6 +309,7 @@ TauEstimate TauSearch::Run() {
     for (const std::exception_ptr& error : errors) {
       if (error) std::rethrow_exception(error);
     }
+    ThrowIfCancelled();  // the planners stopped early: no answer (core/cancel.h)
     if (Accept(current) || last) break;
     if (SecondsLeft(options_.deadline) <= 0) {
       Say("time budget used up: no more rounds");

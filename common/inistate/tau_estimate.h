@@ -58,7 +58,6 @@ struct TauEstimateOptions {
   double max_tau = 0;                                // 0 = D's whole volume (IV of all of D)
   PlannerOptions planner;                            // local planner (est), seed, time limit per planning round
   int threads = 0;                                   // parallel probes; 0 = all cores
-  std::function<void(const std::string&)> progress;  // one line per step, optional
   // The run's time budget (planning/planner.h: SecondsLeft; 0: none): each
   // planning round gets at most what is left, and no round starts after it.
   double deadline = 0;

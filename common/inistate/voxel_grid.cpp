@@ -11,6 +11,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/closest_point.h"
@@ -126,26 +127,26 @@ double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-// Reports progress from the master thread of a parallel loop.
+// Reports progress (VoxelizeOptions::progress) from the master thread of a
+// parallel loop.
 class ParallelProgress {
  public:
-  ParallelProgress(bool enabled, const std::string& phase, std::int64_t total)
-      : enabled_(enabled), progress_(enabled ? std::make_unique<Progress>(phase, total) : nullptr) {}
+  ParallelProgress(const ProgressCallback& report, std::int64_t total) : report_(report), total_(total) {}
   void Add(std::int64_t n) {
-    if (!enabled_) return;
+    if (!report_) return;
     const std::int64_t done = done_.fetch_add(n, std::memory_order_relaxed) + n;
-    if (omp_get_thread_num() == 0) progress_->Update(done);
+    if (omp_get_thread_num() == 0) report_(done, total_);
   }
+  // After the loop: the last report, and Cancelled when the loop's body
+  // skipped its work because the run was cancelled (core/cancel.h).
   void Finish() {
-    if (enabled_) {
-      progress_->Update(done_.load());
-      progress_->Finish();
-    }
+    if (report_) report_(total_, total_);
+    ThrowIfCancelled();
   }
 
  private:
-  bool enabled_;
-  std::unique_ptr<Progress> progress_;
+  const ProgressCallback& report_;
+  std::int64_t total_;
   std::atomic<std::int64_t> done_{0};
 };
 
@@ -405,7 +406,7 @@ void CheckVoxelMemory(const VoxelGridGeometry& g, std::int64_t limit, const std:
 // (surface voxels, then the inside fill by winding numbers) share the grid,
 // the topology and the progress reporter; the five steps are numbered below.
 VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options,
-                       VoxelizeStats* stats_out, const std::string& phase) {
+                       VoxelizeStats* stats_out) {
   if (!geometry.axes.isIdentity(0)) {
     // A turned grid: voxelize the mesh in the grid's frame, where the grid
     // is axis-aligned (the winding number does not depend on the frame).
@@ -414,7 +415,7 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
     VoxelGridGeometry aligned = geometry;
     aligned.origin = geometry.axes.transpose() * geometry.origin;
     aligned.axes = Eigen::Matrix3d::Identity();
-    VoxelGrid grid = VoxelizeMesh(local, aligned, options, stats_out, phase);
+    VoxelGrid grid = VoxelizeMesh(local, aligned, options, stats_out);
     grid.geometry = geometry;
     return grid;
   }
@@ -434,9 +435,10 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
     const double half = 0.5 * h * (1 + 1e-9);
     const Vec3 half_extent = Vec3::Constant(half);
     const std::int64_t nt = static_cast<std::int64_t>(mesh.triangles.size());
-    ParallelProgress progress(options.progress, phase + ": surface", nt);
+    ParallelProgress progress(options.progress, nt);
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::int64_t t = 0; t < nt; ++t) {
+      if (CancelRequested()) continue;  // ParallelProgress::Finish throws
       const auto& tri = mesh.triangles[t];
       const Vec3& a = mesh.vertices[tri[0]];
       const Vec3& b = mesh.vertices[tri[1]];
@@ -521,9 +523,11 @@ VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geomet
     const double threshold = options.winding_threshold;
     std::atomic<std::int64_t> evaluations{0};
     const std::int64_t slab = std::int64_t{nx} * ny;
-    ParallelProgress progress(options.progress && !open.empty(), phase + ": inside", nz);
+    const ProgressCallback silent;
+    ParallelProgress progress(open.empty() ? silent : options.progress, nz);
 #pragma omp parallel for schedule(dynamic, 1)
     for (int k = 0; k < nz; ++k) {
+      if (CancelRequested()) continue;  // ParallelProgress::Finish throws
       std::int64_t local = 0;
       for (std::int64_t v = k * slab; v < (k + 1) * slab; ++v) {
         if (cells[v] != kVoxelEmpty) continue;
@@ -687,8 +691,8 @@ SceneVoxels VoxelizeScene(const Scene& scene, const VoxelizeOptions& options) {
   LogInfo("voxel size %g: S %d x %d x %d, D %d x %d x %d voxels", h, gs.dims[0], gs.dims[1], gs.dims[2], gd.dims[0],
           gd.dims[1], gd.dims[2]);
   SceneVoxels out;
-  out.static_grid = VoxelizeMesh(scene.static_mesh, gs, options, &out.static_stats, "voxelize S");
-  out.dynamic_grid = VoxelizeMesh(scene.dynamic_mesh, gd, options, &out.dynamic_stats, "voxelize D");
+  out.static_grid = VoxelizeMesh(scene.static_mesh, gs, options, &out.static_stats);
+  out.dynamic_grid = VoxelizeMesh(scene.dynamic_mesh, gd, options, &out.dynamic_stats);
   if (options.shrink > 0) {
     out.dynamic_grid = ErodeVoxels(out.dynamic_grid, options.shrink);
     out.shrink = options.shrink;

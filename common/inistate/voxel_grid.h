@@ -56,6 +56,7 @@
 #include <vector>
 
 #include "artifact/artifact.h"
+#include "core/log.h"
 #include "geometry/mesh.h"
 
 namespace ausbau {
@@ -174,8 +175,8 @@ struct VoxelizeOptions {
   // S's grid: all of S instead of S near D (VoxelizeScene). For checkers
   // that judge a whole path by its voxels (ausbau-check-path).
   bool whole_static = false;
-  bool progress = false;  // report progress through core/log.h
-  void Check() const;     // throws InputError
+  ProgressCallback progress;  // each step's voxels done (core/log.h); empty = silent
+  void Check() const;         // throws InputError
 };
 
 struct VoxelizeStats {
@@ -209,7 +210,7 @@ void CheckVoxelMemory(const VoxelGridGeometry& geometry, std::int64_t limit, con
 
 // Voxelizes a mesh on the given grid (multi-threaded with OpenMP).
 VoxelGrid VoxelizeMesh(const TriangleMesh& mesh, const VoxelGridGeometry& geometry, const VoxelizeOptions& options = {},
-                       VoxelizeStats* stats = nullptr, const std::string& phase = "voxelize");
+                       VoxelizeStats* stats = nullptr);
 
 // Erosion by a ball: a voxel stays when every voxel whose centre lies within
 // `distance` of its centre is occupied (voxels outside the grid count as

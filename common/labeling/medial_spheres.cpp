@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/cancel.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 
@@ -76,6 +77,7 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
 
 #pragma omp parallel for schedule(dynamic, 32) num_threads(threads) reduction(+ : queries, escaped)
   for (int v = 0; v < n; ++v) {
+    if (CancelRequested()) continue;  // thrown after the loop (core/cancel.h)
     if (topology.referenced[v]) {
       const auto& triangles = topology.triangles;
       const TriangleBvh::Nearest other = bvh.NearestPoint(topology.vertices[v], [&](int t) {
@@ -124,6 +126,7 @@ MedialSpheres ComputeMedialSpheres(const MeshTopology& topology, const MedialSph
       options.progress(finished, n);
     }
   }
+  ThrowIfCancelled();
   if (options.progress) options.progress(n, n);
   out.nearest_queries = queries;
   out.escaped = escaped;

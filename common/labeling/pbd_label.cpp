@@ -13,6 +13,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "core/cancel.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 
@@ -1003,6 +1004,7 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
     std::vector<std::int64_t> local_sum(sum ? n : 0, 0);
 #pragma omp for schedule(dynamic, 1)
     for (std::size_t b = 0; b < batches.size(); ++b) {
+      if (CancelRequested()) continue;  // thrown after the region (core/cancel.h)
       const auto batch_started = std::chrono::steady_clock::now();
       const Batch& batch = batches[b];
       const int begin = model.vertex_begin[batch.component], end = model.vertex_begin[batch.component + 1];
@@ -1072,6 +1074,7 @@ PbdLabels ComputePbdLabels(const MeshTopology& topology, const std::vector<doubl
     }
     _mm_setcsr(saved_csr);
   }
+  ThrowIfCancelled();
   if (options.progress) options.progress(load_cases, load_cases);
   labels.thread_seconds = thread_seconds;
 

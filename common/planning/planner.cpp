@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/cancel.h"
 #include "core/error.h"
 #include "geometry/principal_axes.h"
 #include "planning/certify.h"
@@ -220,6 +221,7 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   const double probe = 0.02 * problem.robot_diagonal;
   for (const Eigen::Vector3d& axis : axes) {
     for (double sign : {1.0, -1.0}) {
+      ThrowIfCancelled();  // serial here (core/cancel.h)
       ++result.stats.iterations;
       // The shortest pull (to a probe's step) that reaches the goal region.
       Pose end = problem.start;
@@ -264,6 +266,7 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
     round_options.max_iterations = budget;
     round_options.time_limit_s = left;  // the whole run's limit, a safety net
     result = Plan(problem, validity, round_options);
+    ThrowIfCancelled();  // a cancelled round is no answer (core/cancel.h)
     total.iterations += result.stats.iterations;
     total.nodes += result.stats.nodes;
     total.collision_checks += result.stats.collision_checks;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/log.h"
 #include "planning/state_space.h"
 
 namespace ausbau {
@@ -30,8 +31,14 @@ struct PlannerOptions {
   // est: expansion radius r1 (range, eq. 3); 0 = automatic (single_tree_planners.h).
   double est_range = 0.0;
   // When set and true, the planner stops at its next iteration with
-  // kCancelled (the tau estimate's speculative rounds, tau_estimate.h).
+  // kCancelled (the tau estimate's speculative rounds, tau_estimate.h); so
+  // does the process-wide flag (core/cancel.h), after which the caller
+  // throws Cancelled.
   const std::atomic<bool>* cancel = nullptr;
+  // Called from the planner's thread about 5 times a second with the
+  // iterations so far and max_iterations (0: unlimited): the stage's
+  // progress display (core/log.h). Never changes the answer; empty = silent.
+  ProgressCallback progress;
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "core/random.h"
@@ -261,12 +262,20 @@ using Clock = std::chrono::steady_clock;
 // or loaded machine, the retreat and the partial shortcuts, which take out
 // the largest detours and the needless turning, still run.
 void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
-                int attempts, Random& random, Clock::time_point deadline, SmoothResult* result) {
+                int attempts, Random& random, Clock::time_point deadline, const ProgressCallback& progress,
+                SmoothResult* result) {
   const auto out_of_time = [&] { return Clock::now() >= deadline; };
   const Clock::time_point shortcuts_end = Clock::now() + (deadline - Clock::now()) / 2;
   std::vector<Pose>& path = result->path;
-  for (int attempt = 0; attempt < attempts && path.size() >= 3 && Clock::now() < shortcuts_end; ++attempt) {
+  const int partial_attempts = std::max(20, attempts / 4);
+  // Each attempt: the progress, and the place to stop when cancelled.
+  const auto next_attempt = [&] {
+    ThrowIfCancelled();
+    if (progress) progress(result->attempts, attempts + partial_attempts);
     ++result->attempts;
+  };
+  for (int attempt = 0; attempt < attempts && path.size() >= 3 && Clock::now() < shortcuts_end; ++attempt) {
+    next_attempt();
     if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
   DropNeedlessWaypoints(motion, guard, &path);
@@ -276,9 +285,8 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
   // freedom, between two freezes of a disassembly's tail rotation (the
   // second after the others have straightened the course).
   FreezeTailRotation(problem, motion, guard, result);
-  const int partial_attempts = std::max(20, attempts / 4);
   for (int attempt = 0; attempt < partial_attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
-    ++result->attempts;
+    next_attempt();
     std::size_t i = random.Index(path.size() - 1), j = random.Index(path.size());
     if (i > j) std::swap(i, j);
     if (j < i + 2) continue;
@@ -289,6 +297,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
   }
   if (!out_of_time()) FreezeTailRotation(problem, motion, guard, result);
   DropNeedlessWaypoints(motion, guard, &path);
+  if (progress) progress(attempts + partial_attempts, attempts + partial_attempts);
 }
 
 // Step 5 (disassembly): most CAD parts come out without turning, but a
@@ -311,12 +320,14 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   planner.max_iterations = 20000;
   planner.time_limit_s = std::max(0.1, options.time_limit_s / 4);
   planner.resolution = options.resolution;
+  planner.progress = options.progress;
   PlanResult planned;
   try {
     planned = Plan(fixed, validity, planner);
   } catch (const InputError&) {
     return std::nullopt;  // e.g. a start the planner does not take: no alternative then
   }
+  ThrowIfCancelled();
   if (!planned.solved() || Clock::now() >= deadline) {
     LogInfo("translation-only alternative: %s after %lld iterations", planned.solved() ? "out of time" : "no path",
             static_cast<long long>(planned.stats.iterations));
@@ -330,7 +341,7 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   // Smoothed without the guard: the whole alternative is held to the input's
   // clearance instead (SmoothPath), or a guard that a sliding contact trips
   // at every shortcut would keep its detours.
-  SmoothOnce(problem, motion, nullptr, attempts, random, deadline, &result);
+  SmoothOnce(problem, motion, nullptr, attempts, random, deadline, options.progress, &result);
   return result;
 }
 
@@ -411,7 +422,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   // A disassembly keeps 40% of the time for the translation-only
   // alternative (step 5), should the limit be hit.
   const Clock::time_point first_deadline = EndIsFree(problem) ? start + (deadline - start) * 3 / 5 : deadline;
-  SmoothOnce(problem, motion, guard, attempts, random, first_deadline, &result);
+  SmoothOnce(problem, motion, guard, attempts, random, first_deadline, options.progress, &result);
   LogDebug("shortcuts: %d kept of %d attempts", result.shortcuts, result.attempts);
   result.after = MeasurePath(problem, result.path);
   const bool turns = result.after.rotation > 1e-9;

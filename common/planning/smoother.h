@@ -23,6 +23,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/log.h"
 #include "planning/state_space.h"
 
 namespace ausbau {
@@ -40,6 +41,9 @@ struct SmoothOptions {
   // --clearance: the distance from S to keep where the geometry allows, in
   // scene units; < 0: the default, ClearanceInSceneUnits (planning/clearance.h).
   double clearance = -1;
+  // Shortcut attempts done of those planned, then the translation-only
+  // alternative's iterations (core/log.h); empty = silent.
+  ProgressCallback progress;
   void Check() const;
 };
 

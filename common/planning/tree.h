@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "planning/nearest_neighbors.h"
+#include "core/cancel.h"
 #include "planning/planner.h"
 
 namespace ausbau {
@@ -96,27 +97,36 @@ class StatsScope {
 };
 
 // The planner loop's stop rule: iteration budget first (deterministic), then
-// a cancellation (PlannerOptions::cancel), then the wall clock.
+// a cancellation (PlannerOptions::cancel, or the process-wide one of
+// core/cancel.h), then the wall clock. It also reports progress
+// (PlannerOptions::progress), which never changes whether it continues.
 class Budget {
  public:
   Budget(const PlannerOptions& options, std::chrono::steady_clock::time_point begin)
       : max_iterations_(options.max_iterations),
         cancel_(options.cancel),
+        progress_(options.progress),
         deadline_(begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(options.time_limit_s))) {}
+                              std::chrono::duration<double>(options.time_limit_s))),
+        next_report_(begin) {}
   // Returns false and sets *status when the budget is spent.
   bool Continue(std::int64_t iteration, PlanStatus* status) const {
     if (max_iterations_ > 0 && iteration >= max_iterations_) {
       *status = PlanStatus::kIterationLimit;
       return false;
     }
-    if (cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) {
+    if ((cancel_ != nullptr && cancel_->load(std::memory_order_relaxed)) || CancelRequested()) {
       *status = PlanStatus::kCancelled;
       return false;
     }
-    if (std::chrono::steady_clock::now() >= deadline_) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline_) {
       *status = PlanStatus::kTimeLimit;
       return false;
+    }
+    if (progress_ && now >= next_report_) {
+      next_report_ = now + std::chrono::milliseconds(200);
+      progress_(iteration, max_iterations_);
     }
     return true;
   }
@@ -124,7 +134,9 @@ class Budget {
  private:
   std::int64_t max_iterations_;
   const std::atomic<bool>* cancel_;
+  const ProgressCallback& progress_;
   std::chrono::steady_clock::time_point deadline_;
+  mutable std::chrono::steady_clock::time_point next_report_;
 };
 
 }  // namespace ausbau

@@ -9,6 +9,7 @@
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "collision/rigid_depth.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
@@ -51,6 +52,7 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const
   } else {
     DistanceFieldOptions field_options;
     field_options.threads = options.planner.threads;
+    field_options.progress = ShowProgress("distance field");
     const std::filesystem::path cache = DefaultDistanceFieldCacheDir(scene.file);
     static_field = LoadOrBuildDistanceField(problem.environment, field_options, cache, "distance field of S",
                                             scene.units, "world");
@@ -117,7 +119,12 @@ double PlannerClearance(const PlanSceneOptions& options, double clearance) {
 PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidity& validity,
                                 const PlannerOptions& planner, const TriangleMesh& robot, double clearance,
                                 const std::string& units,
-                                const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan) {
+                                const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan_as_asked) {
+  const auto plan = [&](const PoseValidity& validity, const PlannerOptions& options) {
+    PlanResult result = plan_as_asked(validity, options);
+    ThrowIfCancelled();  // a cancelled search is no answer (core/cancel.h)
+    return result;
+  };
   // Straight pulls first (planning/planner.h): a peg in a tight fit or a cap
   // on its post comes out along one axis, which sampling finds last; no
   // clearance is kept there (the straight way out bends nothing).
@@ -498,6 +505,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     }
     FillPartial(problem, result, budget_bound, &artifact);
   }
+  ThrowIfCancelled();  // the planners stopped early: no answer (core/cancel.h)
   planned.status = status;
   if (const auto* farr = dynamic_cast<const FarrCollisionChecker*>(&checker)) {
     const FarrStats farr_stats = farr->stats();

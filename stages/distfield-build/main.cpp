@@ -54,6 +54,7 @@ int BuildDistanceFields(const DistfieldBuildOptions& stage_options) {
   if (!(options.memory_budget_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.field.memory_budget_bytes = static_cast<std::uint64_t>(options.memory_budget_gib * double(1 << 30));
   options.field.Check();
+  options.field.progress = ShowProgress("distance field");
   if (!options.output_dir.empty() && (!options.static_out.empty() || !options.dynamic_out.empty())) {
     throw InputError("--output-dir: give either --output-dir DIR or --static-out and --dynamic-out, not both");
   }

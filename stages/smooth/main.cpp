@@ -47,6 +47,7 @@ int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   bool bound = false;
   smooth.smooth.time_limit_s = LimitByDeadline(smooth.smooth.time_limit_s, options.budget.Deadline(), 0.1, &bound);
   if (bound) LogInfo("time budget: %.1f s left for smoothing", smooth.smooth.time_limit_s);
+  smooth.smooth.progress = ShowProgress("smoothing");
   const SmoothedPath smoothed = SmoothPlannedPath(run.scene, problem, input, options.path, smooth);
   WritePathArtifact(run.output, smoothed.artifact, run.provenance);
   if (!options.csv.empty()) WritePathCsv(options.csv, smoothed.artifact.waypoints);

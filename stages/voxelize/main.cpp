@@ -39,7 +39,7 @@ int Voxelize(const StageRun& run, const VoxelizeStageOptions& stage_options) {
   VoxelizeStageOptions options = stage_options;
   if (!(options.memory_limit_gib > 0)) throw InputError("--memory-limit: must be > 0 GiB");
   options.voxelize.memory_limit = static_cast<std::int64_t>(options.memory_limit_gib * double(1 << 30));
-  options.voxelize.progress = true;
+  options.voxelize.progress = ShowProgress("voxelize");
   options.voxelize.Check();
   const Scene& scene = run.scene;
   LogInfo("scene %s: S %zu triangles, D %zu triangles, %d threads", scene.name.c_str(),
