@@ -38,7 +38,7 @@ STUDY_SCENES ?= alpha-1.5,Easy
 STUDY_OUT ?= out/study
 STUDY_ARGS ?=
 
-.PHONY: all deps configure build demo demo-rigid run batch step test clean bench-deps bench-build bench study fuzz
+.PHONY: all deps configure build demo demo-rigid run batch step test clean bench-deps bench-build bench study fuzz install package
 .DELETE_ON_ERROR:
 
 all: build
@@ -80,10 +80,27 @@ demo-rigid: build
 # One scene through the InIState pipeline; any pipeline variable (SEED,
 # TIME_LIMIT, VALIDITY, PLAN_FLAGS, PLAN=..., see pipelines/inistate.mk) can
 # be given on the command line. OUT defaults to out/run/<scene folder>.
+# GNU make exits 2 for any failed recipe, so `make run` exits 0 removable
+# and 2 otherwise, and says which; for scripts, build/bin/ausbau-run
+# SCENE OUT exits 3 for not removable and 2 for bad input (README "Exit codes").
+# (quote: a word for the shell, whatever it holds; the pipeline itself
+# refuses names it cannot pass on safely, pipelines/safe-names.mk).
+quote = '$(subst ','\'',$(1))'
 run: build
 	@test -n "$(SCENE)" || { echo "make run: SCENE=path/to/scene.yaml is required" >&2; exit 2; }
-	@$(MAKE) --no-print-directory -f pipelines/inistate.mk SCENE=$(SCENE) BIN=$(BUILD)/bin \
-	  OUT=$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))
+	@$(BUILD)/bin/ausbau-run $(call quote,$(SCENE)) $(call quote,$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))) \
+	  || { status=$$?; [ $$status -eq 3 ] && echo "make run: not removable (ausbau-run exits 3; make itself only 2)" >&2; exit $$status; }
+
+# Installs the stages, ausbau-run, the pipelines and the docs under PREFIX
+# (default /usr/local; cmake/AusbauInstall.cmake says what goes where).
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(call quote,$(PREFIX))
+
+# The Debian package (CPack): $(BUILD)/ausbau_<version>_<arch>.deb; install
+# it with `apt-get install ./$(BUILD)/ausbau_*.deb`.
+package: build
+	cd $(BUILD) && cpack -G DEB
 
 # Every SCENES/*/scene.yaml, one OUT/<scene>/ each; parallel with -j N (give
 # THREADS=1 then, so that the stages do not each take all cores). Prints a

@@ -16,6 +16,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
+  dpkg-dev  # dpkg-shlibdeps: the Debian package's dependencies (make package)
   libeigen3-dev libfcl-dev libassimp-dev libhdf5-dev hdf5-tools
   libyaml-cpp-dev libcli11-dev libgtest-dev libxxhash-dev
   libcgal-dev  # header-only; the test fixtures' welded unions (moulded twins)

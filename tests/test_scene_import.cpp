@@ -85,7 +85,12 @@ TEST(OmplCfg, ReadsPosesVolumeAndTheRobotCentre) {
   EXPECT_NEAR(problem.goal.q.w(), 0.0, 1e-12);
   ASSERT_TRUE(problem.volume.has_value());
   EXPECT_EQ(problem.volume->min, Eigen::Vector3d(-10, -10, -10));
-  ASSERT_EQ(problem.notes.size(), 1u);  // sampler: only how OMPL.app plans
+  // sampler: only how OMPL.app plans; then [benchmark] and [planner], kept
+  // as notes (comments in the scene, warnings of ausbau-scene-import).
+  ASSERT_EQ(problem.notes.size(), 4u);
+  EXPECT_EQ(problem.notes[1], "[benchmark] time_limit = 1.0");
+  EXPECT_EQ(problem.notes[2], "[planner] rrt = ");
+  EXPECT_EQ(problem.notes[3], "[planner] rrt.range = 5");
   EXPECT_TRUE(OmplRobotCenter(problem.robot).isApprox(Eigen::Vector3d(0.75, 1.5, 2.25), 1e-6));
 
   const Scene scene = SceneFromOmplProblem(problem);
@@ -128,6 +133,8 @@ TEST(OmplCfg, BadInputNamesTheFileAndTheKey) {
   EXPECT_NE(ErrorOf(Replace(kProblem, "robot = robot.obj", "robot = gone.obj")).find("gone.obj: file not found"),
             std::string::npos);
   EXPECT_NE(ErrorOf(Replace(kProblem, "start.theta = 0", "start.thetta = 0")).find("problem.start.thetta: unknown key"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(Replace(kProblem, "start.theta = 0", "start.thetta = 0")).find("did you mean problem.start.theta?"),
             std::string::npos);
   EXPECT_NE(ErrorOf(Replace(kProblem, "goal.y = 5", "goal.y = 5\ngoal.y = 5")).find("problem.goal.y: given twice"),
             std::string::npos);

@@ -219,17 +219,32 @@ TEST(PlanStage, AnInterruptedRunWritesNothingAndExits130) {
   closed.Append(MakeBox({box.min.x(), box.min.y(), box.max.z() - 1.0}, box.max));  // a solid lid: no way out
   SaveObj(closed, dir / "environment.obj");
   WriteFile(dir / "p.h5", "what was there before");
-  const Outcome plan = testing::RunStageCommand(
-      "plan",
-      "--scene " + yaml.string() + " --time-limit 60 --force -o " + (dir / "p.h5").string() + " --csv " +
-          (dir / "p.csv").string(),
-      "timeout --preserve-status -s INT 3");
+  const Outcome plan = testing::RunStageCommand("plan",
+                                                "--scene " + yaml.string() + " --time-limit 60 --force -o " +
+                                                    (dir / "p.h5").string() + " --csv " + (dir / "p.csv").string(),
+                                                "timeout --preserve-status -s INT 3");
   EXPECT_EQ(plan.exit_code, 130) << plan.output;
   EXPECT_NE(plan.output.find("ausbau-plan: cancelled; no output written"), std::string::npos) << plan.output;
   EXPECT_NE(plan.output.find("ausbau-plan: planning 0% ("), std::string::npos) << "no progress line: " << plan.output;
   EXPECT_EQ(plan.output.find("no path within the budget"), std::string::npos) << plan.output;
   EXPECT_EQ(ReadFile(dir / "p.h5"), "what was there before");
   EXPECT_FALSE(std::filesystem::exists(dir / "p.csv"));
+}
+
+// A mistyped flag or scene key is refused with the name it was probably
+// meant to be.
+TEST(StageRunner, UnknownFlagsAndKeysSayWhatWasMeant) {
+  const auto yaml = testing::MakeGeneratedScene("two-boxes", 1);
+  const Outcome flag = RunStage("plan", "--scene " + yaml.string() + " --time-limt 5");
+  EXPECT_EQ(flag.exit_code, 2);
+  ExpectOneLineError(flag, "plan", "--time-limt: unknown flag (did you mean --time-limit? see --help)");
+  std::string text = ReadFile(yaml);
+  text += "unts: mm\n";
+  WriteFile(yaml, text);
+  const Outcome key = RunStage("plan", "--scene " + yaml.string());
+  EXPECT_EQ(key.exit_code, 2);
+  ExpectOneLineError(key, "plan", "unknown key 'unts' (line ");
+  ExpectOneLineError(key, "plan", "did you mean 'units'?");
 }
 
 class BadSceneTest : public ::testing::Test {

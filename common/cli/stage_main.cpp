@@ -13,6 +13,7 @@
 #include "core/cancel.h"
 #include "core/hash.h"
 #include "core/log.h"
+#include "core/suggest.h"
 #include "scene/scene.h"
 
 namespace ausbau {
@@ -74,7 +75,14 @@ void RefuseUnknownFlags(const CLI::App& app, int argc, char** argv) {
     const bool short_flag = arg.size() == 2 && arg[0] == '-' && std::isalpha(static_cast<unsigned char>(arg[1]));
     if (!long_flag && !short_flag) continue;
     const std::string name = arg.substr(0, arg.find('='));
-    if (app.get_option_no_throw(name) == nullptr) throw InputError(name + ": unknown flag (see --help)");
+    if (app.get_option_no_throw(name) != nullptr) continue;
+    std::vector<std::string> known;
+    for (const CLI::Option* option : app.get_options()) {
+      for (const std::string& long_name : option->get_lnames()) known.push_back("--" + long_name);
+    }
+    const std::string closest = long_flag ? ClosestName(name, known) : "";
+    throw InputError(name + ": unknown flag (" + (closest.empty() ? "" : "did you mean " + closest + "? ") +
+                     "see --help)");
   }
 }
 

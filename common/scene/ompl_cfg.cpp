@@ -17,6 +17,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/suggest.h"
 #include "scene/mesh_io.h"
 
 namespace ausbau {
@@ -54,6 +55,7 @@ const std::set<std::string>& PlanningOnlyKeys() {
 struct CfgText {
   std::map<std::string, std::string> problem;  // [problem] key -> value
   std::map<std::string, int> line;             // [problem] key -> line number
+  std::vector<std::string> dropped;            // "[benchmark] time_limit = 10" in file order
 };
 
 CfgText ParseCfg(const fs::path& cfg) {
@@ -87,12 +89,19 @@ CfgText ParseCfg(const fs::path& cfg) {
     const std::string key = Trim(line.substr(0, equals));
     const std::string value = Trim(line.substr(equals + 1));
     if (section.empty()) throw InputErrorAt(name, where + ": key '" + key + "' outside any section");
-    if (section != "problem") continue;  // [benchmark] and [planner] are how OMPL.app runs, not the problem
+    if (section != "problem") {  // [benchmark] and [planner] are how OMPL.app runs, not the problem
+      out.dropped.push_back("[" + section + "] " + key + " = " + value);
+      continue;
+    }
     if (key == "control") {
       throw InputErrorAt(name, "problem.control: control-based problems are not supported (rigid bodies only)");
     }
     if (UsedKeys().count(key) == 0 && PlanningOnlyKeys().count(key) == 0) {
-      throw InputErrorAt(name, "problem." + key + ": unknown key (" + where + ")");
+      std::vector<std::string> known(UsedKeys().begin(), UsedKeys().end());
+      known.insert(known.end(), PlanningOnlyKeys().begin(), PlanningOnlyKeys().end());
+      const std::string closest = ClosestName(key, known);
+      throw InputErrorAt(name, "problem." + key + ": unknown key (" + where +
+                                   (closest.empty() ? "" : "; did you mean problem." + closest + "?") + ")");
     }
     if (out.problem.count(key) > 0) {
       throw InputErrorAt(name, "problem." + key + ": given twice (lines " + std::to_string(out.line[key]) + " and " +
@@ -246,6 +255,7 @@ OmplProblem ReadOmplCfg(const fs::path& cfg) {
   for (const auto& [key, value] : text.problem) {
     if (PlanningOnlyKeys().count(key) > 0) problem.notes.push_back("problem." + key + " = " + value);
   }
+  problem.notes.insert(problem.notes.end(), text.dropped.begin(), text.dropped.end());
   return problem;
 }
 

@@ -28,13 +28,16 @@
 namespace ausbau {
 
 struct OmplProblem {
-  std::filesystem::path file;      // the .cfg
-  std::string name;                // problem.name (empty when absent)
-  std::filesystem::path robot;     // resolved against the .cfg's folder
-  std::filesystem::path world;     // likewise
-  Pose start, goal;                // t: the reference point; q from theta about axis
-  std::optional<Aabb> volume;      // volume.* as given
-  std::vector<std::string> notes;  // keys that were read but do not go into a scene (sampler, objective, ...)
+  std::filesystem::path file;   // the .cfg
+  std::string name;             // problem.name (empty when absent)
+  std::filesystem::path robot;  // resolved against the .cfg's folder
+  std::filesystem::path world;  // likewise
+  Pose start, goal;             // t: the reference point; q from theta about axis
+  std::optional<Aabb> volume;   // volume.* as given
+  // What was read but goes into no scene: [problem]'s planning keys
+  // (sampler, objective, ...), then every [benchmark] and [planner] line
+  // ("[benchmark] time_limit = 10"): how OMPL.app plans, not the problem.
+  std::vector<std::string> notes;
 };
 
 // Reads a .cfg. Throws InputError "<cfg>: <key>: <problem>" for: a missing

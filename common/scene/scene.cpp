@@ -20,6 +20,7 @@
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/input_file.h"
+#include "core/suggest.h"
 #include "scene/mesh_io.h"
 #include "scene/scene_parts.h"
 #include "scene/units.h"
@@ -65,7 +66,9 @@ class Reader {
       const YAML::Node key = it->first;  // a copy: the iterator yields temporaries
       const std::string k = key.IsScalar() ? key.Scalar() : Show(key);
       if (!key.IsScalar() || allowed.count(k) == 0) {
-        Fail("unknown key '" + prefix + k + "' (line " + std::to_string(Line(key)) + ")");
+        const std::string closest = key.IsScalar() ? ClosestName(k, {allowed.begin(), allowed.end()}) : "";
+        Fail("unknown key '" + prefix + k + "' (line " + std::to_string(Line(key)) +
+             (closest.empty() ? "" : "; did you mean '" + prefix + closest + "'?") + ")");
       }
       if (!seen.insert(k).second) {
         Fail("duplicate key '" + prefix + k + "' (line " + std::to_string(Line(key)) + ")");

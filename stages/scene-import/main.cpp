@@ -37,6 +37,11 @@ int ImportScene(const SceneImportOptions& options) {
   CheckOutputPaths(*options.app,
                    {{"problem.robot", problem.robot.string()}, {"problem.world", problem.world.string()}});
   const Scene scene = SceneFromOmplProblem(problem);
+  // Nothing is dropped without a word: each is also a comment in the scene.
+  for (const std::string& note : problem.notes) {
+    LogWarn("not imported: %s (how OMPL.app plans, not the problem; ausbau-plan has its own flags, README \"Flags\")",
+            note.c_str());
+  }
   const std::string text = OmplSceneYaml(scene, problem, options.output);
   if (!WriteImportedScene(options.output, text, options.force)) {
     LogInfo("%s is up to date (the same import); use --force to write it again", options.output.c_str());
