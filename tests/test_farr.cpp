@@ -114,7 +114,7 @@ TriangleMesh RingB() {
 std::shared_ptr<DistanceField> Field(const TriangleMesh& mesh, int resolution) {
   DistanceFieldOptions options;
   options.resolution = resolution;
-    return BuildDistanceField(mesh, options);
+  return BuildDistanceField(mesh, options);
 }
 
 // Checks a field against the references on a sample of cells: class of
@@ -254,7 +254,7 @@ TEST(DistanceField, IndependentOfThreadCount) {
   rings.Append(RingB());
   DistanceFieldOptions options;
   options.resolution = 48;
-    options.threads = 1;
+  options.threads = 1;
   const auto one = BuildDistanceField(rings, options);
   options.threads = 2;
   const auto two = BuildDistanceField(rings, options);
@@ -345,7 +345,7 @@ TEST(DistanceField, ArtifactRoundTripAndCache) {
   const auto cache = dir / "cache";
   DistanceFieldOptions options;
   options.resolution = 40;
-    CachedFieldInfo info;
+  CachedFieldInfo info;
   const auto first = LoadOrBuildDistanceField(rings, options, cache, "rings", "", "", &info);
   EXPECT_FALSE(info.reused);
   EXPECT_EQ(info.path, DistanceFieldCachePath(cache, MeshContentHash(rings), 40));

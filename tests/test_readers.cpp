@@ -194,7 +194,7 @@ class Readers : public ::testing::Test {
     DistanceFieldOptions options;
     options.resolution = 4;
     options.threads = 1;
-        const auto field = BuildDistanceField(MakeBox({0, 0, 0}, {1, 1, 1}), options);
+    const auto field = BuildDistanceField(MakeBox({0, 0, 0}, {1, 1, 1}), options);
     const fs::path file = dir_ / "distfield.h5";
     WriteDistanceField(file, *field);
     return file;

@@ -76,7 +76,7 @@ struct DistanceFieldOptions {
   int threads = 0;       // 0 = all cores
   double padding = 1.3;  // the grid covers this factor times the AABB (about its centre)
   std::uint64_t memory_budget_bytes = std::uint64_t{4} << 30;  // refuse larger fields
-  ProgressCallback progress;  // permille of the build (core/log.h); empty = silent
+  ProgressCallback progress;                                   // permille of the build (core/log.h); empty = silent
 
   // Throws InputError naming the option when a value is out of range.
   void Check() const;

@@ -11,10 +11,10 @@
 namespace ausbau {
 
 enum ExitCode : int {
-  kExitOk = 0,        // done
-  kExitInternal = 1,  // a bug or an environment failure (disk full, ...)
-  kExitBadInput = 2,  // bad input or usage: the message names file and problem
-  kExitNoPath = 3,    // the planner found no path within its budget
+  kExitOk = 0,           // done
+  kExitInternal = 1,     // a bug or an environment failure (disk full, ...)
+  kExitBadInput = 2,     // bad input or usage: the message names file and problem
+  kExitNoPath = 3,       // the planner found no path within its budget
   kExitCancelled = 130,  // interrupted (SIGINT, SIGTERM, SIGHUP; core/cancel.h): nothing written, as a shell's 128+2
 };
 

@@ -3,8 +3,8 @@
 // 10% otherwise. Library code may log; it never exits.
 #pragma once
 
-#include <cstdarg>
 #include <chrono>
+#include <cstdarg>
 #include <cstdint>
 #include <functional>
 #include <string>

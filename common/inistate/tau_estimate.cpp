@@ -10,8 +10,8 @@
 #include <memory>
 #include <sstream>
 
-#include "core/cancel.h"
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
@@ -110,9 +110,7 @@ class TauSearch {
     double seconds = 0;
   };
 
-  void Say(const std::string& line) const {
-    LogInfo("%s", line.c_str());
-  }
+  void Say(const std::string& line) const { LogInfo("%s", line.c_str()); }
   double Candidate(int k) const { return estimate_.tau_lowest + delta_ * (std::ldexp(1.0, k) - 1.0); }
   Search FindRoundTau(int round, double target, std::vector<TauProbe>* round_trace, std::vector<std::string>* lines,
                       double* tau_out, const std::atomic<bool>* cancel);

@@ -55,9 +55,9 @@ struct TauEstimateOptions {
   int max_rounds = 5;                 // planning rounds
   std::int64_t probe_attempts = 300;  // expansion attempts per probe
   int bisection_steps = 4;
-  double max_tau = 0;                                // 0 = D's whole volume (IV of all of D)
-  PlannerOptions planner;                            // local planner (est), seed, time limit per planning round
-  int threads = 0;                                   // parallel probes; 0 = all cores
+  double max_tau = 0;      // 0 = D's whole volume (IV of all of D)
+  PlannerOptions planner;  // local planner (est), seed, time limit per planning round
+  int threads = 0;         // parallel probes; 0 = all cores
   // The run's time budget (planning/planner.h: SecondsLeft; 0: none): each
   // planning round gets at most what is left, and no round starts after it.
   double deadline = 0;

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/cancel.h"
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/error.h"
 
 namespace ausbau {

@@ -13,8 +13,8 @@
 #include <queue>
 #include <unordered_map>
 
-#include "core/cancel.h"
 #include "core/atomic_file.h"
+#include "core/cancel.h"
 #include "core/error.h"
 
 namespace ausbau {

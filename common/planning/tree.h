@@ -6,8 +6,8 @@
 #include <chrono>
 #include <vector>
 
-#include "planning/nearest_neighbors.h"
 #include "core/cancel.h"
+#include "planning/nearest_neighbors.h"
 #include "planning/planner.h"
 
 namespace ausbau {

@@ -116,10 +116,10 @@ double PlannerClearance(const PlanSceneOptions& options, double clearance) {
 // a path, `plan` as asked, with its whole time limit. A start in contact (clearance 0) leaves nothing
 // to keep: the clearance is then the smoother's (workflow/smooth_path.h).
 // Never less valid: the first try's validity only adds a condition.
-PlanResult PlanKeepingClearance(const PlanningProblem& problem, const PoseValidity& validity,
-                                const PlannerOptions& planner, const TriangleMesh& robot, double clearance,
-                                const std::string& units,
-                                const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan_as_asked) {
+PlanResult PlanKeepingClearance(
+    const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& planner,
+    const TriangleMesh& robot, double clearance, const std::string& units,
+    const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan_as_asked) {
   const auto plan = [&](const PoseValidity& validity, const PlannerOptions& options) {
     PlanResult result = plan_as_asked(validity, options);
     ThrowIfCancelled();  // a cancelled search is no answer (core/cancel.h)

@@ -51,7 +51,8 @@ void WriteExtras(const PlanStageOptions& options, const PathArtifact& artifact) 
 int Plan(const StageRun& run, const PlanStageOptions& options) {
   PlanSceneOptions plan = options.plan;
   plan.deadline = options.budget.Deadline();
-  plan.planner.progress = ShowSearchProgress("planning", LimitByDeadline(plan.planner.time_limit_s, plan.deadline, 0.5, nullptr), "iterations");
+  plan.planner.progress = ShowSearchProgress(
+      "planning", LimitByDeadline(plan.planner.time_limit_s, plan.deadline, 0.5, nullptr), "iterations");
   const PlannedPath planned = PlanScene(run.scene, plan);
   WritePathArtifact(run.output, planned.artifact, run.provenance);
   WriteExtras(options, planned.artifact);
