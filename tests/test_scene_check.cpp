@@ -122,6 +122,31 @@ TEST(SceneCheck, AtTheInstalledPoseAClashAndAContactAreSaid) {
                 "installed-contact", Severity::kInfo, "touches S");
 }
 
+// A bracket exported in inches into a mm scene of a car (S 2 m from the
+// origin): D lies 25.4 times nearer the origin and smaller. Said as such,
+// and not for the same bracket in mm.
+TEST(SceneCheck, ADInOtherUnitsThanTheSceneIsSaid) {
+  const fs::path dir = testing::MakeTempDir("scene-check-units");
+  const Eigen::Vector3d at(2000, -800, 500);  // mm
+  SaveObj(MakeBox(at - Eigen::Vector3d(300, 300, 300), at + Eigen::Vector3d(300, 300, 300)), dir / "s.obj");
+  SaveObj(MakeBox((at - Eigen::Vector3d(20, 10, 5)) / 25.4, (at + Eigen::Vector3d(20, 10, 5)) / 25.4),
+          dir / "inch.obj");
+  SaveObj(MakeBox(at - Eigen::Vector3d(20, 10, 5), at + Eigen::Vector3d(20, 10, 5)), dir / "mm.obj");
+  std::ofstream(dir / "inch.yaml") << "format: ausbau-scene/1\nunits: mm\nstatic: [s.obj]\ndynamic: inch.obj\n";
+  std::ofstream(dir / "mm.yaml") << "format: ausbau-scene/1\nunits: mm\nstatic: [s.obj]\ndynamic: mm.obj\n";
+  const SceneSummary inch = CheckScene(LoadScene(dir / "inch.yaml"));
+  ExpectFinding(inch, "units-d-mismatch", Severity::kWarning,
+                "D's mesh is probably in inches while the scene says 'mm'");
+  EXPECT_EQ(Find(inch, "start-far-from-s"), nullptr) << Codes(inch);
+  const SceneSummary mm = CheckScene(LoadScene(dir / "mm.yaml"));
+  EXPECT_EQ(Find(mm, "units-d-mismatch"), nullptr) << Codes(mm);
+  EXPECT_EQ(mm.WarningCount(), 0) << Codes(mm);
+  // The same bracket in metres (numbers 1000 times smaller) in a mm scene.
+  SaveObj(MakeBox((at - Eigen::Vector3d(20, 10, 5)) / 1000, (at + Eigen::Vector3d(20, 10, 5)) / 1000), dir / "m.obj");
+  std::ofstream(dir / "m.yaml") << "format: ausbau-scene/1\nunits: mm\nstatic: [s.obj]\ndynamic: m.obj\n";
+  ExpectFinding(CheckScene(LoadScene(dir / "m.yaml")), "units-d-mismatch", Severity::kWarning, "probably in metres");
+}
+
 TEST(SceneCheck, CleanSceneHasNoFindingAndTheRightNumbers) {
   const SceneSummary summary = Check(WriteScene("units: mm\n"));
   EXPECT_TRUE(summary.findings.empty()) << Codes(summary);

@@ -236,6 +236,33 @@ void CheckMeshes(const Scene& scene, SceneSummary* summary) {
   }
 }
 
+// A D whose mesh was written in other units than S's (inches or metres in a
+// mm scene) lies scaled about the mesh origin: usually far from S and too
+// small or too large. The factor among the common unit ratios that brings
+// D's installed box into S's box (about the world origin, where a mesh
+// exported in other units is scaled), with a name for D's numbers
+// ("inches"); 0 when none does.
+double UnitFactorPlacingDInS(const Aabb& installed_box, const Aabb& static_box, const SceneSummary& summary,
+                             std::string* d_units) {
+  struct Unit {
+    double millimetres;
+    const char* name;
+  };
+  constexpr Unit kUnits[] = {{1, "mm"}, {10, "cm"}, {25.4, "inches"}, {1000, "metres"}};
+  if (!summary.millimetres_per_unit) return 0;
+  const double scene_mm = *summary.millimetres_per_unit;
+  for (const Unit& unit : kUnits) {
+    const double factor = unit.millimetres / scene_mm;
+    if (std::abs(std::log(factor)) < 1e-9) continue;  // the scene's own unit
+    const Aabb scaled{installed_box.min * factor, installed_box.max * factor};
+    if (BoxInside(scaled, static_box)) {
+      *d_units = unit.name;
+      return factor;
+    }
+  }
+  return 0;
+}
+
 void CheckStart(const Scene& scene, const Aabb& installed_box, const Aabb& static_box, SceneSummary* summary) {
   const double dynamic_diagonal = summary->dynamic_mesh_box.diagonal;
   if (BoxInside(installed_box, static_box)) {
@@ -257,6 +284,15 @@ void CheckStart(const Scene& scene, const Aabb& installed_box, const Aabb& stati
       return;
     }
     Add(summary, kInfo, "start-outside-s", where + "; the scene has a goal, so it is a motion task, not a removal");
+    return;
+  }
+  std::string d_units;
+  const double factor = UnitFactorPlacingDInS(installed_box, static_box, *summary, &d_units);
+  if (factor > 0) {
+    Add(summary, kWarning, "units-d-mismatch",
+        Fmt("%s; read as %s (scaled by %.6g), D lies inside S's box: D's mesh is probably in %s while the scene "
+            "says '%s' (export D again in the scene's units, or give the part its own units: in a format /2 scene)",
+            where.c_str(), d_units.c_str(), factor, d_units.c_str(), scene.units.c_str()));
     return;
   }
   Add(summary, kWarning, "start-far-from-s",
