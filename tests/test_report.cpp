@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "core/error.h"
@@ -13,6 +14,7 @@
 #include "report/report_headline.h"
 #include "report/report_parts.h"
 #include "report/report_profile.h"
+#include "report/report_util.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 #include "test_scenes.h"
@@ -72,8 +74,98 @@ TEST(ReportHeadline, RemovableSaysHowFarTheRigidPartGoes) {
   EXPECT_EQ(h.verdict, "REMOVABLE");
   EXPECT_EQ(h.css, "ok");
   EXPECT_EQ(h.sentence,
-            "D comes out of S along a path of 12 waypoints (31.5 mm of travel, 0.25 rad); its rigid part penetrates "
-            "S at most 0.024 mm of the 0.05 mm allowed, while its clips bend through up to 1.45 mm.");
+            "D comes out of S along a path of 12 waypoints, 31.5 mm of travel and 0.25 rad (14.3\u00b0) of rotation; "
+            "its rigid part penetrates S at most 0.024 mm of the 0.05 mm allowed, while its clips bend through up to "
+            "1.45 mm.");
+}
+
+// What a headline must never say: a number without its unit where a unit
+// belongs, "inf", "nan", or a lone dash for a missing value.
+void ExpectPlainWords(const std::string& sentence) {
+  for (const char* bad : {"inf", "nan", " \u2013", "\u2013 ", "null"}) {
+    EXPECT_EQ(sentence.find(bad), std::string::npos) << "'" << bad << "' in: " << sentence;
+  }
+  // "after 195:" (a length without its unit); "waypoint 9:" names a waypoint.
+  const std::string unnamed = std::regex_replace(sentence, std::regex(R"(waypoint \d+:)"), "");
+  EXPECT_FALSE(std::regex_search(unnamed, std::regex(R"(\d:)"))) << "a number before a colon: " << sentence;
+}
+
+TEST(ReportHeadline, SaysMissingValuesInWords) {
+  // No depth, no tolerance, no rotation: said, not printed as "–".
+  const JsonValue v = Parse(R"({"removable": true, "length": {"translation": 12, "rotation": null},
+    "exact_check": {"valid": true, "max_rigid_penetration": null},
+    "max_labeled_mliv": {"measure": "labeled-mliv", "value": null}})");
+  const Headline h = MakeHeadline(&v, "", nullptr, "mm");
+  EXPECT_EQ(h.sentence,
+            "D comes out of S along a path of 12 mm of travel; how deep its rigid part goes into S was not measured; "
+            "the largest clip intersection (labeled-mliv) was not measured.");
+  ExpectPlainWords(h.sentence);
+  // No contact at all, volumes with their cubed unit and the waypoint said as one.
+  const JsonValue clear = Parse(R"({"removable": true, "tau": 7.5,
+    "exact_check": {"rigid_tolerance": 0.05, "max_rigid_penetration": 0},
+    "max_labeled_mliv": {"measure": "labeled-mliv", "value": 3.25, "waypoint": 195}})");
+  EXPECT_EQ(MakeHeadline(&clear, "", nullptr, "mm").sentence,
+            "D comes out of S along a path; its rigid part stays clear of S (no contact, of the 0.05 mm allowed); "
+            "the largest clip intersection (labeled-mliv) is 3.25 mm\u00b3 at waypoint 195 against tau 7.5 mm\u00b3.");
+  // A scene without units says "scene units".
+  const JsonValue unitless = Parse(R"({"removable": true, "length": {"translation": 2, "rotation": 3.14159265}})");
+  EXPECT_EQ(MakeHeadline(&unitless, "", nullptr, "unitless").sentence,
+            "D comes out of S along a path of 2 scene units of travel and 3.14 rad (180\u00b0) of rotation.");
+}
+
+TEST(ReportHeadline, VerdictTextsGetUnitsAndWaypoints) {
+  // what_blocks' summary and the exact check's reason as ausbau-verdict
+  // writes them (planning/exact_check.cpp), with unnamed shells.
+  EXPECT_EQ(PlainVerdictText("6 of 6 straight pulls along D's principal axes are blocked; the farthest, towards "
+                             "[0.003, 1.000, 0.003], after 195: rigid shell 0 (non-convex, 476 triangles, centre "
+                             "[10.0576, -7, 65], size 15 x 40 x 15) of D against shell 2 of S, inf deep",
+                             "mm"),
+            "6 of 6 straight pulls along D's principal axes are blocked; the farthest, towards [0.003, 1.000, 0.003], "
+            "after 195 mm of free travel: rigid shell 0 (non-convex, 476 triangles, centre [10.0576, -7, 65] mm, size "
+            "15 x 40 x 15 mm) of D against shell 2 of S, intersecting (depth not measured)");
+  EXPECT_EQ(PlainVerdictText(
+                "a rigid part of D penetrates S 0.0731 deep (tolerance 0.05) on segment 8: D clip_3, S rail", "cm"),
+            "a rigid part of D penetrates S 0.0731 cm deep (tolerance 0.05 cm) between waypoint 8 and waypoint 9: D "
+            "clip_3, S rail");
+  EXPECT_EQ(PlainVerdictText("depth nan, then -inf", ""), "depth not measured, then not measured");
+  // The whole headline of a blocked part.
+  const JsonValue v = Parse(R"({"removable": false, "planner": {"seconds": 62.05},
+    "what_blocks": {"summary": "1 of 6 straight pulls are blocked; the farthest, after 8.916: rigid shell 0 (convex, 12 triangles, centre [1, 2, 3], size 1 x 2 x 3) of D against shell 4 (open, 2 triangles, centre [0, 0, 0], size 1 x 1 x 0) of S, 0.05 deep"}})");
+  const ShellNamer names = [](int shell, bool robot) {
+    return std::string(robot ? "bolt.obj \u203a shank_" : "frame.obj \u203a plate_") + std::to_string(shell);
+  };
+  const Headline h = MakeHeadline(&v, "", nullptr, "mm", names);
+  EXPECT_EQ(
+      h.sentence,
+      "no path out of S was found in 62.05 s of planning; 1 of 6 straight pulls are blocked; the farthest, after "
+      "8.916 mm of free travel: rigid bolt.obj \u203a shank_0 of D against frame.obj \u203a plate_4 of S, 0.05 mm "
+      "deep.");
+  ExpectPlainWords(h.sentence);
+}
+
+TEST(ReportHeadline, NoVerdictStillSaysThePathsSize) {
+  PathEntry shown;
+  shown.key = "smoothed";
+  shown.artifact.success = true;
+  shown.artifact.waypoints.resize(25);
+  shown.length_translation = 128.25;
+  shown.length_rotation = 0.0687;
+  const Headline h = MakeHeadline(nullptr, "no verdict.json", &shown, "mm");
+  EXPECT_EQ(h.verdict, "NO VERDICT");
+  EXPECT_EQ(h.sentence,
+            "no verdict.json; the smoothed path of 25 waypoints, 128.2 mm of travel and 0.0687 rad (3.94\u00b0) of "
+            "rotation reaches its goal (not checked by ausbau-verdict).");
+  ExpectPlainWords(h.sentence);
+}
+
+TEST(ReportUnits, LengthsVolumesAndAngles) {
+  EXPECT_EQ(LengthText(0.5, "mm"), "0.5 mm");
+  EXPECT_EQ(LengthText(0.5, ""), "0.5 scene units");
+  EXPECT_EQ(LengthText(0.5, "None"), "0.5 scene units");
+  EXPECT_EQ(VolumeText(7.18, "cm"), "7.18 cm\u00b3");
+  EXPECT_EQ(VolumeText(7.18, "unitless"), "7.18 cubic scene units");
+  EXPECT_EQ(AngleText(0.221), "0.221 rad (12.7\u00b0)");
+  EXPECT_EQ(AngleText(0), "0 rad (0\u00b0)");
 }
 
 TEST(ReportHeadline, NotRemovableSaysWhatBlocks) {
@@ -103,6 +195,7 @@ TEST(ReportHeadline, NamesTheVerdictsShells) {
   EXPECT_EQ(MakeHeadline(&v, "", nullptr, "mm", names).sentence,
             "D comes out of S along a path; its rigid part penetrates S at most 0.02 mm of the 0.05 mm allowed, "
             "deepest where panel.obj \u203a clip_3 meets frame.obj \u203a rail_4.");
+  ExpectPlainWords(MakeHeadline(&v, "", nullptr, "mm", names).sentence);
 }
 
 TEST(ReportHeadline, NoVerdictSaysSo) {

@@ -10,6 +10,8 @@
 #include <functional>
 #include <initializer_list>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "geometry/primitives.h"
@@ -391,6 +393,77 @@ TEST_F(SceneFiles, FitInterferenceDecidesTheExactCheck) {
   const ExactCheckReport clash = ExactCheckPath(none, {installed, lifted}, 0.05);
   EXPECT_FALSE(clash.valid);
   EXPECT_NE(clash.reason.find("installed"), std::string::npos) << clash.reason;
+}
+
+TEST_F(SceneFiles, UpAxisIsReadKeptAndChecked) {
+  // Absent: from the data (OBJ here: the CAD convention, z up).
+  const Scene plain = LoadScene(WriteScene(""));
+  EXPECT_EQ(plain.up_axis, "");
+  EXPECT_EQ(SceneUpAxis(plain).axis, "z");
+  EXPECT_EQ(SceneUpAxis(plain).source, "default for OBJ/STL/STEP data");
+  // Given: the key wins, "+y" reads as "y", and SaveSceneYaml keeps it.
+  for (const auto& [written, axis] : std::vector<std::pair<std::string, std::string>>{
+           {"x", "x"}, {"y", "y"}, {"z", "z"}, {"-x", "-x"}, {"-y", "-y"}, {"-z", "-z"}, {"+y", "y"}}) {
+    const Scene scene = LoadScene(WriteScene("up_axis: " + written + "\n"));
+    EXPECT_EQ(scene.up_axis, axis) << written;
+    EXPECT_EQ(SceneUpAxis(scene).axis, axis) << written;
+    EXPECT_EQ(SceneUpAxis(scene).source, "scene key") << written;
+    const fs::path saved = dir_ / "saved.yaml";
+    SaveSceneYaml(scene, saved);
+    EXPECT_EQ(LoadScene(saved).up_axis, axis) << written;
+  }
+  // Anything else is an InputError naming the key.
+  for (const char* bad : {"up", "Z", "zz", "[0, 0, 1]", "1", "\"\""}) {
+    ExpectSceneError(WriteScene(std::string("up_axis: ") + bad + "\n"),
+                     {"scene.yaml", "up_axis must be one of x, y, z, -x, -y, -z", "line 4"});
+  }
+  ExpectSceneError(WriteScene("up_axes: z\n"), {"unknown key 'up_axes'", "did you mean 'up_axis'"});
+}
+
+// A COLLADA triangle with the given <up_axis> and its third vertex on that axis.
+std::string ColladaTriangle(const std::string& up_axis) {
+  return R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="meter" meter="1"/><up_axis>)" +
+         up_axis + R"(</up_axis></asset>
+  <library_geometries><geometry id="tri"><mesh>
+    <source id="pos"><float_array id="pos-array" count="9">0 0 0 1 0 0 0 0 1</float_array>
+      <technique_common><accessor source="#pos-array" count="3" stride="3">
+        <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+      </accessor></technique_common></source>
+    <vertices id="vtx"><input semantic="POSITION" source="#pos"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#vtx" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s"><node id="n" name="tri"><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+)";
+}
+
+TEST_F(SceneFiles, UpAxisDefaultsFromTheMeshFiles) {
+  // COLLADA is y-up as the scene reads it, whatever its <up_axis>: assimp
+  // turns a Z_UP file's z into y on import (the vertex on z lands on y).
+  Write("zup.dae", ColladaTriangle("Z_UP"));
+  Write("yup.dae", ColladaTriangle("Y_UP"));
+  const TriangleMesh zup = LoadMesh(dir_ / "zup.dae");
+  ASSERT_EQ(zup.vertices.size(), 3u);
+  bool on_y = false;
+  for (const auto& v : zup.vertices) on_y = on_y || (std::abs(v.y() - 1) < 1e-9 && std::abs(v.z()) < 1e-9);
+  EXPECT_TRUE(on_y) << "assimp did not rotate the Z_UP file to Y-up";
+
+  const auto up_of = [&](const std::string& statics, const std::string& dynamic) {
+    return SceneUpAxis(LoadScene(
+        Write("scene.yaml", "format: ausbau-scene/1\nstatic: [" + statics + "]\ndynamic: " + dynamic + "\n")));
+  };
+  EXPECT_EQ(up_of("yup.dae", "zup.dae").axis, "y");
+  EXPECT_EQ(up_of("yup.dae", "zup.dae").source, "default for glTF/COLLADA data");
+  EXPECT_EQ(up_of("yup.dae, env.obj", "zup.dae").axis, "z");  // one OBJ: the CAD convention
+  EXPECT_EQ(up_of("yup.dae", "robot.obj").axis, "z");
+  Write("box.stl",
+        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+        "endfacet\nendsolid t\n");
+  EXPECT_EQ(up_of("box.stl", "robot.obj").source, "default for OBJ/STL/STEP data");
 }
 
 TEST_F(SceneFiles, DuplicateKey) {

@@ -260,7 +260,8 @@ double ClipOf(const PoseMeasure& m) { return m.fastener_depth; }
 
 // The volume model's intersection along the path (profile.csv), placed on
 // the animation time by each row's segment and fraction.
-std::string VolumeSeriesJson(const Profile& profile, const PathEntry& e, std::vector<double>* at_waypoints) {
+std::string VolumeSeriesJson(const Profile& profile, const PathEntry& e, const std::string& units,
+                             std::vector<double>* at_waypoints) {
   std::vector<double> x, y;
   at_waypoints->assign(e.artifact.waypoints.size(), std::nan(""));
   for (const ProfileRow& row : profile.rows) {
@@ -273,7 +274,7 @@ std::string VolumeSeriesJson(const Profile& profile, const PathEntry& e, std::ve
   }
   return "{\"name\":\"volume\",\"label\":" +
          JsonString("clip intersection volume (volume model; profile.csv '" + profile.volume_column + "')") +
-         ",\"unit\":\"\",\"x\":" + JsonNumbers(x) + ",\"y\":" + JsonNumbers(y) +
+         ",\"unit\":" + JsonString(VolumeUnit(units)) + ",\"x\":" + JsonNumbers(x) + ",\"y\":" + JsonNumbers(y) +
          ",\"waypoints\":" + JsonNumbers(*at_waypoints) + "}";
 }
 
@@ -313,13 +314,14 @@ std::string PathJson(const PathEntry& e, const std::string& units, const PartNam
   std::string series = "[";
   std::vector<double> volumes;
   if (!e.at_waypoints.empty()) {
-    series += SeriesJson("clearance", "clearance (FCL distance between D and S)", units, e, ClearanceOf);
+    const std::string unit = LengthUnit(units);
+    series += SeriesJson("clearance", "clearance (FCL distance between D and S)", unit, e, ClearanceOf);
     if (rigid) {
       series +=
-          "," + SeriesJson("rigid", "rigid penetration (deepest rigid shell of D into S; exact)", units, e, RigidOf);
-      series += "," + SeriesJson("clip", "clip intersection (deepest fastener shell of D into S)", units, e, ClipOf);
+          "," + SeriesJson("rigid", "rigid penetration (deepest rigid shell of D into S; exact)", unit, e, RigidOf);
+      series += "," + SeriesJson("clip", "clip intersection (deepest fastener shell of D into S)", unit, e, ClipOf);
     }
-    if (profile != nullptr) series += "," + VolumeSeriesJson(*profile, e, &volumes);
+    if (profile != nullptr) series += "," + VolumeSeriesJson(*profile, e, units, &volumes);
   }
   series += "]";
   return "{\"key\":" + JsonString(e.key) + ",\"file\":" + JsonString(e.file.string()) +
@@ -441,13 +443,15 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
                                             paths[i].key == "smoothed" && profile ? &*profile : nullptr);
   }
   paths_json += "]";
+  const UpAxis up = SceneUpAxis(scene);
   const std::string data =
       "{\"format\":\"ausbau-report/2\",\"scene\":{\"name\":" + JsonString(scene.name) +
-      ",\"units\":" + JsonString(scene.units) + ",\"dynamic_origin\":" + JsonVector(scene.dynamic_origin) +
-      ",\"start\":" + JsonPose(scene.start) + ",\"goal\":" + (scene.goal ? JsonPose(*scene.goal) : "null") +
-      "},\"static\":" + static_json + ",\"dynamic\":" + dynamic_json +
-      ",\"dynamic_shift\":" + JsonVector(problem.reference_point) + ",\"paths\":" + paths_json +
-      ",\"labels\":" + labels_json + ",\"json_files\":" + json_files +
+      ",\"units\":" + JsonString(scene.units) + ",\"length_unit\":" + JsonString(LengthUnit(scene.units)) +
+      ",\"up\":{\"axis\":" + JsonString(up.axis) + ",\"source\":" + JsonString(up.source) + "}" +
+      ",\"dynamic_origin\":" + JsonVector(scene.dynamic_origin) + ",\"start\":" + JsonPose(scene.start) +
+      ",\"goal\":" + (scene.goal ? JsonPose(*scene.goal) : "null") + "},\"static\":" + static_json +
+      ",\"dynamic\":" + dynamic_json + ",\"dynamic_shift\":" + JsonVector(problem.reference_point) +
+      ",\"paths\":" + paths_json + ",\"labels\":" + labels_json + ",\"json_files\":" + json_files +
       ",\"headline\":{\"verdict\":" + JsonString(headline.verdict) + ",\"sentence\":" + JsonString(headline.sentence) +
       "},\"rigid_tolerance\":" + JsonNumber(parts ? tolerance : std::nan("")) + "}";
 

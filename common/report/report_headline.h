@@ -32,6 +32,12 @@ Headline MakeHeadline(const JsonValue* verdict, const std::string& verdict_probl
 // names(N, robot); the side is D unless " of S" follows it.
 std::string NameShells(const std::string& text, const ShellNamer& names);
 
+// A text of the verdict (the exact check's reason, what_blocks' summary) in
+// plain words: its lengths with the scene's unit ("after 8.9 mm of free
+// travel:", "0.05 mm deep"), segments as the waypoints they join, an
+// unmeasured depth ("inf") in words.
+std::string PlainVerdictText(const std::string& text, const std::string& units);
+
 std::string HeadlineHtml(const Headline& headline);
 
 }  // namespace ausbau::report_internal

@@ -21,7 +21,7 @@ double MinClearance(const std::vector<PoseMeasure>& measures) {
   return m;
 }
 
-std::string StatsTable(const std::vector<PathEntry>& paths) {
+std::string StatsTable(const std::vector<PathEntry>& paths, const std::string& units) {
   Table t;
   t.header.push_back("");
   for (const auto& e : paths)
@@ -35,7 +35,9 @@ std::string StatsTable(const std::vector<PathEntry>& paths) {
   row("planner", [](const PathEntry& e) { return HtmlEscape(e.artifact.planner); });
   row("success", [](const PathEntry& e) { return std::string(e.artifact.success ? "yes" : "<b>no</b>"); });
   row("waypoints", [](const PathEntry& e) { return Int(e.artifact.waypoints.size()); });
-  row("planning time (s)", [](const PathEntry& e) { return Num(e.artifact.stats.time_s); });
+  row("planning time", [](const PathEntry& e) {
+    return std::isfinite(e.artifact.stats.time_s) ? Num(e.artifact.stats.time_s) + " s" : std::string("not recorded");
+  });
   row("iterations", [](const PathEntry& e) { return Int(e.artifact.stats.iterations); });
   row("nodes", [](const PathEntry& e) { return Int(e.artifact.stats.nodes); });
   row("collision checks", [](const PathEntry& e) { return Int(e.artifact.stats.collision_checks); });
@@ -44,26 +46,49 @@ std::string StatsTable(const std::vector<PathEntry>& paths) {
     return Int(s.invalid_checks) +
            (s.collision_checks > 0 ? Fmt(" (%.1f%%)", 100.0 * s.invalid_checks / s.collision_checks) : std::string());
   });
-  row("length (normalized)", [](const PathEntry& e) { return Num(e.artifact.length_normalized); });
-  row("length, translation",
-      [](const PathEntry& e) { return e.length_translation ? Num(*e.length_translation) : "–"; });
-  row("length, rotation (rad)", [](const PathEntry& e) { return e.length_rotation ? Num(*e.length_rotation) : "–"; });
-  row("min clearance at waypoints",
-      [](const PathEntry& e) { return e.at_waypoints.empty() ? std::string("–") : Num(MinClearance(e.at_waypoints)); });
-  row("min clearance along the path", [](const PathEntry& e) {
-    return e.at_samples.empty() ? std::string("–")
-                                : Num(std::min(MinClearance(e.at_samples), MinClearance(e.at_waypoints))) +
-                                      Fmt(" (%zu poses)", e.at_samples.size() + e.at_waypoints.size());
+  row("length (normalized, no unit)", [](const PathEntry& e) {
+    return std::isfinite(e.artifact.length_normalized) ? Num(e.artifact.length_normalized)
+                                                       : std::string("not measured");
   });
-  row("max rigid penetration along the path", [](const PathEntry& e) {
+  // Missing values are said in words, numbers with their unit.
+  row("length, translation", [&units](const PathEntry& e) {
+    return e.length_translation && std::isfinite(*e.length_translation) ? LengthText(*e.length_translation, units)
+                                                                        : std::string("not measured");
+  });
+  row("length, rotation", [](const PathEntry& e) {
+    return e.length_rotation && std::isfinite(*e.length_rotation) ? AngleText(*e.length_rotation)
+                                                                  : std::string("not measured");
+  });
+  row("min clearance at waypoints", [&units](const PathEntry& e) {
+    const double m = e.at_waypoints.empty() ? std::nan("") : MinClearance(e.at_waypoints);
+    return std::isfinite(m) ? LengthText(m, units) : std::string("not measured");
+  });
+  row("min clearance along the path", [&units](const PathEntry& e) {
+    const double m =
+        e.at_samples.empty() ? std::nan("") : std::min(MinClearance(e.at_samples), MinClearance(e.at_waypoints));
+    return std::isfinite(m) ? LengthText(m, units) + Fmt(" (%zu poses)", e.at_samples.size() + e.at_waypoints.size())
+                            : std::string("not measured");
+  });
+  row("max rigid penetration along the path", [&units](const PathEntry& e) {
     double deepest = -std::numeric_limits<double>::infinity();
-    for (const auto* v : {&e.at_waypoints, &e.at_samples})
-      for (const PoseMeasure& m : *v) deepest = std::max(deepest, m.rigid_depth);
-    return std::isnan(deepest) || deepest == -std::numeric_limits<double>::infinity()
-               ? std::string("–")
-               : (deepest > 0 ? Num(deepest) : std::string("0 (no rigid contact)"));
+    bool measured = false;
+    for (const auto* v : {&e.at_waypoints, &e.at_samples}) {
+      for (const PoseMeasure& m : *v) {
+        if (std::isnan(m.rigid_depth)) continue;
+        measured = true;
+        deepest = std::max(deepest, m.rigid_depth);
+      }
+    }
+    if (!measured) return std::string("not measured (no rigid model)");
+    if (deepest == std::numeric_limits<double>::infinity()) return std::string("intersects (depth not measured)");
+    return deepest > 0 ? LengthText(deepest, units) : std::string("no contact (0 ") + LengthUnit(units) + ")";
   });
   return TableHtml(t, "stats");
+}
+
+// "+z (scene key)", "+y (default for glTF/COLLADA data)".
+std::string UpAxisText(const UpAxis& up) {
+  return (up.axis[0] == '-' ? up.axis : "+" + up.axis) + " (" + up.source + ")";
 }
 
 std::string SceneTable(const Scene& scene, const PlanningProblem& problem) {
@@ -72,6 +97,7 @@ std::string SceneTable(const Scene& scene, const PlanningProblem& problem) {
   auto row = [&](const std::string& k, const std::string& v) { t.rows.push_back({k, v}); };
   row("file", "<code>" + HtmlEscape(scene.file.string()) + "</code>");
   if (!scene.units.empty()) row("units", HtmlEscape(scene.units));
+  row("up axis", "<span id=\"up-axis\">" + HtmlEscape(UpAxisText(SceneUpAxis(scene))) + "</span>");
   std::string statics;
   for (const auto& f : scene.static_files)
     statics += (statics.empty() ? "" : ", ") + ("<code>" + HtmlEscape(f.string()) + "</code>");
@@ -116,11 +142,13 @@ std::string HeadHtml(const PageInputs& in) {
   return html.str();
 }
 
-std::string ViewHtml() {
+std::string ViewHtml(const Scene& scene) {
   return "<div id=\"view\"><canvas id=\"canvas3d\"></canvas><div id=\"status\">loading…</div>"
-         "<div id=\"legend\"></div><div id=\"measureinfo\"></div><div id=\"help\">drag: orbit · right-drag: pan · "
-         "wheel: zoom · space: play/pause · D orange, S blue, line: path of D's reference point · Measure: click two "
-         "points</div></div>\n"
+         "<div id=\"legend\"></div><div id=\"measureinfo\"></div><div id=\"help\"><span id=\"upinfo\">up: " +
+         HtmlEscape(UpAxisText(SceneUpAxis(scene))) +
+         "</span><span id=\"viewhelp\"> · drag: orbit · right-drag: pan · wheel: zoom · space: play/pause · D orange, "
+         "S "
+         "blue, line: path of D's reference point · Measure: click two points</span></div></div>\n"
          "<div id=\"controls\">"
          "<button id=\"play\" type=\"button\">Play</button>"
          "<input id=\"scrubber\" type=\"range\" min=\"0\" max=\"1000\" step=\"1\" value=\"0\" aria-label=\"path "
@@ -162,7 +190,7 @@ std::string DownloadsHtml(const std::vector<PathEntry>& paths) {
 // controls, the plots, the tables; `data` is the JSON the viewer reads.
 std::string ReportPageHtml(const PageInputs& in) {
   std::ostringstream html;
-  html << HeadHtml(in) << "<main>\n" << HeadlineHtml(in.headline) << ViewHtml();
+  html << HeadHtml(in) << "<main>\n" << HeadlineHtml(in.headline) << ViewHtml(in.scene);
   html << "<section id=\"waypoint-section\"><h2>Waypoints</h2><p class=\"explain\">Per waypoint of the path shown: "
           "its pose (scene convention), the clearance to S, how deep D's rigid part and its clips go into S, and "
           "which parts of D and S touch (where the rigid part penetrates) or are nearest. Click a row to go "
@@ -172,7 +200,7 @@ std::string ReportPageHtml(const PageInputs& in) {
   if (in.paths.empty()) {
     html << "<p class=\"note\">No path given: the page shows the scene only.</p>";
   } else {
-    html << StatsTable(in.paths);
+    html << StatsTable(in.paths, in.scene.units);
   }
   html << "</div><div><h2>Scene</h2>" << SceneTable(in.scene, in.problem) << "</div></div>\n";
   html << "<div id=\"jsontables\"></div>\n";

@@ -1,5 +1,6 @@
 #include "report/report_util.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -77,6 +78,23 @@ std::string Num(double value) {
   return Fmt("%.4g", value);
 }
 
+std::string LengthUnit(const std::string& units) {
+  std::string u;
+  for (const char c : units) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return u.empty() || u == "unitless" || u == "none" ? "scene units" : units;
+}
+
+std::string LengthText(double value, const std::string& units) { return Num(value) + " " + LengthUnit(units); }
+
+std::string VolumeUnit(const std::string& units) {
+  const std::string unit = LengthUnit(units);
+  return unit == "scene units" ? "cubic scene units" : unit + "\u00b3";
+}
+
+std::string VolumeText(double value, const std::string& units) { return Num(value) + " " + VolumeUnit(units); }
+
+std::string AngleText(double radians) { return Fmt("%.3g rad (%.3g\u00b0)", radians, radians * 180.0 / M_PI); }
+
 std::string Int(std::int64_t value) { return std::to_string(value); }
 
 std::string PoseText(const Pose& p) {
@@ -148,6 +166,9 @@ header p { margin: 2px 0 0; font-size: 12px; color: #b8c2cf; }
 main { padding: 12px 18px 30px; max-width: 1500px; }
 #view { position: relative; height: 62vh; min-height: 320px; background: #eef1f5; border: 1px solid #cfd6df; border-radius: 4px; overflow: hidden; }
 #canvas3d { display: block; width: 100%; height: 100%; }
+#view.nowebgl { height: auto; min-height: 0; padding: 14px 12px 30px; }
+#view.nowebgl #canvas3d, #view.nowebgl #status, #view.nowebgl #viewhelp { display: none; }
+#nowebgl { margin: 0; font-size: 15px; color: #7a4b00; }
 #status { position: absolute; left: 10px; top: 8px; font-size: 12px; color: #3c4855; background: rgba(255,255,255,.75); padding: 2px 6px; border-radius: 3px; }
 #legend { position: absolute; right: 10px; top: 8px; font-size: 12px; background: rgba(255,255,255,.85); padding: 4px 8px; border-radius: 3px; display: none; }
 #legend .bar { width: 160px; height: 10px; margin: 3px 0; }
@@ -161,14 +182,18 @@ main { padding: 12px 18px 30px; max-width: 1500px; }
 #plot { display: block; width: 100%; height: 190px; cursor: crosshair; }
 #plotnote { font-size: 12px; color: #5b6773; margin: 4px 0 0; }
 h2 { font-size: 16px; margin: 22px 0 8px; }
-table { border-collapse: collapse; margin: 4px 0 10px; font-size: 13px; background: #fff; }
-th, td { border: 1px solid #d5dbe3; padding: 3px 9px; text-align: left; vertical-align: top; }
+table { border-collapse: collapse; margin: 4px 0 10px; font-size: 13px; background: #fff; max-width: 100%; }
+th, td { border: 1px solid #d5dbe3; padding: 3px 9px; text-align: left; vertical-align: top; overflow-wrap: anywhere; }
 thead th { background: #eef1f5; }
 tbody th { font-weight: 500; background: #f7f8fa; }
 td { font-variant-numeric: tabular-nums; }
-code { font-size: 12px; }
+code { font-size: 12px; overflow-wrap: anywhere; }
+h2 { overflow-wrap: anywhere; }
+.tablebox { max-width: 100%; overflow-x: auto; }
+.tablebox tbody th { overflow-wrap: normal; white-space: nowrap; }
 .note { color: #7a4b00; }
 .grid { display: flex; flex-wrap: wrap; gap: 0 28px; }
+.grid > div { min-width: 0; max-width: 100%; }
 .headline { margin: 4px 0 12px; padding: 10px 14px; border-radius: 4px; font-size: 16px; border: 1px solid #cfd6df; background: #fff; }
 .headline #verdict-word { font-weight: 700; font-size: 19px; margin-right: 6px; }
 .headline.ok { border-color: #4c9a5b; background: #eef7f0; } .headline.ok #verdict-word { color: #2d7a3e; }
@@ -180,7 +205,8 @@ canvas.plot { display: block; width: 100%; cursor: crosshair; border-bottom: 1px
 #section-info { font-variant-numeric: tabular-nums; }
 #status, #legend, #help, #measureinfo { pointer-events: none; }
 #waypointbox { max-height: 420px; overflow: auto; border: 1px solid #d5dbe3; }
-#waypoints { margin: 0; font-size: 12px; }
+#waypoints { margin: 0; font-size: 12px; max-width: none; }
+#waypoints th, #waypoints td { overflow-wrap: normal; }
 #waypoints thead th { position: sticky; top: 0; }
 #waypoints tbody tr { cursor: pointer; }
 #waypoints tbody tr:hover { background: #eef4fb; }

@@ -28,6 +28,15 @@ std::string JsonVector(const Eigen::Vector3d& v);
 std::string JsonPose(const Pose& pose);  // {"t": [...], "q": [w, x, y, z]}
 
 std::string Num(double value);  // %.4g, "–" where not finite
+// Values said with their unit. The callers say a missing (non-finite)
+// value in words; these only format finite ones.
+// The unit of lengths: the scene's `units`, or "scene units" where it names
+// none (empty, unitless, none).
+std::string LengthUnit(const std::string& units);
+std::string LengthText(double value, const std::string& units);  // "0.5 mm"
+std::string VolumeUnit(const std::string& units);                // "mm³", "cubic scene units"
+std::string VolumeText(double value, const std::string& units);  // "7.18 mm³", "7.18 cubic scene units"
+std::string AngleText(double radians);                           // "0.221 rad (12.7°)"
 std::string Int(std::int64_t value);
 std::string PoseText(const Pose& p);
 std::string VectorText(const Eigen::Vector3d& v);

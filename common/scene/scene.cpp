@@ -594,6 +594,26 @@ std::optional<double> ReadMillimetres(Reader& r, const YAML::Node& root, const c
   return mm;
 }
 
+// `up_axis`: one of x, y, z, -x, -y, -z ("+z" reads as "z").
+std::string ReadUpAxis(Reader& r, const YAML::Node& node) {
+  std::string axis = node.IsScalar() ? node.Scalar() : "";
+  if (axis.size() == 2 && axis[0] == '+') axis = axis.substr(1);
+  for (const char* allowed : {"x", "y", "z", "-x", "-y", "-z"}) {
+    if (axis == allowed) return axis;
+  }
+  r.Fail("up_axis must be one of x, y, z, -x, -y, -z (got " + Reader::Show(node) + ", line " +
+         std::to_string(Reader::Line(node)) + ")");
+}
+
+// Whether a mesh file is y-up as the scene reads it: glTF by its spec;
+// COLLADA because assimp rotates a file's Z_UP or X_UP to Y-up on import
+// (mesh_io.cpp keeps that correction).
+bool YUpMeshFile(const fs::path& file) {
+  std::string ext = file.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf" || ext == ".glb" || ext == ".dae";
+}
+
 }  // namespace
 
 Scene LoadScene(const fs::path& path) {
@@ -632,7 +652,8 @@ Scene LoadScene(const fs::path& path) {
                                   "goal",
                                   "bounds",
                                   "fit_interference",
-                                  "tessellation_deflection"};
+                                  "tessellation_deflection",
+                                  "up_axis"};
     if (scene.format_version >= 2) keys.insert("assembly");
     r.CheckKeys(root, keys, "");
 
@@ -656,6 +677,7 @@ Scene LoadScene(const fs::path& path) {
     if (root["bounds"]) scene.bounds = r.ReadBounds(root["bounds"]);
     scene.fit_interference_mm = ReadMillimetres(r, root, "fit_interference", "a depth");
     scene.tessellation_deflection_mm = ReadMillimetres(r, root, "tessellation_deflection", "a chord error");
+    if (root["up_axis"]) scene.up_axis = ReadUpAxis(r, root["up_axis"]);
   } catch (const YAML::Exception& e) {
     // Should not happen after the checks above; keep the one-line contract anyway.
     r.Fail("invalid scene at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
@@ -715,7 +737,17 @@ std::string SceneYamlText(const Scene& scene, const fs::path& path) {
     std::snprintf(buf, sizeof buf, "tessellation_deflection: %.17g  # mm\n", *scene.tessellation_deflection_mm);
     y += buf;
   }
+  if (!scene.up_axis.empty()) y += "up_axis: " + Quote(scene.up_axis) + "\n";
   return y;
+}
+
+UpAxis SceneUpAxis(const Scene& scene) {
+  if (!scene.up_axis.empty()) return {scene.up_axis, "scene key"};
+  bool y_up = YUpMeshFile(scene.dynamic_file);
+  for (const fs::path& file : scene.static_files) y_up = y_up && YUpMeshFile(file);
+  if (scene.assembly) y_up = y_up && YUpMeshFile(scene.assembly->file);
+  if (y_up) return {"y", "default for glTF/COLLADA data"};
+  return {"z", "default for OBJ/STL/STEP data"};
 }
 
 std::string DynamicContentHash(const Scene& scene) {

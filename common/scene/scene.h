@@ -14,6 +14,7 @@
 //   goal:  {t: [x, y, z], q: [qw, qx, qy, qz]}   # optional; absent = disassembly
 //   goal:  {clearance: 50, region: {min: [..], max: [..]}}  # or a condition (either key or both)
 //   bounds: {min: [x, y, z], max: [x, y, z]}     # optional bounds on t
+//   up_axis: z                     # optional: x, y, z, -x, -y, -z (views only)
 // Paths are relative to the YAML file. A pose maps D's mesh coordinates to
 // the world: x_world = R(q) (x - dynamic_origin) + t.
 #pragma once
@@ -98,7 +99,22 @@ struct Scene {
   // so an installed interference no deeper is a fit whatever its shape
   // (FitRule::tessellation_depth). Absent: unknown.
   std::optional<double> tessellation_deflection_mm;
+  // `up_axis`: the world axis that points up, for views (the report's 3D
+  // view): "x", "y", "z", "-x", "-y" or "-z"; empty where the key is absent
+  // (SceneUpAxis then picks it from the mesh files).
+  std::string up_axis;
 };
+
+// The up axis of a view of the scene and where it came from: `up_axis` where
+// the scene gives it, else from the data: "y" where every mesh file is glTF
+// (.gltf/.glb, y-up by its spec) or COLLADA (.dae: assimp turns a file's
+// Z_UP or X_UP into Y-up as it imports it), "z" otherwise (OBJ, STL, PLY,
+// STEP tessellations: the CAD convention).
+struct UpAxis {
+  std::string axis;    // "x", "y", "z", "-x", "-y" or "-z"
+  std::string source;  // "scene key", "default for glTF/COLLADA data" or "default for OBJ/STL/STEP data"
+};
+UpAxis SceneUpAxis(const Scene& scene);
 
 // Reads and validates scene.yaml (format /1 or /2) and loads its meshes. Throws InputError with
 // a one-line message naming the file and the problem: missing file, YAML

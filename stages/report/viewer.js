@@ -10,15 +10,27 @@
 // the artifact's reference_point r, t_r = t + R(q) (r - dynamic_origin), is
 // linear and q follows slerp along the shorter arc.
 //
-// Test hooks: window.ausbau = {ready, error, loadMs, frames, setTime(u), time(),
-// poseOfD(), selectPath(key), paths(), play(), pause(), pixelStats(),
-// labelsShown(), plots(), waypointRows(), setSection(axis, fraction),
-// section(), setMeasuring(on), pickAt(clientX, clientY), measurement(),
-// project([x, y, z]) (world point to client pixel coordinates)}.
+// The 3D view needs WebGL; the headline, plots and tables do not: where the
+// browser offers no WebGL (locked-down or virtual desktops) the 3D area says
+// so in one sentence and everything else works (the plots are 2D canvases).
+//
+// The view is upright for the scene's up axis (data.scene.up: the scene's
+// `up_axis`, else the mesh files' convention; common/scene/scene.h
+// SceneUpAxis): the camera's up vector, its first view direction and the
+// sky light follow it.
+//
+// Test hooks: window.ausbau = {ready, error, loadMs, frames, webgl, up
+// (read-only: {axis, source, vector}, vector the camera's up), view()
+// ({up, target, position} of the camera), setTime(u), time(), poseOfD(),
+// selectPath(key), paths(), play(), pause(), pixelStats(), labelsShown(),
+// plots(), waypointRows(), setSection(axis, fraction), section(),
+// setMeasuring(on), pickAt(clientX, clientY), measurement(), project([x, y,
+// z]) (world point to client pixel coordinates)}; without WebGL
+// pixelStats, pickAt and project return null.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-const hooks = { ready: false, error: null, loadMs: null, frames: 0 };
+const hooks = { ready: false, error: null, loadMs: null, frames: 0, webgl: false };
 window.ausbau = hooks;
 
 const $ = (id) => document.getElementById(id);
@@ -33,6 +45,20 @@ function fail(message) {
 // ------------------------------------------------------------------- data
 
 const data = JSON.parse($('ausbau-data').textContent);
+const UNIT = data.scene.length_unit || data.scene.units || 'scene units';
+const withUnit = (text) => text + ' ' + UNIT;
+
+// The scene's up axis as a unit vector: 'z' -> [0, 0, 1], '-y' -> [0, -1, 0].
+const UP_AXIS = data.scene.up || { axis: 'y', source: 'not given' };
+const UP = (() => {
+  const v = [0, 0, 0];
+  v['xyz'.indexOf(UP_AXIS.axis.slice(-1))] = UP_AXIS.axis[0] === '-' ? -1 : 1;
+  return v;
+})();
+Object.defineProperty(hooks, 'up', {
+  enumerable: true,
+  get: () => ({ axis: UP_AXIS.axis, source: UP_AXIS.source, vector: camera ? camera.up.toArray() : UP.slice() }),
+});
 
 function decodeBuffer(ref) {
   const text = $('ausbau-buf-' + ref.buffer).textContent.trim();
@@ -96,6 +122,15 @@ function poseAt(path, u) {
 
 // ------------------------------------------------------------- JSON tables
 
+// A value of verdict.json / stats.json as a cell: an angle (a key
+// "rotation") in radians and degrees, null as "none".
+function valueText(key, value) {
+  if (value === null) return 'none';
+  if (typeof value === 'string') return value;
+  if (typeof value === 'number' && /(^|\.)rotation$/.test(key)) return fmtAngle(value);
+  return JSON.stringify(value);
+}
+
 function renderJsonTables() {
   const box = $('jsontables');
   for (const file of data.json_files) {
@@ -104,6 +139,10 @@ function renderJsonTables() {
     box.appendChild(h);
     const table = document.createElement('table');
     table.id = 'json-' + file.name;
+    // Long keys and values wrap; the box scrolls should a table still not fit.
+    const tableBox = document.createElement('div');
+    tableBox.className = 'tablebox';
+    tableBox.appendChild(table);
     const addRow = (key, value) => {
       const tr = table.insertRow();
       const th = document.createElement('th');
@@ -116,18 +155,18 @@ function renderJsonTables() {
       parsed = JSON.parse(file.text);
     } catch (e) {
       addRow('error', 'not valid JSON: ' + e.message);
-      box.appendChild(table);
+      box.appendChild(tableBox);
       continue;
     }
     const walk = (prefix, value) => {
       if (value !== null && typeof value === 'object' && !Array.isArray(value)) {
         for (const [k, v] of Object.entries(value)) walk(prefix ? prefix + '.' + k : k, v);
       } else {
-        addRow(prefix || '(value)', typeof value === 'string' ? value : JSON.stringify(value));
+        addRow(prefix || '(value)', valueText(prefix, value));
       }
     };
     walk('', parsed);
-    box.appendChild(table);
+    box.appendChild(tableBox);
   }
 }
 
@@ -147,6 +186,34 @@ const state = { u: 0, playing: false, speed: 1, path: null, lastFrame: null };
 const DURATION_S = 8;  // the whole path at 1x
 
 let renderer, scene3d, camera, controls, staticMesh, dynamicMesh, trace, ghosts, dynamicGeometry;
+let view3d = false;  // the 3D view is up (WebGL)
+
+// Whether the browser offers WebGL: asked of a throw-away canvas, so that a
+// browser without it never reaches three.js's renderer (which would throw
+// and log an error).
+function webglAvailable() {
+  try {
+    const c = document.createElement('canvas');
+    return !!(window.WebGLRenderingContext && (c.getContext('webgl2') || c.getContext('webgl')));
+  } catch (e) {
+    return false;
+  }
+}
+
+const NO_WEBGL = '3D view needs WebGL, which this browser does not offer; the plots and tables below do not.';
+
+// The 3D area without WebGL: the one sentence, and the controls that act on
+// the 3D view only are switched off. The scrubber and Play still move the
+// plots' cursor.
+function showWithoutWebGL() {
+  const view = $('view');
+  view.classList.add('nowebgl');
+  const p = document.createElement('p');
+  p.id = 'nowebgl';
+  p.textContent = NO_WEBGL;
+  view.prepend(p);
+  for (const id of ['opacity', 'showtrace', 'showghosts', 'section-axis', 'section-pos', 'measure']) $(id).disabled = true;
+}
 
 function geometryOf(mesh) {
   const g = new THREE.BufferGeometry();
@@ -186,8 +253,10 @@ function frame(now) {
     applyTime();
     requestRender();
   }
-  controls.update();
-  renderer.render(scene3d, camera);
+  if (view3d) {
+    controls.update();
+    renderer.render(scene3d, camera);
+  }
 }
 
 function setupScene() {
@@ -242,8 +311,11 @@ function setupScene() {
   ghosts.visible = false;
   scene3d.add(ghosts);
 
-  scene3d.add(new THREE.HemisphereLight(0xffffff, 0x8090a0, 1.6));
+  const sky = new THREE.HemisphereLight(0xffffff, 0x8090a0, 1.6);
+  sky.position.set(...UP);  // the sky above, the ground below, for the scene's up
+  scene3d.add(sky);
   camera = new THREE.PerspectiveCamera(40, 1, 1, 1000);
+  camera.up.set(...UP);  // before OrbitControls, which orbits about camera.up
   const light = new THREE.DirectionalLight(0xffffff, 1.6);
   light.position.set(0.5, 1, 1);
   camera.add(light);
@@ -267,6 +339,44 @@ function expandByPath(box, path, r) {
   }
 }
 
+// The area vectors (twice the area times the normal) of a mesh's triangles,
+// turned by `rotation` (a THREE.Quaternion, or null).
+function areaVectors(geometry, rotation, out) {
+  const p = geometry.attributes.position.array, index = geometry.index.array;
+  for (let i = 0; i < index.length; i += 3) {
+    const a = 3 * index[i], b = 3 * index[i + 1], c = 3 * index[i + 2];
+    const u = new THREE.Vector3(p[b] - p[a], p[b + 1] - p[a + 1], p[b + 2] - p[a + 2]);
+    const v = new THREE.Vector3(p[c] - p[a], p[c + 1] - p[a + 1], p[c + 2] - p[a + 2]);
+    const m = u.cross(v);
+    if (rotation) m.applyQuaternion(rotation);
+    out.push(m);
+  }
+  return out;
+}
+
+// The first view's direction from the target: a little above (0.45 along
+// up) and from the side that shows the most of S and D (their area as seen
+// from there, of eight directions around up), so that a tilted panel is
+// seen from its face, not its edge. The first candidate, kept on a tie, is
+// (0.55, 0.45, 0.75) for y up.
+function viewDirection() {
+  const k = 'xyz'.indexOf(UP_AXIS.axis.slice(-1)), a = (k + 1) % 3, b = (k + 2) % 3;
+  const areas = areaVectors(dynamicGeometry, dynamicMesh.quaternion, areaVectors(staticMesh.geometry, null, []));
+  const horizontal = Math.sqrt(1 - 0.45 * 0.45), first = Math.atan2(0.55, 0.75);
+  let best = null, bestSeen = -1;
+  for (let j = 0; j < 8; ++j) {
+    const phi = first + j * Math.PI / 4;
+    const d = new THREE.Vector3();
+    d.setComponent(k, 0.45 * UP[k]);
+    d.setComponent(a, horizontal * Math.cos(phi));
+    d.setComponent(b, horizontal * Math.sin(phi));
+    let seen = 0;
+    for (const m of areas) seen += Math.abs(m.dot(d));
+    if (seen > bestSeen * (1 + 1e-9)) { best = d; bestSeen = seen; }
+  }
+  return best.normalize();
+}
+
 // A box around S and D's swept reference positions on the path shown: the
 // camera's first view.
 function fitCamera() {
@@ -278,13 +388,14 @@ function fitCamera() {
   const size = box.getSize(new THREE.Vector3()).length() || 1;
   camera.near = size / 1000;
   camera.far = size * 20;
-  camera.position.copy(centre).add(new THREE.Vector3(0.55, 0.45, 0.75).normalize().multiplyScalar(size * 1.15));
+  camera.position.copy(centre).add(viewDirection().multiplyScalar(size * 1.15));
   camera.updateProjectionMatrix();
   controls.target.copy(centre);
   controls.update();
 }
 
 function resize() {
+  if (!view3d) { drawPlot(); return; }
   const canvas = renderer.domElement;
   const w = canvas.clientWidth, h = canvas.clientHeight;
   if (w === 0 || h === 0) return;
@@ -296,6 +407,7 @@ function resize() {
 }
 
 function rebuildPathObjects() {
+  if (!view3d) return;
   if (trace) { scene3d.remove(trace); trace.geometry.dispose(); }
   ghosts.clear();
   const path = state.path;
@@ -380,8 +492,8 @@ function drawSeries(canvas, series, path) {
   const ymax = (Math.max(...all, 0) - ymin) * 1.08 + ymin || 1;
   const X = (u) => left + u * pw, Y = (v) => top + ph - ((v - ymin) / (ymax - ymin)) * ph;
   ctx.fillStyle = '#1d232b';
-  const unit = series.unit ? ' [' + series.unit + ']' : '';
-  ctx.fillText(series.label + unit + (all.length ? '' : ': no values'), left, 14);
+  const unit = ' [' + (series.unit || UNIT) + ']';
+  ctx.fillText(series.label + unit + (all.length ? '' : ': not measured'), left, 14);
   ctx.strokeStyle = '#d5dbe3';
   ctx.lineWidth = 1;
   ctx.textAlign = 'right';
@@ -392,6 +504,8 @@ function drawSeries(canvas, series, path) {
   }
   ctx.textAlign = 'center';
   for (let k = 0; k <= 10; ++k) ctx.fillText((k / 10).toFixed(1), X(k / 10), top + ph + 15);
+  ctx.textAlign = 'right';
+  ctx.fillText('u', left - 18, top + ph + 15);  // the x axis: the path parameter (no unit)
   ctx.textAlign = 'left';
   ctx.strokeStyle = '#eceff3';
   for (const t of path.times) { ctx.beginPath(); ctx.moveTo(X(t), top); ctx.lineTo(X(t), top + ph); ctx.stroke(); }
@@ -446,10 +560,22 @@ function plotSeek(canvas, event) {
 
 // -------------------------------------------------------- waypoint table
 
+// A number for a cell or a label; a missing one in words, never "–" or "NaN".
 function fmt(v, digits = 4) {
-  if (v === null || v === undefined) return '–';
-  if (!Number.isFinite(v)) return String(v);
+  if (v === null || v === undefined || Number.isNaN(v)) return 'not measured';
+  if (!Number.isFinite(v)) return v > 0 ? 'unbounded' : 'not measured';
   return Number(v.toPrecision(digits)).toString();
+}
+
+// An angle in radians and degrees: "0.221 rad (12.7°)".
+function fmtAngle(radians) {
+  if (radians === null || !Number.isFinite(radians)) return 'not measured';
+  return `${fmt(radians, 3)} rad (${fmt(radians * 180 / Math.PI, 3)}°)`;
+}
+
+// The rotation angle of a unit quaternion [w, x, y, z] (shorter arc).
+function quaternionAngle(q) {
+  return 2 * Math.atan2(Math.hypot(q[1], q[2], q[3]), Math.abs(q[0]));
 }
 
 function buildWaypointTable() {
@@ -459,12 +585,13 @@ function buildWaypointTable() {
   if (!path || !path.table || !path.waypoints.length) return;
   const table = document.createElement('table');
   table.id = 'waypoints';
-  const units = data.scene.units ? ' [' + data.scene.units + ']' : '';
+  const units = ' [' + UNIT + ']';
   const hasVolume = path.table.rows.some((r) => r[3] !== null);
   const hasRigid = path.table.rows.some((r) => r[1] !== null);
-  const header = ['#', 'u', 't = (x, y, z)' + units, 'q = (w, x, y, z)', 'clearance' + units]
+  const header = ['waypoint', 'u', 't = (x, y, z)' + units, 'q = (w, x, y, z)', 'rotation (angle of q)',
+    'clearance' + units]
     .concat(hasRigid ? ['rigid penetration' + units, 'clip intersection' + units] : [])
-    .concat(hasVolume ? ['clip volume'] : [])
+    .concat(hasVolume ? ['clip volume [' + (path.series.find((x) => x.name === 'volume') || {}).unit + ']'] : [])
     .concat(['part of D', 'part of S']);
   const head = table.createTHead().insertRow();
   for (const h of header) { const th = document.createElement('th'); th.textContent = h; head.appendChild(th); }
@@ -474,7 +601,7 @@ function buildWaypointTable() {
     const tr = body.insertRow();
     tr.dataset.index = String(i);
     const cells = [String(i), fmt(path.times[i], 3), wp.t.map((c) => fmt(c, 6)).join(', '),
-      wp.q.map((c) => fmt(c, 4)).join(', '), fmt(r[0])]
+      wp.q.map((c) => fmt(c, 4)).join(', '), fmtAngle(quaternionAngle(wp.q)), fmt(r[0])]
       .concat(hasRigid ? [r[1] === null ? 'intersects (unmeasured)' : fmt(r[1]), fmt(r[2])] : [])
       .concat(hasVolume ? [fmt(r[3])] : [])
       .concat([path.table.names[r[4]], path.table.names[r[5]]]);
@@ -494,7 +621,7 @@ function buildWaypointTable() {
 
 function applyTime() {
   const pose = poseAt(state.path || { waypoints: [] }, state.u);
-  placeD(dynamicMesh, pose);
+  if (view3d) placeD(dynamicMesh, pose);
   state.pose = pose;
   $('scrubber').value = String(Math.round(state.u * 1000));
   const path = state.path;
@@ -503,7 +630,8 @@ function applyTime() {
   const series = currentSeries();
   if (series && series.x.length) {
     const k = Math.round(state.u * (series.x.length - 1));
-    info += `, clearance ≈ ${Number(series.y[k]).toPrecision(3)}`;
+    const c = series.y[k];
+    info += c === null || !Number.isFinite(c) ? ', clearance not measured' : `, clearance ≈ ${withUnit(fmt(c, 3))}`;
   }
   $('timeinfo').textContent = info;
   drawPlot();
@@ -603,12 +731,14 @@ function sectionBox() {
 }
 
 function clippedMaterials() {
+  if (!view3d) return [];
   const list = [staticMesh.material, dynamicMesh.material];
   ghosts.children.forEach((g) => list.push(g.material));
   return list;
 }
 
 function applySection() {
+  if (!view3d) return;
   const axis = $('section-axis').value;
   const fraction = Number($('section-pos').value) / 1000;
   const k = { x: 0, y: 1, z: 2 }[axis];
@@ -657,6 +787,7 @@ function setMeasuring(on) {
 }
 
 function pickAt(clientX, clientY) {
+  if (!view3d) return null;
   const rect = renderer.domElement.getBoundingClientRect();
   const ndc = new THREE.Vector2(((clientX - rect.left) / rect.width) * 2 - 1, -((clientY - rect.top) / rect.height) * 2 + 1);
   const raycaster = new THREE.Raycaster();
@@ -673,6 +804,7 @@ function pickAt(clientX, clientY) {
 }
 
 function drawMeasurement() {
+  if (!view3d) return;
   if (measure.group) { scene3d.remove(measure.group); measure.group.traverse((o) => o.geometry && o.geometry.dispose()); }
   measure.group = new THREE.Group();
   const size = sectionBox().getSize(new THREE.Vector3()).length() || 1;
@@ -711,6 +843,7 @@ function measurement() {
 }
 
 function project(p) {
+  if (!view3d) return null;
   const v = new THREE.Vector3(...p).project(camera);
   const rect = renderer.domElement.getBoundingClientRect();
   return { x: rect.left + (v.x + 1) / 2 * rect.width, y: rect.top + (1 - v.y) / 2 * rect.height, depth: v.z };
@@ -730,6 +863,7 @@ function readPixels() {
 }
 
 function pixelStats() {
+  if (!view3d) return null;
   const shown = readPixels();
   // How many pixels change when `object` is hidden, and the middle one of
   // them (in reading order) as client coordinates: a pixel that shows it.
@@ -770,34 +904,52 @@ function pixelStats() {
 
 // ------------------------------------------------------------------ start
 
-try {
+// The tables and plots first and on their own: whatever becomes of the 3D
+// view, they are shown.
+function start() {
   renderJsonTables();
-  setupScene();
+  if (webglAvailable()) {
+    try {
+      setupScene();
+      view3d = true;
+    } catch (e) {
+      // WebGL offered but unusable (a lost or refused context): the page
+      // goes on without the 3D view and says why.
+      fail('the 3D view could not start: ' + (e && e.message ? e.message : String(e)));
+    }
+  }
+  hooks.webgl = view3d;
+  if (!view3d) showWithoutWebGL();
   setupControls();
+  new ResizeObserver(() => drawPlot()).observe($('plots'));
   const initial = data.paths.find((p) => p.key === 'smoothed' && p.waypoints.length) ||
     data.paths.find((p) => p.waypoints.length) || data.paths[0];
   selectPath(initial ? initial.key : '');
-  fitCamera();
-  resize();
-  renderer.render(scene3d, camera);
+  if (view3d) {
+    fitCamera();
+    resize();
+    renderer.render(scene3d, camera);
+  }
   Object.assign(hooks, {
     setTime,
     time: () => state.u,
     poseOfD: () => ({ t: state.pose.t.slice(), q: state.pose.q.slice(), path: state.path ? state.path.key : null,
       segment: state.pose.segment, s: state.pose.s }),
+    view: () => (view3d ? { up: camera.up.toArray(), target: controls.target.toArray(),
+      position: camera.position.toArray() } : null),
     selectPath,
     paths: () => data.paths.map((p) => ({ key: p.key, waypoints: p.waypoints.length, times: p.times.slice(),
       reference_point: p.reference_point.slice(), dynamic_origin: p.dynamic_origin.slice() })),
     play: () => setPlaying(true),
     pause: () => setPlaying(false),
     pixelStats,
-    labelsShown: () => !!data.labels && dynamicMesh.material.vertexColors === true &&
+    labelsShown: () => view3d && !!data.labels && dynamicMesh.material.vertexColors === true &&
       $('legend').style.display === 'block',
     plots: () => Array.from($('plots').querySelectorAll('canvas.plot')).map((c) => {
       const series = state.path.series.find((s) => s.name === c.dataset.series);
       const values = series.y.concat(series.waypoints);
-      return { name: series.name, label: series.label, width: c.width, height: c.height, points: values.length,
-        finite: values.filter((v) => v !== null && Number.isFinite(v)).length,
+      return { name: series.name, label: series.label, unit: series.unit, width: c.width, height: c.height,
+        points: values.length, finite: values.filter((v) => v !== null && Number.isFinite(v)).length,
         max: Math.max(...values.filter((v) => v !== null && Number.isFinite(v))) };
     }),
     waypointRows: () => { const t = $('waypoints'); return t ? t.tBodies[0].rows.length : 0; },
@@ -811,7 +963,11 @@ try {
   hooks.loadMs = performance.now();
   hooks.ready = true;
   const tri = data.static.triangles + data.dynamic.triangles;
-  status(`${tri.toLocaleString('en')} triangles; ready in ${(hooks.loadMs / 1000).toFixed(2)} s`);
+  if (view3d) status(`${tri.toLocaleString('en')} triangles; ready in ${(hooks.loadMs / 1000).toFixed(2)} s`);
+}
+
+try {
+  start();
 } catch (e) {
   fail(e && e.message ? e.message : String(e));
 }

@@ -136,6 +136,7 @@ int BigScene(const fs::path& out_dir, long triangles) {
   scene.static_files = {out_dir / "environment.obj"};
   scene.dynamic_file = out_dir / "part.obj";
   scene.start.t = Eigen::Vector3d(0, -4, 0);
+  scene.up_axis = "y";  // the shell opens upwards along y; OBJ alone would say z
   SaveSceneYaml(scene, out_dir / "scene.yaml");
   std::printf("S %zu triangles, D %zu triangles\n", shell.triangles.size(), 13 * 13 * 12ul);
   return 0;

@@ -17,12 +17,24 @@
 //   - Measure: two mouse clicks on the 3D view give two points on the
 //     surfaces under the clicks and their distance, shown,
 //   - the path's CSV download has the bytes of the CSV file (--csv),
+//   - the headline says its numbers with units, never "inf", "nan", a lone
+//     "–" or a bare number before a colon,
+//   - the view is upright for the scene's up axis (--expect-up z, and
+//     --expect-up-source: where the page says it came from): the camera's up
+//     vector is that axis and a point above the view's centre is drawn
+//     straight above it,
+//   - with --check-layout, at 1280x720 and 1366x768 the page does not scroll
+//     sideways and the verdict table (where there is one) fits,
+//   - with --check-no-webgl, in a Chromium without WebGL the 3D area says so
+//     in one sentence while the headline, the three plots and the tables are
+//     all there, with no error,
 // and saves a screenshot. Prints one JSON line of measurements.
 //
 //   node report_test.js --chromium /usr/bin/chromium --html report.html \
 //     --screenshot out.png [--csv path-smooth.csv --ref x,y,z --origin x,y,z] [--path-key smoothed]
 //     [--load-only] [--expect-labels] [--expect-table ID] [--expect-headline WORD]
-//     [--expect-part NAME] [--timeout-ms 60000]
+//     [--expect-part NAME] [--expect-up AXIS] [--expect-up-source TEXT] [--check-layout]
+//     [--check-no-webgl] [--timeout-ms 60000]
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -34,6 +46,8 @@ function parseArgs(argv) {
     const key = argv[i].replace(/^--/, '');
     if (key === 'load-only') { args.loadOnly = true; continue; }
     if (key === 'expect-labels') { args.expectLabels = true; continue; }
+    if (key === 'check-layout') { args.checkLayout = true; continue; }
+    if (key === 'check-no-webgl') { args.checkNoWebgl = true; continue; }
     const value = argv[++i];
     if (value === undefined) throw new Error('missing value for --' + key);
     args[key.replace(/-([a-z])/g, (_, c) => c.toUpperCase())] = value;
@@ -123,6 +137,150 @@ async function checkHeadline(page, args, result) {
   // One sentence: ends with a full stop, and no full stop followed by a capital inside.
   check(/\.$/.test(headline.why) && headline.why.length > 20 && !/\. [A-Z]/.test(headline.why),
     `the headline's reason is not one sentence: '${headline.why}'`);
+  checkPlainWords(headline.why, 'the headline');
+}
+
+// Numbers in plain words: at least one with its unit, none missing as
+// "inf", "nan", "null" or a lone dash, none bare before a colon ("after 195:";
+// "waypoint 9:" names a waypoint).
+const UNIT = /\d(\.\d+)?(e[+-]?\d+)? ?(mm|cm|m|in|inch|scene units|cubic scene units|s|rad)(?![A-Za-z])|\d°/;
+function checkPlainWords(text, what) {
+  check(UNIT.test(text), `${what} has no number with a unit: '${text}'`);
+  check(!/(^|[^A-Za-z])(inf|infinity|nan|null|undefined)(?![A-Za-z])/i.test(text),
+    `${what} says inf, nan or null: '${text}'`);
+  check(!/(^|\s)–(\s|$|[.,;:])/.test(text), `${what} has a lone '–' for a missing value: '${text}'`);
+  check(!/(^|[^\w.])(?<!waypoint )\d+(\.\d+)?:/.test(text), `${what} has a bare number before a colon: '${text}'`);
+}
+
+// The view is upright for the scene's up axis: the camera's up vector is the
+// axis, the page says it, and a point above the view's centre (along up) is
+// drawn straight above the centre on the screen.
+async function checkUp(page, args, result) {
+  const up = await page.evaluate(() => {
+    const a = window.ausbau, v = a.view();
+    if (!v) return { hook: a.up, view: null };
+    const reach = Math.hypot(...v.position.map((c, k) => c - v.target[k]));
+    const above = v.target.map((c, k) => c + 0.1 * reach * v.up[k]);
+    return { hook: a.up, view: v, centre: a.project(v.target), above: a.project(above),
+      said: document.getElementById('upinfo').textContent, table: document.getElementById('up-axis').textContent };
+  });
+  result.up = up;
+  const axis = args.expectUp;
+  const want = [0, 0, 0];
+  want['xyz'.indexOf(axis.slice(-1))] = axis[0] === '-' ? -1 : 1;
+  const same = (v) => v && v.length === 3 && v.every((c, k) => Math.abs(c - want[k]) < 1e-12);
+  check(up.hook && up.hook.axis === axis && same(up.hook.vector),
+    `window.ausbau.up is ${JSON.stringify(up.hook)}, expected axis ${axis} (${want})`);
+  if (!check(up.view, 'no 3D view to check the up axis in')) return;
+  check(same(up.view.up), `the camera's up vector is ${up.view.up}, expected ${want}`);
+  check(up.above.y < up.centre.y - 5 && Math.abs(up.above.x - up.centre.x) < 1,
+    `the view is not upright: up from the centre (${up.centre.x}, ${up.centre.y}) is drawn at (${up.above.x}, ${up.above.y})`);
+  const words = 'up: ' + (axis[0] === '-' ? axis : '+' + axis) +
+    (args.expectUpSource ? ' (' + args.expectUpSource + ')' : '');
+  check(up.said.startsWith(words) && up.table.startsWith(words.slice(4)),
+    `the page says '${up.said}' / '${up.table}', expected '${words}'`);
+}
+
+// At laptop sizes the page does not scroll sideways and the verdict table
+// fits (long names wrap); the waypoint table may scroll inside its own box.
+async function checkLayout(browser, html, args, result) {
+  result.layout = [];
+  for (const [width, height] of [[1280, 720], [1366, 768]]) {
+    const page = await browser.newPage({ viewport: { width, height } });
+    await page.goto('file://' + html, { waitUntil: 'load', timeout: args.timeoutMs });
+    await page.waitForFunction(() => window.ausbau && (window.ausbau.ready || window.ausbau.error),
+      null, { timeout: args.timeoutMs });
+    const r = await page.evaluate(() => {
+      const doc = document.documentElement, width = doc.clientWidth;
+      const verdict = document.getElementById('json-verdict');
+      // Elements that reach past the right edge, outside boxes that scroll.
+      const over = Array.from(document.querySelectorAll('main *'))
+        .filter((e) => !e.closest('#waypointbox') && e.getBoundingClientRect().right > width + 0.5)
+        .slice(0, 5).map((e) => e.tagName + (e.id ? '#' + e.id : '') + ' ' + Math.round(e.getBoundingClientRect().right));
+      return { scrollWidth: doc.scrollWidth, clientWidth: width, over,
+        verdictRight: verdict ? verdict.getBoundingClientRect().right : null };
+    });
+    await page.close();
+    result.layout.push(Object.assign({ width, height }, r));
+    check(r.scrollWidth <= r.clientWidth, `at ${width}x${height} the page scrolls sideways ` +
+      `(scrollWidth ${r.scrollWidth} > clientWidth ${r.clientWidth}; past the edge: ${r.over.join(', ')})`);
+    check(r.over.length === 0, `at ${width}x${height} these reach past the right edge: ${r.over.join(', ')}`);
+    if (args.expectTable === 'json-verdict') {
+      check(r.verdictRight !== null && r.verdictRight <= r.clientWidth,
+        `at ${width}x${height} the verdict table does not fit (right edge ${r.verdictRight} > ${r.clientWidth})`);
+    }
+  }
+}
+
+// In a Chromium without WebGL: the sentence in the 3D area, and the
+// headline, the three plots (drawn) and every table still there, no error.
+async function checkWithoutWebGL(args, html, result) {
+  const browser = await chromium.launch({
+    executablePath: args.chromium,
+    headless: true,
+    args: ['--disable-webgl', '--disable-webgl2', '--disable-3d-apis', '--no-sandbox'],
+  });
+  const out = {};
+  result.withoutWebGL = out;
+  try {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+    const errors = [];
+    page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+    page.on('pageerror', (e) => errors.push('page error: ' + e.message));
+    await page.route('**/*', (route) => {
+      const url = route.request().url();
+      return url.startsWith('file://') || url.startsWith('data:') || url.startsWith('blob:') ? route.continue()
+        : route.abort();
+    });
+    await page.goto('file://' + html, { waitUntil: 'load', timeout: args.timeoutMs });
+    await page.waitForFunction(() => window.ausbau && (window.ausbau.ready || window.ausbau.error),
+      null, { timeout: args.timeoutMs });
+    Object.assign(out, await page.evaluate(() => {
+      const a = window.ausbau, c = document.createElement('canvas');
+      const drawn = Array.from(document.querySelectorAll('#plots canvas.plot')).map((canvas) => {
+        const px = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
+        let n = 0;
+        for (let i = 3; i < px.length; i += 4) n += px[i] > 0;
+        return { name: canvas.dataset.series, pixels: n, width: canvas.width, height: canvas.height };
+      });
+      const table = document.getElementById('waypoints');
+      return { probe: !!(c.getContext('webgl2') || c.getContext('webgl')), ready: a.ready, error: a.error,
+        webgl: a.webgl, sentence: (document.getElementById('nowebgl') || {}).textContent || null,
+        headline: document.getElementById('verdict-why').textContent, drawn,
+        paths: a.paths().map((p) => ({ key: p.key, waypoints: p.waypoints })),
+        rows: table ? table.tBodies[0].rows.length : 0,
+        tables: Array.from(document.querySelectorAll('table')).map((t) => t.id) };
+    }));
+    // The scrubber and Play still move the plots' cursor.
+    out.timeAfterSeek = await page.evaluate(() => { window.ausbau.setTime(0.5); return window.ausbau.time(); });
+    await page.evaluate(() => window.ausbau.setTime(0));
+    await page.click('#play');
+    out.played = await page.waitForFunction(() => window.ausbau.time() > 0, null, { timeout: 10000 })
+      .then(() => true, () => false);
+    await page.click('#play');
+    await page.screenshot({ path: args.screenshot.replace(/\.png$/, '') + '-nowebgl.png', fullPage: true });
+    out.errors = errors;
+  } finally {
+    await browser.close();
+  }
+  check(!out.probe, 'the browser started without WebGL still offers it: the no-WebGL check proves nothing');
+  check(out.ready && !out.error && out.webgl === false, `without WebGL: ready ${out.ready}, error ${out.error}, ` +
+    `webgl ${out.webgl}`);
+  check(out.sentence === '3D view needs WebGL, which this browser does not offer; the plots and tables below do not.',
+    `without WebGL the 3D area says '${out.sentence}'`);
+  check(out.headline && out.headline.length > 20, 'without WebGL there is no headline');
+  for (const name of ['clearance', 'rigid', 'clip']) {
+    const plot = out.drawn.find((d) => d.name === name);
+    check(plot && plot.width > 100 && plot.pixels > 500, `without WebGL the '${name}' plot is not drawn: ` +
+      JSON.stringify(plot));
+  }
+  const shown = out.paths.find((p) => p.key === args.pathKey) || out.paths[0];
+  check(shown && out.rows === shown.waypoints, `without WebGL the waypoint table has ${out.rows} rows`);
+  for (const id of ['waypoints', 'stats', 'scene'].concat(args.expectTable ? [args.expectTable] : [])) {
+    check(out.tables.includes(id), `without WebGL there is no table #${id} (has: ${out.tables.join(', ')})`);
+  }
+  check(out.timeAfterSeek === 0.5 && out.played, 'without WebGL the scrubber or Play does not work');
+  check(out.errors.length === 0, 'without WebGL: console errors: ' + out.errors.join(' | '));
 }
 
 async function checkPlotsAndTable(page, entry, args, result) {
@@ -262,6 +420,7 @@ async function main() {
       check(await page.evaluate(() => window.ausbau.labelsShown()), 'D is not coloured by its labels (or no legend)');
     }
     await checkHeadline(page, args, result);
+    if (args.expectUp) await checkUp(page, args, result);
     if (args.expectTable) {
       const rows = await page.evaluate((id) => { const t = document.getElementById(id); return t ? t.rows.length : -1; },
         args.expectTable);
@@ -344,9 +503,11 @@ async function main() {
     result.screenshot = args.screenshot;
     check(consoleErrors.length === 0, 'console errors: ' + consoleErrors.join(' | '));
     check(external.length === 0, 'requests outside the file: ' + external.join(', '));
+    if (args.checkLayout) await checkLayout(browser, html, args, result);
   } finally {
     await browser.close();
   }
+  if (args.checkNoWebgl) await checkWithoutWebGL(args, html, result);
   result.failures = failures;
   console.log(JSON.stringify(result));
   if (failures.length) {

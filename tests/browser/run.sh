@@ -13,8 +13,14 @@
 # scenes/panel-tilt-slide-1, as `make demo`): its headline against its
 # verdict.json, the three plots, the waypoint table with parts named after
 # the mesh files, the section plane, the measurement and the download of
-# path.csv. Leaves screenshots WORK_DIR/report.png, report-labels.png,
-# report-demo.png.
+# path.csv. On every report: the headline's numbers carry units; the view is
+# upright for the scene's up axis (the OBJ/STL scenes by default z, a copy of
+# the scene with `up_axis: y` the key's). On the labels' and the demo's
+# report also: no sideways scroll at 1280x720 and 1366x768 with the verdict
+# table fitting, and in a Chromium without WebGL the sentence in the 3D area
+# with the plots and tables all there. Leaves screenshots WORK_DIR/report.png,
+# report-labels.png, report-labels-nowebgl.png, report-demo.png,
+# report-demo-nowebgl.png.
 # Exit 77 (CTest's SKIP_RETURN_CODE) when no Chromium is installed and none
 # can be installed (`scripts/install-deps.sh browser`, which `make test` runs).
 set -euo pipefail
@@ -47,21 +53,26 @@ echo "report_in_browser: reference point $ref, dynamic_origin $origin"
 [ "$ref" != "$origin" ] || { echo "report_in_browser: error: the test scene should have reference point != dynamic_origin" >&2; exit 1; }
 
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --screenshot "$work/report.png" \
-  --csv "$run/path-smooth.csv" --ref "$ref" --origin "$origin" --path-key smoothed --expect-headline "NO VERDICT"
+  --csv "$run/path-smooth.csv" --ref "$ref" --origin "$origin" --path-key smoothed --expect-headline "NO VERDICT" \
+  --expect-up z --expect-up-source "default for OBJ/STL/STEP data"
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report.html" --screenshot "$work/report-planned.png" \
   --csv "$run/path.csv" --ref "$(vector reference_point "$run/path.h5")" \
   --origin "$(vector dynamic_origin "$run/path.h5")" --path-key planned
 
-# Labels and a verdict in the run folder.
+# Labels and a verdict in the run folder; the scene's `up_axis` key (y,
+# against the default z of its OBJ files).
 mkdir -p "$run/labeled"
+cp "$scene" "$run/scene/scene-y-up.yaml"
+echo 'up_axis: y' >> "$run/scene/scene-y-up.yaml"
 cp "$run/path.h5" "$run/path-smooth.h5" "$run/labeled/"
 "$helper" labels "$scene" "$run/labeled/labels.h5"
 echo '{"status": "removable", "checks": {"collision_free": true, "min_clearance": 0.0035}, "notes": ["test"]}' \
   > "$run/labeled/verdict.json"
-"$bin/ausbau-report" --scene "$scene" --run-dir "$run/labeled" -o "$run/report-labels.html" --log-level warn
+"$bin/ausbau-report" --scene "$run/scene/scene-y-up.yaml" --run-dir "$run/labeled" -o "$run/report-labels.html" \
+  --log-level warn
 node "$here/report_test.js" --chromium "$chromium" --html "$run/report-labels.html" \
   --screenshot "$work/report-labels.png" --load-only --expect-labels --expect-table json-verdict \
-  --expect-headline REMOVABLE
+  --expect-headline REMOVABLE --expect-up y --expect-up-source "scene key" --check-layout --check-no-webgl
 
 # The demo's run, as `make demo` makes it.
 repo=$(cd "$here/../.." && pwd)
@@ -75,5 +86,5 @@ if grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' "$demo/verdict.json"; the
 node "$here/report_test.js" --chromium "$chromium" --html "$demo/report.html" --screenshot "$work/report-demo.png" \
   --csv "$demo/path.csv" --ref "$(vector reference_point "$demo/path-smooth.h5")" \
   --origin "$(vector dynamic_origin "$demo/path-smooth.h5")" --path-key smoothed --expect-headline "$word" \
-  --expect-part static.stl
+  --expect-part static.stl --expect-table json-verdict --expect-up z --check-layout --check-no-webgl
 echo "report_in_browser: passed; screenshots $work/report.png, $work/report-labels.png, $work/report-demo.png"
