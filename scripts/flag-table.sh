@@ -27,6 +27,9 @@ for exe in "$bin"/ausbau-*; do
   # ausbau-bench is built only where OMPL is installed (not in CI); its
   # flags follow the same table but are not checked here.
   [ "$(basename "$exe")" = ausbau-bench ] && continue
+  # ausbau-run is the pipeline as a command (scripts/ausbau-run.in): its
+  # arguments are the pipeline's variables, not flags.
+  [ "$(basename "$exe")" = ausbau-run ] && continue
   name=$(basename "$exe")
   executables+=("$name")
   # CLI11 help lines: "  -o,--output TEXT ...", "  --force", "  !--no-verify" is printed as "--no-verify".

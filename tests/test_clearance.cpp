@@ -68,7 +68,11 @@ TEST(Clearance, DefaultIsHalfAMillimetreInTheSceneUnits) {
   EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(-1, "cm"), 0.05);
   EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(-1, "m"), 0.0005);
   EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(-1, ""), 0.5);  // unknown: taken as mm, like the rigid tolerance
-  EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(2, "m"), 2);    // given: scene units
+  // Given: mm, as every length flag (README "Flags"), converted; without
+  // units, scene units.
+  EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(2, "m"), 0.002);
+  EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(2.54, "in"), 0.1);
+  EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(2, "unitless"), 2);
   EXPECT_DOUBLE_EQ(ClearanceInSceneUnits(0, "mm"), 0);
 }
 

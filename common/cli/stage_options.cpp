@@ -64,7 +64,8 @@ namespace {
 void AddClearanceOption(StageDefinition& stage, double* clearance) {
   stage
       .Option("--clearance", clearance,
-              "distance from S to keep where the path allows, scene units (a preference, never at the cost of "
+              "distance from S to keep where the path allows, mm (converted by the scene's units; a preference, never "
+              "at the cost of "
               "validity; where a passage is narrower the verdict says where); -1: 0.5 mm in the scene's units, "
               "kept by smoothing only (ausbau-plan keeps a clearance only when one is given); 0: none",
               CacheKey::kYes)
@@ -94,8 +95,10 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
                   "volume threshold, scene units^3; default: from --tau-file, else estimated (shrink: 0)")
       ->check(NonNegative());
   stage.InputFile("--tau-file", &plan->tau_file, "tau", "tau and psi from ausbau-tau-estimate (HDF5)");
-  stage.app().add_option("--psi", plan->psi,
-                         "sigma_1 ends when distance(S, D) > psi, scene units; default: from --tau-file or the labels");
+  stage.app().add_option(
+      "--psi", plan->psi,
+      "sigma_1 ends when distance(S, D) > psi, mm (converted by the scene's units); default: from --tau-file "
+      "or the labels");
   stage
       .Option("--max-crop-level", &plan->max_crop_level,
               "rigid-exact on a large S: how often the crop around D may double when no path is found "

@@ -10,9 +10,7 @@
 namespace ausbau {
 
 double ClearanceInSceneUnits(double clearance, const std::string& units) {
-  if (clearance >= 0) return clearance;
-  const std::optional<double> mm = MillimetresPerUnit(units);
-  return kDefaultClearanceMm / (mm ? *mm : 1.0);
+  return MillimetresInSceneUnits(clearance >= 0 ? clearance : kDefaultClearanceMm, units);
 }
 
 double ClearanceStep(const PlanningProblem& problem, double clearance) {

@@ -37,9 +37,10 @@ struct PartModel;
 // and the verdict says where).
 inline constexpr double kDefaultClearanceMm = 0.5;
 
-// --clearance as used: `clearance` (scene units) when >= 0, else the
-// default kDefaultClearanceMm converted by the scene's `units` (mm, cm, m,
-// in; unknown or no units: taken as mm, as the rigid tolerance is).
+// --clearance in scene units: `clearance` (mm, as every length flag) when
+// >= 0, else the default kDefaultClearanceMm, converted by the scene's
+// `units` (mm, cm, m, in; unknown or no units: the number as scene units,
+// as the rigid tolerance; scene/units.h MillimetresInSceneUnits).
 double ClearanceInSceneUnits(double clearance, const std::string& units);
 
 // The sample step of the clearance walks that keep d: d itself, within

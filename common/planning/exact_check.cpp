@@ -62,6 +62,20 @@ std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double t
 
 namespace {
 
+// Lengths in the verdict's sentences carry the scene's unit: "8.916 mm",
+// "0.2 (scene units)" where the scene names none.
+std::string LengthInWords(double value, const std::string& units) {
+  return Fmt("%.4g %s", value, units.empty() ? "(scene units)" : units.c_str());
+}
+
+// A penetration depth: "0.12 mm deep", or in words where it was not
+// measured (an intersection whose depth the surface search did not bound).
+std::string DepthInWords(double depth, const std::string& units) {
+  if (!std::isfinite(depth)) return "intersecting (depth not measured)";
+  return LengthInWords(depth, units) + " deep";
+}
+
+
 // One straight pull of ProbeWhatBlocks from `start` along `direction`:
 // conservative steps (the slack, at least a tenth of the tolerance, at most
 // `largest_step`) until a rigid shell goes deeper than the tolerance (then
@@ -161,10 +175,10 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
     const BlockingProbe& p = report.probes[report.farthest];
     report.summary =
         Fmt("%d of %zu straight pulls along D's principal axes are blocked; the farthest, towards "
-            "[%.3f, %.3f, %.3f], after %.4g: rigid %s of D against %s of S, %.4g deep",
-            blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(), p.free_distance,
-            report.parts->Describe(p.rigid_shell, true).c_str(), report.parts->Describe(p.static_shell, false).c_str(),
-            p.depth);
+            "[%.3f, %.3f, %.3f], after %s of free travel: rigid %s of D against %s of S, %s",
+            blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(),
+            LengthInWords(p.free_distance, scene.units).c_str(), report.parts->Describe(p.rigid_shell, true).c_str(),
+            report.parts->Describe(p.static_shell, false).c_str(), DepthInWords(p.depth, scene.units).c_str());
   } else {
     report.summary =
         "every straight pull along D's principal axes gets D out; what holds it is a fastener or a "
@@ -284,9 +298,10 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
     const bool fastener = report.rigid_shell >= 0 && (parts.role[report.rigid_shell] == ShellRole::kFastener ||
                                                       parts.Mask(report.rigid_shell) != nullptr);
     problems.push_back(Fmt(
-        "%s penetrates S %.4g deep (tolerance %.4g) on segment %d: D %s, S %s",
+        "%s penetrates S %s (tolerance %s) between waypoints %d and %d: D %s, S %s",
         fastener ? "a part of D (a rigid part, or a fastener in a solid of S it does not engage)" : "a rigid part of D",
-        report.max_rigid_depth, tolerance, report.worst_segment, parts.Describe(report.rigid_shell, true).c_str(),
+        DepthInWords(report.max_rigid_depth, scene.units).c_str(), LengthInWords(tolerance, scene.units).c_str(),
+        report.worst_segment, report.worst_segment + 1, parts.Describe(report.rigid_shell, true).c_str(),
         parts.Describe(report.static_shell, false).c_str()));
   }
   report.valid = problems.empty();

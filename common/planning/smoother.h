@@ -39,7 +39,8 @@ struct SmoothOptions {
   double time_limit_s = 60.0;
   double resolution = 0.01;  // as PlannerOptions::resolution
   // --clearance: the distance from S to keep where the geometry allows, in
-  // scene units; < 0: the default, ClearanceInSceneUnits (planning/clearance.h).
+  // mm (as the flag; ClearanceInSceneUnits, planning/clearance.h, converts
+  // it); < 0: the default.
   double clearance = -1;
   // Shortcut attempts done of those planned, then the translation-only
   // alternative's iterations (core/log.h); empty = silent.

@@ -21,6 +21,14 @@ inline std::optional<double> MillimetresPerUnit(const std::string& units) {
   return std::nullopt;
 }
 
+// The one rule for length flags (README "Flags"): every length flag is in
+// millimetres and converted by the scene's units; where the scene has none
+// (or unitless or unknown ones), the number is taken in scene units.
+inline double MillimetresInSceneUnits(double millimetres, const std::string& units) {
+  const std::optional<double> per_unit = MillimetresPerUnit(units);
+  return per_unit ? millimetres / *per_unit : millimetres;
+}
+
 // What format ausbau-scene/2 accepts for a scene's `units:`: a name
 // MillimetresPerUnit converts, or unitless / none (any case).
 inline bool IsSceneUnitsName(const std::string& units) {

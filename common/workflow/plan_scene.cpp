@@ -19,6 +19,7 @@
 #include "planning/exact_check.h"
 #include "planning/smoother.h"
 #include "scene/scene_check.h"
+#include "scene/units.h"
 #include "workflow/made_from.h"
 
 namespace ausbau {
@@ -222,7 +223,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
                             const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
   const ValidityMode mode = options.validity;
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
-  double tau = options.tau, psi = options.psi;
+  double tau = options.tau, psi = options.psi > 0 ? MillimetresInSceneUnits(options.psi, scene.units) : options.psi;
   TauEstimate estimate;  // where tau comes from an estimate: its sigma_1 too
   if (!options.tau_file.empty()) {
     const TauArtifact stored = ReadTauArtifact(options.tau_file);

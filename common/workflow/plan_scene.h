@@ -39,7 +39,7 @@ struct PlanSceneOptions {
   ValidityMode validity = ValidityMode::kCollision;
   double tau = -1;       // < 0: from tau_file, else estimated here (shrink: 0)
   std::string tau_file;  // ausbau-tau-estimate artifact
-  double psi = 0;        // 0: from tau_file, else from the labels
+  double psi = 0;        // mm (--psi; converted by the scene's units); 0: from tau_file, else from the labels
   VolumeInputs volume;
   std::string rigid_planner = "cr-rrtc";
   bool verify = true;  // the independent dense (or exact) re-check of the result

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/inistate_planner.h"
+#include "scene/units.h"
 
 namespace ausbau {
 
@@ -22,7 +23,7 @@ TauArtifact EstimateSceneTau(const Scene& scene, const SceneTauOptions& options)
   const ValidityMode mode = options.validity;
   const PlanningProblem problem = MakePlanningProblem(scene);
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
-  const double psi = options.psi > 0 ? options.psi : model->EstimatePsi();
+  const double psi = options.psi > 0 ? MillimetresInSceneUnits(options.psi, scene.units) : model->EstimatePsi();
   LogInfo("scene %s: validity %s, psi %.6g %s (%s), voxel %.4g %s", scene.name.c_str(), ValidityModeName(mode).c_str(),
           psi, scene.units.c_str(), options.psi > 0 ? "given" : "largest deformable component", model->voxel_size(),
           scene.units.c_str());

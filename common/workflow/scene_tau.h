@@ -13,7 +13,7 @@ namespace ausbau {
 
 struct SceneTauOptions {
   ValidityMode validity = ValidityMode::kLabeledMliv;  // a volume mode (shrink | iv | mliv | labeled-mliv | ...)
-  double psi = 0;  // scene units; 0 = from the labels (largest deformable component)
+  double psi = 0;  // mm (--psi; converted by the scene's units); 0 = from the labels (largest deformable component)
   VolumeInputs volume;
   TauEstimateOptions estimate;
   // Throws InputError naming the flag of a value that does not fit.

@@ -25,7 +25,8 @@ void DeclareTau(StageDefinition& stage, TauStageOptions* options) {
   stage.ExtraOutput("--csv", &options->csv, "also write the search's trace as CSV");
   stage.Choice("--validity", &options->tau.validity, InIStateValidityNames(), ParseValidityMode, ValidityModeName,
                "shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded", CacheKey::kYes);
-  stage.Option("--psi", &options->tau.psi, "scene units; 0 = from the labels (largest deformable component)",
+  stage.Option("--psi", &options->tau.psi,
+               "mm (converted by the scene's units); 0 = from the labels (largest deformable component)",
                CacheKey::kYes);
   AddVolumeInputOptions(stage, &options->tau.volume);
   AddTauEstimateOptions(stage, &options->tau.estimate);

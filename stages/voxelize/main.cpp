@@ -7,6 +7,7 @@
 #include "core/log.h"
 #include "inistate/voxel_grid.h"
 #include "scene/scene.h"
+#include "scene/units.h"
 
 namespace ausbau {
 namespace {
@@ -25,12 +26,15 @@ struct VoxelizeStageOptions {
 };
 
 void DeclareVoxelize(StageDefinition& stage, VoxelizeStageOptions* options) {
-  stage.Option("--voxel-size", &options->voxelize.voxel_size,
-               "voxel edge in scene units; 0 = automatic (about --voxel-budget voxels in D's AABB)", CacheKey::kYes);
+  stage.Option(
+      "--voxel-size", &options->voxelize.voxel_size,
+      "voxel edge, mm (converted by the scene's units); 0 = automatic (about --voxel-budget voxels in D's AABB)",
+      CacheKey::kYes);
   stage.Option("--voxel-budget", &options->voxelize.voxel_budget, "automatic voxel size: voxels in D's AABB",
                CacheKey::kYes);
   stage.Option("--shrink", &options->voxelize.shrink,
-               "erode D's voxels by this distance, scene units (thesis 5.3 baseline); 0 = none", CacheKey::kYes);
+               "erode D's voxels by this distance, mm (converted by the scene's units; thesis 5.3 baseline); 0 = none",
+               CacheKey::kYes);
   stage.Option("--memory-limit", &options->memory_limit_gib, "GiB; larger grids are refused", CacheKey::kNo);
   stage.Threads(&options->threads);
 }
@@ -44,6 +48,9 @@ int Voxelize(const StageRun& run, const VoxelizeStageOptions& stage_options) {
   const Scene& scene = run.scene;
   LogInfo("scene %s: S %zu triangles, D %zu triangles, %d threads", scene.name.c_str(),
           scene.static_mesh.triangles.size(), scene.dynamic_mesh.triangles.size(), omp_get_max_threads());
+  // The flags are in mm (README "Flags"); the grid is in scene units.
+  options.voxelize.voxel_size = MillimetresInSceneUnits(options.voxelize.voxel_size, scene.units);
+  options.voxelize.shrink = MillimetresInSceneUnits(options.voxelize.shrink, scene.units);
   const SceneVoxels voxels = VoxelizeScene(scene, options.voxelize);
   const auto& s = voxels.static_stats;
   const auto& d = voxels.dynamic_stats;
