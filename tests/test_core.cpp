@@ -52,8 +52,14 @@ TEST(Progress, SilentBelowInfo) {
   SetLogLevel(LogLevel::kInfo);
   testing::internal::CaptureStderr();
   {
-    const ProgressCallback show = ShowProgress("work");
+    const ProgressCallback show = ShowProgress("work");  // done at once: quiet (shorter than 2 s)
     for (int i = 0; i <= 10; ++i) show(i, 10);
+  }
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  testing::internal::CaptureStderr();
+  {
+    Progress progress("work", 10, Progress::Left::kAtRate, 0);  // no quiet time
+    for (int i = 0; i <= 10; ++i) progress.Update(i);
   }
   const std::string log = testing::internal::GetCapturedStderr();  // not a terminal: a line per 10%
   EXPECT_NE(log.find("work 0% ("), std::string::npos) << log;

@@ -30,6 +30,7 @@
 #include <map>
 #include <system_error>
 
+#include "core/cancel.h"
 #include "core/child_process.h"
 #include "core/error.h"
 
@@ -141,7 +142,13 @@ bool IsShapeTypeName(const std::string& name) {
 class TreeWalker {
  public:
   TreeWalker(Handle(XCAFDoc_ShapeTool) tool, const StepTessellation& tessellation, StepAssembly* out)
-      : tool_(std::move(tool)), tessellation_(tessellation), out_(out) {}
+      : tool_(std::move(tool)), tessellation_(tessellation), out_(out) {
+    // The products with a shape of their own (not assemblies): what the
+    // walk tessellates, once each (the progress's total).
+    TDF_LabelSequence shapes;
+    tool_->GetShapes(shapes);
+    for (int k = 1; k <= shapes.Length(); ++k) products_with_shape_ += !tool_->IsAssembly(shapes.Value(k));
+  }
 
   void Walk(const TDF_Label& label, const TopLoc_Location& location, std::vector<std::string> path,
             const std::string& instance_name, int depth) {
@@ -170,8 +177,10 @@ class TreeWalker {
     TDF_Tool::Entry(label, entry);
     auto it = prototypes_.find(entry.ToCString());
     if (it == prototypes_.end()) {
+      ThrowIfCancelled();  // between products (core/cancel.h)
       it = prototypes_.emplace(entry.ToCString(), Tessellate(shape, tessellation_)).first;
       ++out_->products;
+      if (tessellation_.progress) tessellation_.progress(out_->products, products_with_shape_);
     }
     const Prototype& prototype = it->second;
     StepPart part;
@@ -198,6 +207,7 @@ class TreeWalker {
   const StepTessellation& tessellation_;
   StepAssembly* out_;
   std::map<std::string, Prototype> prototypes_;
+  int products_with_shape_ = 0;
 };
 
 StepAssembly ReadWithOpenCascade(const fs::path& path, const StepTessellation& tessellation) {

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "core/log.h"
 #include "geometry/mesh.h"
 
 namespace ausbau {
@@ -27,6 +28,9 @@ struct StepTessellation {
   // The largest angle between the normals of neighbouring triangles of a
   // curved face (radians); OpenCASCADE's default.
   double angular_deflection_rad = 0.5;
+  // The products tessellated of those with a shape (core/log.h; from the
+  // child process that reads the file, on its stderr); empty = silent.
+  ProgressCallback progress;
 };
 
 // One leaf instance of the product tree: a part placed in the assembly.

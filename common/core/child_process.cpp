@@ -12,6 +12,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "core/cancel.h"
 #include "core/error.h"
 
 namespace ausbau {
@@ -121,6 +122,9 @@ std::string RunInChildProcess(const std::function<std::string()>& work, const st
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  // Interrupted (Ctrl-C reaches the child too, which stops with an error):
+  // the run is cancelled, not failed (core/cancel.h).
+  ThrowIfCancelled();
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
     const char* name = sigabbrev_np(sig);

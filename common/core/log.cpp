@@ -65,8 +65,12 @@ AUSBAU_DEFINE_LOG(LogInfo, LogLevel::kInfo, "")
 AUSBAU_DEFINE_LOG(LogDebug, LogLevel::kDebug, "debug: ")
 #undef AUSBAU_DEFINE_LOG
 
-Progress::Progress(std::string phase, std::int64_t total, Left left)
-    : phase_(std::move(phase)), total_(total > 0 ? total : 1), left_(left), tty_(isatty(STDERR_FILENO) != 0) {}
+Progress::Progress(std::string phase, std::int64_t total, Left left, double quiet_s)
+    : phase_(std::move(phase)),
+      total_(total > 0 ? total : 1),
+      left_(left),
+      tty_(isatty(STDERR_FILENO) != 0),
+      quiet_s_(quiet_s >= 0 ? quiet_s : tty_ ? 0.5 : 2.0) {}
 
 Progress::~Progress() { Finish(); }
 
@@ -76,6 +80,7 @@ void Progress::Update(std::int64_t done, const std::string& detail) {
   // A terminal redraws on each percent and, for the detail (work done), at
   // most 4 times a second; a log gets one line per 10%.
   const auto now = std::chrono::steady_clock::now();
+  if (now - start_ < std::chrono::duration<double>(quiet_s_)) return;
   if (tty_) {
     const bool detail_due = !detail.empty() && now - last_draw_ >= std::chrono::milliseconds(250);
     if (percent == last_percent_ && !detail_due && g_bar_drawn) return;

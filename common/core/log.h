@@ -41,7 +41,9 @@ class Progress {
   // or as the rest of a budget (`done` and `total` are then milliseconds of a
   // time limit, which a search may end sooner: "at most N s left").
   enum class Left { kAtRate, kAtMostBudget };
-  Progress(std::string phase, std::int64_t total, Left left = Left::kAtRate);
+  // Work shorter than `quiet_s` shows nothing (its result line says
+  // enough): by default 0.5 s on a terminal, 2 s in a log.
+  Progress(std::string phase, std::int64_t total, Left left = Left::kAtRate, double quiet_s = -1);
   ~Progress();
   // `detail` (the work done in words: "12,345 iterations") follows the times.
   void Update(std::int64_t done, const std::string& detail = "");
@@ -55,6 +57,7 @@ class Progress {
   int last_percent_ = -1;
   std::chrono::steady_clock::time_point last_draw_{};
   bool tty_;
+  double quiet_s_;  // after tty_: its default depends on it
   bool finished_ = false;
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };

@@ -75,7 +75,6 @@ std::string DepthInWords(double depth, const std::string& units) {
   return LengthInWords(depth, units) + " deep";
 }
 
-
 // One straight pull of ProbeWhatBlocks from `start` along `direction`:
 // conservative steps (the slack, at least a tenth of the tolerance, at most
 // `largest_step`) until a rigid shell goes deeper than the tolerance (then

@@ -213,9 +213,11 @@ DisassemblyOrder PlanDisassemblyOrder(const std::vector<AssemblyPart>& parts, co
       for (const AssemblyPart* other : in) {
         if (other != part) others.push_back(other);
       }
+      if (options.progress) options.progress(static_cast<std::int64_t>(attempts.size()), movable.size());
       attempts.push_back(TryPart(*part, others, round, options));
       if (attempts.back().removable) freed.push_back(part->name);
     }
+    if (options.progress) options.progress(movable.size(), movable.size());
     order.attempts.insert(order.attempts.end(), attempts.begin(), attempts.end());
     if (freed.empty()) {
       for (const AssemblyPart* part : movable) order.remaining.push_back(part->name);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "collision/part_contacts.h"
+#include "core/log.h"
 #include "planning/path_io.h"
 #include "workflow/plan_scene.h"
 
@@ -40,7 +41,10 @@ struct DisassemblyOrderOptions {
   double part_budget_s = 10;  // seconds per attempt (the planner gets 3/4 of it)
   std::string units = "mm";   // the scenes' units (the rigid tolerance is in mm)
   std::filesystem::path out;  // round-<r>/<part>/: scene.yaml, path.h5, path.csv
-  void Check() const;         // throws InputError naming the flag
+  // The parts tried in this round of those to try (core/log.h): a new
+  // count each round; empty = silent.
+  ProgressCallback progress;
+  void Check() const;  // throws InputError naming the flag
 };
 
 struct PartAttempt {

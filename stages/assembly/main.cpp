@@ -47,7 +47,9 @@ void DeclareAssembly(CLI::App& app, AssemblyStageOptions* options) {
 }
 
 int ListStepParts(const AssemblyStageOptions& options) {
-  const StepAssembly assembly = ReadStepAssembly(options.assembly, options.tessellation);
+  StepTessellation tessellation = options.tessellation;
+  tessellation.progress = ShowProgress("tessellating products");
+  const StepAssembly assembly = ReadStepAssembly(options.assembly, tessellation);
   const std::vector<std::string> names = StepPartNames(assembly, StepMeshFileName(options.assembly));
   std::printf("index\tname\ttriangles\tbox_min\tbox_max\tpath\n");
   int index = 0;  // in the tessellated OBJ (scene.yaml `part: index`)
@@ -70,6 +72,7 @@ int SplitStepAssembly(const AssemblyStageOptions& options) {
   if (options.list) return ListStepParts(options);
   StepSceneOptions step;
   step.tessellation = options.tessellation;
+  step.tessellation.progress = ShowProgress("tessellating products");
   if (!options.scenes.units.empty()) step.units = options.scenes.units;
   step.name = options.scenes.name;
   step.dynamic = options.dynamic;

@@ -72,6 +72,7 @@ void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
 int FindOrder(const OrderStageOptions& stage_options) {
   DisassemblyOrderOptions options = stage_options.order;
   options.out = stage_options.output;
+  options.progress = ShowProgress("parts tried in this round");
   const std::vector<AssemblyPart> assembly =
       CollectAssemblyParts(stage_options.parts, stage_options.parts_dir, stage_options.fixed);
   const DisassemblyOrder order = PlanDisassemblyOrder(assembly, options);
