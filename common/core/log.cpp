@@ -119,8 +119,11 @@ void Progress::Update(std::int64_t done, const std::string& detail) {
 void Progress::Finish() {
   if (finished_) return;
   finished_ = true;
-  if (tty_ && g_bar_drawn && g_level >= LogLevel::kInfo) std::fputc('\n', stderr);
-  g_bar_drawn = false;
+  // Only this bar's own line (a quiet one drew nothing).
+  if (tty_ && last_percent_ >= 0 && g_bar_drawn) {
+    if (g_level >= LogLevel::kInfo) std::fputc('\n', stderr);
+    g_bar_drawn = false;
+  }
 }
 
 ProgressCallback ShowProgress(const std::string& phase) {
