@@ -70,7 +70,9 @@ Progress::Progress(std::string phase, std::int64_t total, Left left, double quie
       total_(total > 0 ? total : 1),
       left_(left),
       tty_(isatty(STDERR_FILENO) != 0),
-      quiet_s_(quiet_s >= 0 ? quiet_s : tty_ ? 0.5 : 2.0) {}
+      quiet_s_(quiet_s >= 0 ? quiet_s
+               : tty_       ? 0.5
+                            : 2.0) {}
 
 Progress::~Progress() { Finish(); }
 

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "core/cancel.h"
 #include "core/format.h"
 #include "geometry/principal_axes.h"
 #include "planning/reach_crop.h"
@@ -194,7 +195,8 @@ namespace {
 // the box's faces, so D stays inside between checked poses too; when it
 // does not, *left_crop is set and the check stops.
 ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const std::vector<Pose>& waypoints,
-                             double tolerance, UnmeasuredInterference unmeasured, bool* left_crop) {
+                             double tolerance, UnmeasuredInterference unmeasured, const ProgressCallback& progress,
+                             bool* left_crop) {
   ExactCheckReport report;
   report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
@@ -229,6 +231,7 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
   report.ends_in_goal = end.met;
 
   auto judge = [&](const Pose& pose, int segment, double fraction) {
+    ThrowIfCancelled();  // serial: a pose at a time (core/cancel.h)
     ++report.poses_checked;
     const DepthReport depth = checker.Measure(pose);
     if (depth.rigid_depth > report.max_rigid_depth) {
@@ -258,6 +261,7 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
 
   double slack = judge(waypoints.front(), 0, 0.0);
   for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
+    if (progress) progress(static_cast<std::int64_t>(i), static_cast<std::int64_t>(waypoints.size() - 1));
     const Pose& a = waypoints[i];
     const Pose& b = waypoints[i + 1];
     // A rigorous bound on how fast any point of D moves per unit of s (see
@@ -311,7 +315,7 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
 }  // namespace
 
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
-                                UnmeasuredInterference unmeasured) {
+                                UnmeasuredInterference unmeasured, const ProgressCallback& progress) {
   if (waypoints.empty()) {
     ExactCheckReport report;
     report.reason = "the path has no waypoint";
@@ -335,13 +339,13 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     Scene cropped = scene;
     cropped.static_mesh = crop->environment;
     bool left = false;
-    ExactCheckReport report = CheckPathIn(cropped, &*crop, waypoints, tolerance, unmeasured, &left);
+    ExactCheckReport report = CheckPathIn(cropped, &*crop, waypoints, tolerance, unmeasured, progress, &left);
     if (left) continue;
     report.crop_level = level;
     report.checked_triangles = crop->kept_triangles;
     return report;
   }
-  ExactCheckReport report = CheckPathIn(scene, nullptr, waypoints, tolerance, unmeasured, nullptr);
+  ExactCheckReport report = CheckPathIn(scene, nullptr, waypoints, tolerance, unmeasured, progress, nullptr);
   report.checked_triangles = static_cast<std::int64_t>(scene.static_mesh.triangles.size());
   return report;
 }

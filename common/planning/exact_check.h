@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "collision/rigid_depth.h"
+#include "core/log.h"
 #include "geometry/pose.h"
 
 namespace ausbau {
@@ -69,8 +70,11 @@ struct ExactCheckReport {
 std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double tolerance,
                                                     UnmeasuredInterference unmeasured);
 
+// `progress`: the segments checked of the path's (core/log.h); empty =
+// silent. Throws Cancelled between poses when cancelled (core/cancel.h).
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
-                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
+                                const ProgressCallback& progress = {});
 
 // Adds waypoints so that interpolating each segment the plain way (about
 // D's mesh origin shifted by dynamic_origin) stays within `deviation` of

@@ -203,7 +203,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
   if (path.success && !path.waypoints.empty()) {
     const std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
-    exact = ExactCheckPath(scene, written, v.tolerance, unmeasured);
+    exact = ExactCheckPath(scene, written, v.tolerance, unmeasured, options.progress);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   // Removable only when the path as written starts at the installed pose and

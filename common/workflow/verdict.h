@@ -30,6 +30,8 @@ struct VerdictInputs {
   std::string times;   // folder of <stage>.seconds files (scripts/timed.sh); optional
   double budget = -1;  // seconds; < 0: none
   double rigid_tolerance_mm = 0.05;
+  // The exact check's segments checked (core/log.h); empty = silent.
+  ProgressCallback progress;
 };
 
 // The waypoint with the largest volume (volume modes).

@@ -42,7 +42,9 @@ void DeclareVerdict(StageDefinition& stage, VerdictStageOptions* options) {
 
 int Judge(const StageRun& run, const VerdictStageOptions& options) {
   if (!std::isfinite(options.inputs.budget)) throw InputError("--budget: must be a finite number");
-  const Verdict verdict = JudgeRun(run.scene, options.inputs);
+  VerdictInputs inputs = options.inputs;
+  inputs.progress = ShowProgress("exact check, segments");
+  const Verdict verdict = JudgeRun(run.scene, inputs);
   WriteTextFileAtomically(options.output, VerdictJson(verdict));
   PrintVerdictSummary(verdict, options.output, stdout);
   return verdict.removable ? kExitOk : kExitNoPath;
