@@ -6,9 +6,10 @@
 namespace ausbau {
 
 CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
-                          const PlannerOptions& options, std::vector<Pose>* path) {
+                          const PlannerOptions& options, std::vector<Pose>* path,
+                          std::chrono::steady_clock::time_point deadline) {
   CertifyReport report;
-  const MotionChecker fine(problem, validity, planner_step / 4.0);
+  const MotionChecker fine(problem, validity, planner_step / 4.0, deadline);
   std::vector<Pose> certified;
   if (path->empty()) return report;
   certified.push_back(path->front());

@@ -10,6 +10,7 @@
 // check.
 #pragma once
 
+#include <chrono>
 #include <vector>
 
 #include "planning/planner.h"
@@ -22,8 +23,14 @@ struct CertifyReport {
 };
 
 // `path` is replaced by the certified (possibly repaired) path. `options`
-// supplies the seed and the time budget left for repairs.
-CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
-                          const PlannerOptions& options, std::vector<Pose>* path);
+// supplies the seed and the time budget left for repairs. `deadline`: a
+// segment walked by conservative advancement past it counts as blocked
+// (MotionChecker), so the path is not certified; the straight pulls' safety
+// net (planner.h). None by default: a planner's path is always certified
+// to its end.
+CertifyReport CertifyPath(
+    const PlanningProblem& problem, const PoseValidity& validity, double planner_step, const PlannerOptions& options,
+    std::vector<Pose>* path,
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 }  // namespace ausbau

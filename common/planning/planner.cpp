@@ -213,10 +213,17 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   // (the principal axes) is tilted by whatever stands on the plate.
   for (const Eigen::Vector3d& axis : NormalAxes(problem.robot, problem.start.q)) add_axis(axis);
   const double step = options.resolution * problem.robot_diagonal;
-  // No deadline: the pulls count work, not seconds (a pull stopped by the
-  // clock would turn a right answer into "not removable" on a slower
-  // machine; a curved part in contact can take minutes).
-  const MotionChecker motion(problem, validity, step);
+  // The pulls count work, not seconds: each is walked to its end (a pull
+  // stopped by the clock would turn a right answer into "not removable" on
+  // a slower machine). The time limit is only a safety net: a part sliding
+  // along a contact in general position (dm1's L-bracket on its bolts: each
+  // check a surface-depth search of about 0.2 s, a slack of hundredths of a
+  // mm) took more than 10 minutes, which a batch of parts cannot wait for.
+  // Past it the pulls stop as blocked, and the run has no time left to
+  // sample (PlanKeepingClearance): "no path within the time limit".
+  const auto deadline = begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(options.time_limit_s));
+  const MotionChecker motion(problem, validity, step, deadline);
   const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
   const double probe = 0.02 * problem.robot_diagonal;
   for (const Eigen::Vector3d& axis : axes) {
@@ -231,10 +238,12 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
         reached = problem.InGoalRegion(end) && problem.InBounds(end);
       }
       if (!reached || !motion.MotionValid(problem.start, end)) continue;
+      ThrowIfCancelled();  // a pull stopped by a cancel is no answer
       std::vector<Pose> path = {problem.start, end};
       PlannerOptions repair = options;
-      repair.time_limit_s = std::max(1.0, options.time_limit_s);
-      if (!CertifyPath(problem, validity, step, repair, &path).certified) continue;
+      repair.time_limit_s =
+          std::max(1.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
+      if (!CertifyPath(problem, validity, step, repair, &path, deadline).certified) continue;
       result.path = std::move(path);
       result.status = PlanStatus::kSolved;
       break;

@@ -5,6 +5,7 @@
 #include <queue>
 #include <sstream>
 
+#include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "geometry/placed_box.h"
@@ -229,7 +230,8 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
     if (last_valid) *last_valid = pose;
     if (s >= 1.0) return 1.0;
     if (deadline_ != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() >= deadline_)
-      return valid;  // out of time: blocked here
+      return valid;                       // out of time: blocked here
+    if (CancelRequested()) return valid;  // the caller throws (core/cancel.h)
     s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));
     pose = s == 1.0 ? b : Interpolate(a, b, s);
   }
