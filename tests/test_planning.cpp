@@ -89,6 +89,15 @@ INSTANTIATE_TEST_SUITE_P(Scenes, PlannerOnScene,
                            return name;
                          });
 
+// Bit for bit the same poses.
+void ExpectSamePath(const std::vector<Pose>& a, const std::vector<Pose>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].t, b[i].t);
+    EXPECT_EQ(a[i].q.coeffs(), b[i].q.coeffs());
+  }
+}
+
 TEST(Planner, SameSeedSamePath) {
   Fixture f("rod-in-cage");
   PlannerOptions options;
@@ -96,11 +105,7 @@ TEST(Planner, SameSeedSamePath) {
   const PlanResult a = Plan(f.problem, f.checker, options);
   const PlanResult b = Plan(f.problem, f.checker, options);
   ASSERT_TRUE(a.solved());
-  ASSERT_EQ(a.path.size(), b.path.size());
-  for (std::size_t i = 0; i < a.path.size(); ++i) {
-    EXPECT_EQ(a.path[i].t, b.path[i].t);
-    EXPECT_EQ(a.path[i].q.coeffs(), b.path[i].q.coeffs());
-  }
+  ExpectSamePath(a.path, b.path);
   EXPECT_EQ(a.stats.iterations, b.stats.iterations);
   options.seed = 10;
   const PlanResult c = Plan(f.problem, f.checker, options);
@@ -192,11 +197,7 @@ TEST(Planner, ProgressIsReportedAndChangesNothing) {
   };
   const PlanResult reported = Plan(f.problem, f.checker, options);
   ASSERT_TRUE(silent.solved());
-  ASSERT_EQ(reported.path.size(), silent.path.size());
-  for (std::size_t i = 0; i < silent.path.size(); ++i) {
-    EXPECT_EQ(reported.path[i].t, silent.path[i].t);
-    EXPECT_EQ(reported.path[i].q.coeffs(), silent.path[i].q.coeffs());
-  }
+  ExpectSamePath(reported.path, silent.path);
   EXPECT_EQ(reported.stats.iterations, silent.stats.iterations);
   EXPECT_GE(calls, 1);  // the first iteration reports
   EXPECT_EQ(last_total, 200000);
