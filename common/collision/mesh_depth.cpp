@@ -64,6 +64,120 @@ bool TrianglesApart(const std::array<Eigen::Vector3d, 3>& p, const std::array<Ei
   return false;
 }
 
+// Whether the prism of triangle p swept along w (the convex hull of p and
+// p + w) and triangle q are more than `gap` apart along some axis. Axes:
+// the face normals of both (the prism's ends and sides; each flat shape's
+// in-plane edge normals, for a flat prism or coplanar triangles) and the
+// cross products of their edge directions: for two convex polytopes,
+// disjoint means some such axis separates them.
+bool PrismApartFromTriangle(const std::array<Eigen::Vector3d, 3>& p, const Eigen::Vector3d& w,
+                            const std::array<Eigen::Vector3d, 3>& q, double gap) {
+  const Eigen::Vector3d o = q[0];
+  Eigen::Vector3d a[6];
+  for (int k = 0; k < 3; ++k) {
+    a[k] = p[k] - o;
+    a[k + 3] = a[k] + w;
+  }
+  const Eigen::Vector3d b[3] = {Eigen::Vector3d::Zero(), q[1] - o, q[2] - o};
+  const Eigen::Vector3d ea[4] = {a[1] - a[0], a[2] - a[1], a[0] - a[2], w};
+  const Eigen::Vector3d eb[3] = {b[1] - b[0], b[2] - b[1], b[0] - b[2]};
+  const auto apart = [&](const Eigen::Vector3d& axis) {
+    const double length = axis.norm();
+    if (!(length > 0) || !std::isfinite(length)) return false;
+    const Eigen::Vector3d u = axis / length;
+    double a_lo = u.dot(a[0]), a_hi = a_lo, b_lo = 0, b_hi = 0;
+    for (int k = 1; k < 6; ++k) a_lo = std::min(a_lo, u.dot(a[k])), a_hi = std::max(a_hi, u.dot(a[k]));
+    for (int k = 1; k < 3; ++k) b_lo = std::min(b_lo, u.dot(b[k])), b_hi = std::max(b_hi, u.dot(b[k]));
+    return a_hi + gap < b_lo || b_hi + gap < a_lo;
+  };
+  const Eigen::Vector3d na = ea[0].cross(ea[1]), nb = eb[0].cross(eb[1]);
+  if (apart(na) || apart(nb)) return true;
+  for (int k = 0; k < 3; ++k)
+    if (apart(ea[k].cross(w))) return true;
+  for (const auto& x : ea)
+    for (const auto& y : eb)
+      if (apart(x.cross(y))) return true;
+  for (int k = 0; k < 3; ++k)
+    if (apart(na.cross(ea[k])) || apart(nb.cross(eb[k]))) return true;
+  return apart(na.cross(w));
+}
+
+// A convex polytope given by its corners, the normals of its faces and the
+// directions of its edges (what a separating axis test needs of it).
+struct ConvexPiece {
+  std::vector<Eigen::Vector3d> corners, face_normals, edges;
+};
+
+// Whether convex piece a and triangle q are more than `gap` apart along one
+// of the axes a separating axis test tries for them (face normals, the
+// cross products of edge directions, in-plane edge normals of q): false may
+// also mean only that the gap is smaller than asked.
+bool PieceApartFromTriangle(const ConvexPiece& a, const std::array<Eigen::Vector3d, 3>& q, double gap) {
+  const Eigen::Vector3d o = q[0];
+  const Eigen::Vector3d b[3] = {Eigen::Vector3d::Zero(), q[1] - o, q[2] - o};
+  const Eigen::Vector3d eb[3] = {b[1] - b[0], b[2] - b[1], b[0] - b[2]};
+  const auto apart = [&](const Eigen::Vector3d& axis) {
+    const double length = axis.norm();
+    if (!(length > 0) || !std::isfinite(length)) return false;
+    const Eigen::Vector3d u = axis / length;
+    double a_lo = std::numeric_limits<double>::infinity(), a_hi = -a_lo, b_lo = 0, b_hi = 0;
+    for (const auto& c : a.corners) {
+      const double x = u.dot(c - o);
+      a_lo = std::min(a_lo, x), a_hi = std::max(a_hi, x);
+    }
+    for (int k = 1; k < 3; ++k) b_lo = std::min(b_lo, u.dot(b[k])), b_hi = std::max(b_hi, u.dot(b[k]));
+    return a_hi + gap < b_lo || b_hi + gap < a_lo;
+  };
+  const Eigen::Vector3d nb = eb[0].cross(eb[1]);
+  if (apart(nb)) return true;
+  for (const auto& n : a.face_normals)
+    if (apart(n)) return true;
+  for (const auto& x : a.edges)
+    for (const auto& y : eb)
+      if (apart(x.cross(y))) return true;
+  for (const auto& y : eb)
+    if (apart(nb.cross(y))) return true;
+  return false;
+}
+
+// The prism of triangle t swept along w (the convex hull of t and t + w)
+// cut by a plane (normal . x = offset): its part in front (normal . x >
+// offset) and its part behind, each as a convex piece, and the points where
+// its edges cross the plane.
+struct PrismSplit {
+  ConvexPiece front, behind;
+  std::vector<Eigen::Vector3d> cut;
+};
+PrismSplit SplitPrismAtPlane(const std::array<Eigen::Vector3d, 3>& t, const Eigen::Vector3d& w,
+                             const Eigen::Vector3d& normal, double offset) {
+  const Eigen::Vector3d c[6] = {t[0], t[1], t[2], t[0] + w, t[1] + w, t[2] + w};
+  double h[6];
+  PrismSplit split;
+  for (int k = 0; k < 6; ++k) {
+    h[k] = normal.dot(c[k]) - offset;
+    (h[k] > 0 ? split.front : split.behind).corners.push_back(c[k]);
+  }
+  static constexpr int kEdges[9][2] = {{0, 1}, {1, 2}, {2, 0}, {3, 4}, {4, 5}, {5, 3}, {0, 3}, {1, 4}, {2, 5}};
+  for (const auto& e : kEdges) {
+    const int i = e[0], j = e[1];
+    if ((h[i] > 0) == (h[j] > 0)) continue;
+    const Eigen::Vector3d p = c[i] + (h[i] / (h[i] - h[j])) * (c[j] - c[i]);
+    split.cut.push_back(p);
+    split.front.corners.push_back(p);
+    split.behind.corners.push_back(p);
+  }
+  // Faces: the prism's ends and sides, and the plane; edges: the prism's
+  // and where its faces meet the plane.
+  const Eigen::Vector3d e[3] = {t[1] - t[0], t[2] - t[1], t[0] - t[2]};
+  const Eigen::Vector3d n = e[0].cross(e[1]);
+  std::vector<Eigen::Vector3d> faces = {n, e[0].cross(w), e[1].cross(w), e[2].cross(w), normal};
+  std::vector<Eigen::Vector3d> edges = {e[0], e[1], e[2], w, n.cross(e[0]), n.cross(e[1]), n.cross(e[2]), n.cross(w)};
+  for (int k = 0; k < 4; ++k) edges.push_back(normal.cross(faces[k]));
+  split.front.face_normals = split.behind.face_normals = faces;
+  split.front.edges = split.behind.edges = edges;
+  return split;
+}
+
 }  // namespace
 
 bool DepthSurface::MayMeet(const std::array<Eigen::Vector3d, 3>& t, double gap) const {
@@ -575,26 +689,34 @@ double DepthSurface::SignedDistance(const Eigen::Vector3d& p, int* triangle) con
 // measurement's lower bound rises early and settles the rest).
 class SurfaceDepthSearch {
  public:
-  SurfaceDepthSearch(const SurfaceDepthOptions& options, double floor)
-      : options_(options), floor_(floor), shift_(std::max(options.resolution / 2, 4 * floor)) {}
+  SurfaceDepthSearch(const SurfaceDepthOptions& options, double floor, int max_sub_triangles = kMaxSubTriangles)
+      : options_(options),
+        floor_(floor),
+        shift_(std::max(options.resolution / 2, 4 * floor)),
+        max_sub_triangles_(max_sub_triangles) {}
 
   // Direction k: the triangles of `a`, moved into b's coordinates by a_to_b,
   // against `b`; b_to_world maps b's coordinates to the world (for region).
   // `skip` (or null): triangles of `a` left out; `target_mask` (or null):
-  // boxes of b's coordinates where points of `a` do not count.
+  // boxes of b's coordinates where points of `a` do not count. `sweep`
+  // (b's coordinates): a's points move by s * sweep, s in [0, 1]
+  // (MeasureSweptSurfaceDepth); zero: they stay.
   void AddDirection(int k, const DepthSurface& a, const Eigen::Isometry3d& a_to_b, const DepthSurface& b,
                     const Eigen::Isometry3d& b_to_world, const std::vector<char>* skip = nullptr,
-                    const DepthMask* target_mask = nullptr) {
+                    const DepthMask* target_mask = nullptr, const Eigen::Vector3d& sweep = Eigen::Vector3d::Zero()) {
     target_[k] = &b;
     mask_[k] = target_mask;
     to_world_[k] = b_to_world;
     const Eigen::Isometry3d b_to_a = a_to_b.inverse();
+    // b's box in a's coordinates, at both ends of the sweep.
+    const Eigen::Vector3d back = b_to_a.linear() * sweep;
     Aabb query;
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d p((corner & 1) ? b.box_.max.x() : b.box_.min.x(),
                               (corner & 2) ? b.box_.max.y() : b.box_.min.y(),
                               (corner & 4) ? b.box_.max.z() : b.box_.min.z());
       query.Extend(b_to_a * p);
+      query.Extend(b_to_a * p - back);
     }
     a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) {
       if (skip && (*skip)[t]) return true;
@@ -602,7 +724,8 @@ class SurfaceDepthSearch {
       Push(Node{std::numeric_limits<double>::infinity(),
                 {a_to_b * a.vertices_[tri[0]], a_to_b * a.vertices_[tri[1]], a_to_b * a.vertices_[tri[2]]},
                 k,
-                -1});
+                -1,
+                sweep});
       return true;
     });
   }
@@ -632,7 +755,8 @@ class SurfaceDepthSearch {
     double priority;  // the parent's upper bound
     Corners t;
     int direction;
-    int hint;  // the parent's nearest triangle
+    int hint;           // the parent's nearest triangle
+    Eigen::Vector3d w;  // swept along this (the prism of t and t + w); zero: t itself
   };
   static bool ByPriority(const Node& x, const Node& y) { return x.priority < y.priority; }
 
@@ -653,6 +777,7 @@ class SurfaceDepthSearch {
   // Bounds one sub-triangle and splits it when unsettled; false when the
   // lower bound exceeded options.decide (the question is answered).
   bool Evaluate(const Node& node) {
+    if (!node.w.isZero(0)) return EvaluateSwept(node);
     const Corners& t = node.t;
     const DepthSurface& b = *target_[node.direction];
     const DepthMask* mask = mask_[node.direction];
@@ -677,35 +802,9 @@ class SurfaceDepthSearch {
       if (deep) result_.region.Extend(to_world_[node.direction] * m);
       if (result_.lower > options_.decide) return false;
     }
-    double upper = inside ? d + radius : radius;
-    double face_bound = 0;
-    // The plane bounds below settle sub-triangles that straddle the edge of
-    // an overlap early, whole; a region's area (a fit's layer) is measured
-    // with the patch bound alone, as before they were added.
     const bool measuring_region = std::isfinite(options_.region_depth);
-    if (b.convex_ && !measuring_region && !b.planes_.empty()) {
-      // A convex b lies behind each face plane, so a point inside is at
-      // most its height below any of them from b's surface (and a point
-      // outside has no depth): per plane an affine bound, largest at a
-      // corner, that holds past the face's edges too (a pin along the rim
-      // of a sleeve, a face resting on a box's top face); the least of them.
-      face_bound = std::numeric_limits<double>::infinity();
-      for (const auto& [normal, offset] : b.planes_) {
-        double plane = 0;
-        for (const auto& c : t) plane = std::max(plane, offset - c.dot(normal));
-        face_bound = std::min(face_bound, plane);
-      }
-    } else {
-      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
-    }
-    upper = std::min(upper, face_bound);
-    // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
-    // the plane bounds, not where a region's area is measured.
-    if (!measuring_region && !Settled(upper))
-      upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
-    if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
-    if (!measuring_region && !Settled(upper)) upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_));
-    if (Settled(upper) || radius < floor_ || ++made_ > kMaxSubTriangles) {
+    const double upper = TriangleUpper(b, t, nearest, inside, d, radius, measuring_region, 0.0);
+    if (Settled(upper) || radius < floor_ || ++made_ > max_sub_triangles_) {
       result_.upper = std::max(result_.upper, upper);
       if (deep) {
         const Eigen::Vector3d cross = (t[1] - t[0]).cross(t[2] - t[0]);
@@ -728,8 +827,269 @@ class SurfaceDepthSearch {
     const Eigen::Vector3d& q = t[(longest + 1) % 3];
     const Eigen::Vector3d& r = t[(longest + 2) % 3];
     const Eigen::Vector3d mid = 0.5 * (p + q);
-    Push(Node{upper, {p, mid, r}, node.direction, nearest.triangle});
-    Push(Node{upper, {mid, q, r}, node.direction, nearest.triangle});
+    Push(Node{upper, {p, mid, r}, node.direction, nearest.triangle, node.w});
+    Push(Node{upper, {mid, q, r}, node.direction, nearest.triangle, node.w});
+    return true;
+  }
+
+  // The upper bound on the depth of every point of sub-triangle t (centre
+  // inside b or not, at distance d from its nearest point, corners within
+  // `radius` of the centre). `offset`: added before asking whether a bound
+  // is settled (a swept prism's points are within it of t's). The plane
+  // bounds settle sub-triangles that straddle the edge of an overlap early,
+  // whole; a region's area (a fit's layer) is measured with the patch bound
+  // alone, as before they were added.
+  double TriangleUpper(const DepthSurface& b, const Corners& t, const TriangleBvh::Nearest& nearest, bool inside,
+                       double d, double radius, bool measuring_region, double offset) const {
+    double upper = inside ? d + radius : radius;
+    double face_bound = 0;
+    if (b.convex_ && !measuring_region && !b.planes_.empty()) {
+      // A convex b lies behind each face plane, so a point inside is at
+      // most its height below any of them from b's surface (and a point
+      // outside has no depth): per plane an affine bound, largest at a
+      // corner, that holds past the face's edges too (a pin along the rim
+      // of a sleeve, a face resting on a box's top face); the least of them.
+      face_bound = std::numeric_limits<double>::infinity();
+      for (const auto& [normal, offset_plane] : b.planes_) {
+        double plane = 0;
+        for (const auto& c : t) plane = std::max(plane, offset_plane - c.dot(normal));
+        face_bound = std::min(face_bound, plane);
+      }
+    } else {
+      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
+    }
+    upper = std::min(upper, face_bound);
+    // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
+    // the plane bounds, not where a region's area is measured.
+    if (!measuring_region && !Settled(upper + offset))
+      upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
+    if (!measuring_region && !Settled(upper + offset))
+      upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
+    if (!measuring_region && !Settled(upper + offset))
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_));
+    // A yes/no question (a validity check) settles a sub-triangle that moved
+    // off b by as much as the depth allowed lies wholly outside: no point of
+    // it is deeper (a fit or a tessellation overlap: each polygon's corners
+    // stand into the other's faces all along them, and this settles them
+    // whole, where every other bound refines along each line where the
+    // faces cross: dm1's bolt in its bore, 0.2 s a check before).
+    const double allowed = options_.decide - offset;
+    if (!measuring_region && !Settled(upper + offset) && std::isfinite(allowed) && allowed > shift_)
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, allowed, floor_));
+    return upper;
+  }
+
+  // Whether the prism of t and t + w may touch b's surface (PrismApartFromTriangle).
+  bool PrismMayMeet(const DepthSurface& b, const Corners& t, const Eigen::Vector3d& w, double gap) const {
+    Eigen::Vector3d lo = t[0], hi = t[0];
+    for (const auto& c : t) {
+      lo = lo.cwiseMin(c).cwiseMin(c + w);
+      hi = hi.cwiseMax(c).cwiseMax(c + w);
+    }
+    bool meets = false;
+    b.bvh_.ForEachTriangleNear(lo.array() - gap, hi.array() + gap, [&](int k) {
+      const auto& f = b.triangles_[k];
+      meets = !PrismApartFromTriangle(t, w, {b.vertices_[f[0]], b.vertices_[f[1]], b.vertices_[f[2]]}, gap);
+      return !meets;
+    });
+    return meets;
+  }
+
+  // ShiftOffBound (mesh_depth.h) for the prism of t and t + w: moved by
+  // `shift` along the outward normal at its centre's nearest point, it lies
+  // wholly outside b, so every point of it is within `shift` of a point
+  // outside. Infinite where neither normal frees it.
+  double PrismShiftOffBound(const DepthSurface& b, const Corners& t, const Eigen::Vector3d& w,
+                            const TriangleBvh::Nearest& nearest, double shift) const {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    if (!b.oriented_ || !b.solid_ || nearest.triangle < 0 || !(shift > floor_)) return kNone;
+    const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0 + 0.5 * w;
+    const Eigen::Vector3d directions[2] = {b.face_normal_[nearest.triangle], b.NormalAtNearest(centre, nearest)};
+    for (int k = 0; k < 2; ++k) {
+      if (k == 1 && directions[1].isApprox(directions[0])) break;
+      const double length = directions[k].norm();
+      if (!(length > 0)) continue;
+      const Eigen::Vector3d move = (shift / length) * directions[k];
+      const Corners moved = {t[0] + move, t[1] + move, t[2] + move};
+      const Eigen::Vector3d moved_centre = centre + move;
+      if (b.Inside(moved_centre, b.bvh_.NearestPoint(moved_centre, nearest.triangle))) continue;
+      if (PrismMayMeet(b, moved, w, floor_)) continue;
+      return shift;
+    }
+    return kNone;
+  }
+
+  // Whether convex piece `piece` may touch b's surface, leaving out
+  // `triangle` and the triangles of its group (group_of: patch_of_ or
+  // region_of_; null: none).
+  bool PieceMayMeet(const DepthSurface& b, const ConvexPiece& piece, double gap, const std::vector<int>* group_of,
+                    int triangle) const {
+    const int group = group_of ? (*group_of)[triangle] : -1;
+    Eigen::Vector3d lo = piece.corners.front(), hi = lo;
+    for (const auto& c : piece.corners) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
+    bool meets = false;
+    b.bvh_.ForEachTriangleNear(lo.array() - gap, hi.array() + gap, [&](int k) {
+      if (k == triangle || (group >= 0 && (*group_of)[k] == group)) return true;
+      const auto& f = b.triangles_[k];
+      meets = !PieceApartFromTriangle(piece, {b.vertices_[f[0]], b.vertices_[f[1]], b.vertices_[f[2]]}, gap);
+      return !meets;
+    });
+    return meets;
+  }
+
+  // StraddleBound (mesh_depth.h) for the prism of t and t + w across the
+  // plane of a face F of b: the part in front is outside when its cut with
+  // the plane has a point inside F's patch and it meets no triangle off
+  // that patch; the part behind, a convex piece, is bounded at its corners
+  // by the distance to F's patch, or to the patch nearest its centre, or by
+  // the ball about its centre. F: the face nearest the prism's centre, or
+  // the centre of either end of it (where a stretch of the motion carries a
+  // part out over a rim: a pin's edge out of its bore's mouth, whose face
+  // then bounds the part behind it). Infinite where no face gives a bound.
+  double PrismStraddleBound(const DepthSurface& b, const Corners& t, const Eigen::Vector3d& w,
+                            const TriangleBvh::Nearest& nearest) const {
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    if (!b.oriented_ || !b.solid_) return kNone;
+    const Eigen::Vector3d start = (t[0] + t[1] + t[2]) / 3.0;
+    int faces[9] = {nearest.triangle, b.bvh_.NearestPoint(start, nearest.triangle).triangle,
+                    b.bvh_.NearestPoint(start + w, nearest.triangle).triangle};
+    for (int k = 0; k < 3; ++k) {
+      faces[3 + k] = b.bvh_.NearestPoint(t[k], nearest.triangle).triangle;
+      faces[6 + k] = b.bvh_.NearestPoint(t[k] + w, nearest.triangle).triangle;
+    }
+    const double raise = 2 * b.flat_;
+    double best = kNone;
+    for (int k = 0; k < 9; ++k) {
+      const int face = faces[k];
+      if (face < 0 || std::find(faces, faces + k, face) != faces + k) continue;
+      const Eigen::Vector3d& normal = b.face_normal_[face];
+      if (normal.squaredNorm() == 0) continue;
+      // The plane raised so that the triangles left out of the crossing
+      // test below lie behind it: F's flat region (its coplanar neighbours,
+      // off the plane by at most its deviation), else F's patch.
+      const int region = b.region_of_.empty() ? -1 : b.region_of_[face];
+      const int patch = b.patch_of_[face];
+      // And by twice the gap the crossing test keeps: the faces that meet F
+      // at its edges (a convex edge of b: they lie behind F's plane) are
+      // then that far from the part in front along F's normal.
+      const double lift = raise + (region >= 0 ? b.regions_[region].deviation : 0.0) + 2 * floor_;
+      const Eigen::Vector3d origin = patch >= 0 ? b.patches_[patch].origin : b.vertices_[b.triangles_[face][0]];
+      const PrismSplit split = SplitPrismAtPlane(t, w, normal, normal.dot(origin) + lift);
+      if (split.cut.empty() || split.behind.corners.size() == split.cut.size()) continue;
+      if (PieceMayMeet(b, split.front, floor_, region >= 0 ? &b.region_of_ : &b.patch_of_, face)) continue;
+      // A point of the part in front outside (its centre): then all of it,
+      // as it crosses no triangle.
+      Eigen::Vector3d front_centre = Eigen::Vector3d::Zero();
+      for (const auto& p : split.front.corners) front_centre += p;
+      front_centre /= static_cast<double>(split.front.corners.size());
+      if (b.Inside(front_centre, b.bvh_.NearestPoint(front_centre, face))) continue;
+      // The part behind.
+      double to_face = 0;
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const auto& p : split.behind.corners) {
+        to_face = std::max(to_face, b.PatchDistance(p, face));
+        centre += p;
+      }
+      centre /= static_cast<double>(split.behind.corners.size());
+      const TriangleBvh::Nearest near = b.bvh_.NearestPoint(centre, face);
+      double radius = 0, to_near = 0;
+      for (const auto& p : split.behind.corners) {
+        radius = std::max(radius, (p - centre).norm());
+        to_near = std::max(to_near, b.PatchDistance(p, near.triangle));
+      }
+      const double ball = (b.Inside(centre, near) ? std::sqrt(near.distance_squared) : 0.0) + radius;
+      best = std::min(best, std::min({to_face, to_near, ball}));
+    }
+    return best;
+  }
+
+  // Evaluate for a swept node: the prism of t and t + w (MeasureSweptSurfaceDepth).
+  bool EvaluateSwept(const Node& node) {
+    const Corners& t = node.t;
+    const Eigen::Vector3d& w = node.w;
+    const DepthSurface& b = *target_[node.direction];
+    const DepthMask* mask = mask_[node.direction];
+    const std::array<Eigen::Vector3d, 6> corners = {t[0], t[1], t[2], t[0] + w, t[1] + w, t[2] + w};
+    if (mask) {
+      // Wholly in one fastener's box (a box is convex: its six corners).
+      for (const auto& box : mask->boxes)
+        if (std::all_of(corners.begin(), corners.end(), [&](const Eigen::Vector3d& c) { return box.Contains(c); }))
+          return true;
+    }
+    ++result_.sub_triangles;
+    // The centre: a point of a's surface at the stretch's middle.
+    const Eigen::Vector3d m = (t[0] + t[1] + t[2]) / 3.0 + 0.5 * w;
+    double radius = 0;
+    for (const auto& c : corners) radius = std::max(radius, (c - m).norm());
+    const TriangleBvh::Nearest nearest = b.bvh_.NearestPoint(m, node.hint);
+    if (nearest.triangle < 0) return true;
+    const double d = std::sqrt(nearest.distance_squared);
+    const bool inside = b.Inside(m, nearest);
+    if (!inside && d >= radius) return true;                     // wholly outside b
+    if (!inside && !PrismMayMeet(b, t, w, floor_)) return true;  // outside, crossing nothing
+    const bool counts = inside && !(mask && mask->Contains(m));
+    if (counts) {
+      result_.lower = std::max(result_.lower, d);
+      if (result_.lower > options_.decide) return false;
+    }
+    // Bounds of the prism itself.
+    double upper = inside ? d + radius : radius;
+    double face_bound = 0;
+    if (b.convex_ && !b.planes_.empty()) {
+      face_bound = std::numeric_limits<double>::infinity();
+      for (const auto& [normal, offset] : b.planes_) {
+        double plane = 0;
+        for (const auto& c : corners) plane = std::max(plane, offset - c.dot(normal));
+        face_bound = std::min(face_bound, plane);
+      }
+    } else {
+      for (const auto& c : corners) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
+    }
+    upper = std::min(upper, face_bound);
+    if (!Settled(upper)) upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, shift_));
+    // A yes/no question settles a prism that moved off b by as much as the
+    // depth allowed lies wholly outside: no point of it is deeper (a part
+    // drawn along a fit or a tessellation overlap: each polygon's corners
+    // stand into the other's faces all the way, as deep as at the start,
+    // and this settles them whole, where every other bound refines along
+    // each line where the faces cross).
+    if (!Settled(upper) && std::isfinite(options_.decide))
+      upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, options_.decide));
+    if (!Settled(upper)) upper = std::min(upper, PrismStraddleBound(b, t, w, nearest));
+    // And of the triangle half way, t + w / 2, whose centre is m: every
+    // point of the prism is within |w| / 2 of one of it, and the depth is
+    // 1-Lipschitz (a short stretch across a face, which the face-region and
+    // straddle bounds of a triangle settle).
+    if (!Settled(upper)) {
+      const double half = 0.5 * w.norm();
+      const Corners middle = {t[0] + 0.5 * w, t[1] + 0.5 * w, t[2] + 0.5 * w};
+      double middle_radius = 0;
+      for (const auto& c : middle) middle_radius = std::max(middle_radius, (c - m).norm());
+      const double middle_upper = !inside && (d >= middle_radius || !b.MayMeet(middle, floor_))
+                                      ? 0.0
+                                      : TriangleUpper(b, middle, nearest, inside, d, middle_radius, false, half);
+      upper = std::min(upper, middle_upper + half);
+    }
+    if (Settled(upper) || radius < floor_ || ++made_ > max_sub_triangles_) {
+      result_.upper = std::max(result_.upper, upper);
+      return true;
+    }
+    int longest = 0;
+    for (int k = 1; k < 3; ++k)
+      if ((t[(k + 1) % 3] - t[k]).squaredNorm() > (t[(longest + 1) % 3] - t[longest]).squaredNorm()) longest = k;
+    const Eigen::Vector3d& p = t[longest];
+    const Eigen::Vector3d& q = t[(longest + 1) % 3];
+    const Eigen::Vector3d& r = t[(longest + 2) % 3];
+    if (w.squaredNorm() >= (q - p).squaredNorm()) {
+      // Across the motion: two halves of the stretch.
+      const Eigen::Vector3d half = 0.5 * w;
+      Push(Node{upper, t, node.direction, nearest.triangle, half});
+      Push(Node{upper, {t[0] + half, t[1] + half, t[2] + half}, node.direction, nearest.triangle, half});
+      return true;
+    }
+    const Eigen::Vector3d mid = 0.5 * (p + q);
+    Push(Node{upper, {p, mid, r}, node.direction, nearest.triangle, w});
+    Push(Node{upper, {mid, q, r}, node.direction, nearest.triangle, w});
     return true;
   }
 
@@ -743,6 +1103,7 @@ class SurfaceDepthSearch {
   Eigen::Isometry3d to_world_[2];
   std::vector<Node> heap_;
   SurfaceDepth result_;
+  int max_sub_triangles_;
   int made_ = 0;
   double area_[2] = {0, 0};
 };
@@ -755,6 +1116,49 @@ SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d&
   SurfaceDepthSearch search(options, floor);
   search.AddDirection(0, a, pose_a, b, Eigen::Isometry3d::Identity(), mask_a ? &mask_a->skip_triangle : nullptr);
   search.AddDirection(1, b, pose_a.inverse(), a, pose_a, nullptr, mask_a);
+  return search.Run();
+}
+
+bool SweptSurfacesMayMeet(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& triangles, const Eigen::Isometry3d& pose_a,
+                          const Eigen::Vector3d& move, const DepthSurface& b, double gap) {
+  const Aabb& box = b.box();
+  for (const auto& tri : triangles) {
+    const std::array<Eigen::Vector3d, 3> t = {pose_a * vertices[tri[0]], pose_a * vertices[tri[1]],
+                                              pose_a * vertices[tri[2]]};
+    Eigen::Vector3d lo = t[0], hi = t[0];
+    for (const auto& c : t) {
+      lo = lo.cwiseMin(c).cwiseMin(c + move);
+      hi = hi.cwiseMax(c).cwiseMax(c + move);
+    }
+    lo.array() -= gap;
+    hi.array() += gap;
+    if ((hi.array() < box.min.array()).any() || (lo.array() > box.max.array()).any()) continue;
+    bool meets = false;
+    b.bvh().ForEachTriangleNear(lo, hi, [&](int k) {
+      const auto& f = b.triangles()[k];
+      meets = !PrismApartFromTriangle(t, move, {b.vertices()[f[0]], b.vertices()[f[1]], b.vertices()[f[2]]}, gap);
+      return !meets;
+    });
+    if (meets) return true;
+  }
+  return false;
+}
+
+SurfaceDepth MeasureSweptSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a,
+                                      const Eigen::Vector3d& move, const DepthSurface& b,
+                                      const SurfaceDepthOptions& options, int max_sub_triangles,
+                                      const DepthMask* mask_a) {
+  SurfaceDepthOptions swept = options;
+  swept.region_depth = std::numeric_limits<double>::infinity();
+  const double scale = std::max(a.box().Diagonal(), b.box().Diagonal());
+  const double floor = std::max(options.resolution / 8, 1e-9 * scale);
+  SurfaceDepthSearch search(swept, floor, max_sub_triangles);
+  // a's points move by s * move in b's coordinates; b's points, in a's
+  // coordinates, by -s * (a's rotation)^T move.
+  search.AddDirection(0, a, pose_a, b, Eigen::Isometry3d::Identity(), mask_a ? &mask_a->skip_triangle : nullptr,
+                      nullptr, move);
+  search.AddDirection(1, b, pose_a.inverse(), a, pose_a, nullptr, mask_a, -(pose_a.linear().transpose() * move));
   return search.Run();
 }
 

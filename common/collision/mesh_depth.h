@@ -258,4 +258,39 @@ struct DepthMask {
 SurfaceDepth MeasureSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a, const DepthSurface& b,
                                  const SurfaceDepthOptions& options, const DepthMask* mask_a = nullptr);
 
+// The largest surface depth of A and B over a translation: A at pose_a
+// moved by s * move (B's coordinates) for every s in [0, 1], as an upper
+// bound with the guarantees above, so that a motion along a fit or a
+// contact (a bolt drawn through its bore, a pin out of its sleeve) is
+// proved in one query instead of a pose per tolerance of the way.
+// The same branch and bound, over sub-triangles swept along a stretch w of
+// the motion: the prism of t and t + w (their convex hull; B's triangles
+// swept by -move in A's coordinates). What carries over to a convex set:
+// the ball about its centre (the centre is a point of the surface at the
+// stretch's middle: the lower bound), the patch bound and a convex shell's
+// planes (a convex function is largest at one of the six corners), "wholly
+// outside" (its centre outside, and no triangle of the other meets it by a
+// separating axis: a prism is convex and connected), and the shift off the
+// surface (ShiftOffBound, for the moved prism). The face-region and
+// straddle bounds are for triangles and are not used. A prism is split
+// across the motion (w halved) while w is longer than its triangle's
+// longest edge, else along that edge. Meant for yes/no questions
+// (options.decide; region_depth is ignored); at most `max_sub_triangles`
+// prisms are bounded (the rest keep their bound, an answer on the safe
+// side).
+// Whether the surface of A (triangles of `vertices`, moved by pose_a and
+// then by s * move, s in [0, 1]) may meet B's surface anywhere on the way:
+// false only when the prism each of A's triangles sweeps (the convex hull of
+// it at both ends) is more than `gap` apart from every triangle of B by a
+// separating axis. Surfaces that do not meet at the start and never on the
+// way cannot hold one another at the end either.
+bool SweptSurfacesMayMeet(const std::vector<Eigen::Vector3d>& vertices,
+                          const std::vector<std::array<int, 3>>& triangles, const Eigen::Isometry3d& pose_a,
+                          const Eigen::Vector3d& move, const DepthSurface& b, double gap);
+
+SurfaceDepth MeasureSweptSurfaceDepth(const DepthSurface& a, const Eigen::Isometry3d& pose_a,
+                                      const Eigen::Vector3d& move, const DepthSurface& b,
+                                      const SurfaceDepthOptions& options, int max_sub_triangles,
+                                      const DepthMask* mask_a = nullptr);
+
 }  // namespace ausbau

@@ -274,6 +274,48 @@ struct PairMeasure {
     options.decide = allowed;
     return Surface(r, pose, s, options, whole ? nullptr : MaskOf(r)).upper > allowed;
   }
+
+  // Whether the pair may exceed `allowed` anywhere on the translation from
+  // `pose` by `move` (world): false only where proved for the whole motion
+  // (a convex pair by ConvexSweptDepthBound; a non-convex one apart by more
+  // than the motion, or by the swept surface depth). Arguments as Exceeds.
+  bool SweepMayExceed(int r, const Eigen::Isometry3d& pose, const Eigen::Vector3d& move, int s, double allowed,
+                      bool contact_collides, bool whole) const {
+    const Shell& a = (*robot)[r];
+    const Shell& b = (*statics)[s];
+    if (a.convex && b.convex) return ConvexSweptDepthBound(a, pose, move, b) > allowed;
+    const double length = move.norm();
+    // A lower bound on the distance above the motion's length: they never
+    // meet on the way.
+    if (SlabGap(r, pose, s, 2 * length + a.radius, whole) > length) return false;
+    const DepthMask* mask = whole ? nullptr : MaskOf(r);
+    fcl::DistanceRequestd distance_request;
+    fcl::DistanceResultd distance_result;
+    const fcl::Transform3d& tf = pose;
+    fcl::distance((mask ? rigid_bvh : robot_bvh)[r].get(), tf, static_bvh[s].get(), fcl::Transform3d::Identity(),
+                  distance_request, distance_result);
+    // Apart by more than the motion (and not one inside the other, which
+    // would need their surfaces to cross on the way in).
+    if (distance_result.min_distance > length && !Meet(r, pose, s, whole)) return false;
+    if (contact_collides || BothSheets(r, s)) {
+      // Any meeting is a collision (or unmeasured): proved only where the
+      // surfaces never meet on the way (apart at the start, as a valid
+      // start has them).
+      if (Meet(r, pose, s, whole)) return true;
+      const PairMeasure::RestSurface* rest = mask ? rigid_rest[r].get() : nullptr;
+      return SweptSurfacesMayMeet(rest ? rest->vertices : a.vertices, rest ? rest->triangles : a.triangles, pose, move,
+                                  *static_surface[s], 0.0);
+    }
+    SurfaceDepthOptions options;
+    options.resolution = resolution;
+    options.decide = allowed;
+    return MeasureSweptSurfaceDepth(*robot_surface[r], pose, move, *static_surface[s], options, kMaxSweptSubTriangles,
+                                    mask)
+               .upper > allowed;
+  }
+  // The work one pair's swept question may take: beyond it the answer is
+  // "not proved" (the motion is then walked pose by pose).
+  static constexpr int kMaxSweptSubTriangles = 1 << 16;
 };
 
 }  // namespace
@@ -781,6 +823,26 @@ bool RigidDepthChecker::CheckValid(const Pose& pose) const {
     });
   }
   return valid;
+}
+
+bool RigidDepthChecker::TranslationValid(const Pose& pose, const Eigen::Vector3d& move) const {
+  const Eigen::Isometry3d iso = pose.ToIsometry();
+  const PartModel& parts = *parts_;
+  const double half = 0.5 * move.norm();
+  bool proved = true;
+  for (int r = 0; r < static_cast<int>(parts.robot_shells.size()) && proved; ++r) {
+    const Shell& shell = parts.robot_shells[r];
+    // The pairs that can touch anywhere on the way: within the ball about
+    // the shell's centre half way.
+    impl_->tree.Query(iso * shell.center + 0.5 * move, shell.radius + half, [&](int s) {
+      if (!proved) return;
+      const PairRule rule = Rule(r, s);
+      if (std::isinf(rule.allowed)) return;
+      if (impl_->measure.SweepMayExceed(r, iso, move, s, rule.allowed, ContactCollides(r, s), rule.whole))
+        proved = false;
+    });
+  }
+  return proved;
 }
 
 DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasteners) const {

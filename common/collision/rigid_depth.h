@@ -234,6 +234,7 @@ class RigidDepthChecker : public SlackValidity {
 
   DepthReport Measure(const Pose& pose) const;
   double MinStep() const override { return min_step_; }
+  bool ProvesTranslations() const override { return true; }
   double limit() const { return limit_; }
   const PartModel& parts() const { return *parts_; }
 
@@ -242,6 +243,10 @@ class RigidDepthChecker : public SlackValidity {
   // Slack(pose) >= 0, answered without distances (a non-convex pair that
   // does not intersect is valid; its distance only matters for the slack).
   bool CheckValid(const Pose& pose) const override;
+  // Every pair within reach of the motion proved not to exceed its allowed
+  // depth anywhere on it (PairMeasure::SweepMayExceed): the same rules as
+  // CheckValid, for all poses of the translation at once.
+  bool TranslationValid(const Pose& pose, const Eigen::Vector3d& move) const override;
 
  private:
   DepthReport MeasurePairs(const Pose& pose, bool report_fasteners) const;

@@ -52,9 +52,22 @@ class SlackValidity : public PoseValidity {
   // The step a motion check takes where the slack is smaller: the check
   // guarantees the limits plus this much (see collision/rigid_depth.h).
   virtual double MinStep() const = 0;
+  // Whether every pose of the translation from `pose` by `move` (world) is
+  // valid: true only where proved for the whole motion at once, by a bound
+  // over the swept motion (what sliding along a contact needs: its slack
+  // stays near zero all the way, so conservative advancement would take a
+  // step of MinStep per check); false where not proved, which does not
+  // mean invalid. Counted as one check. Only where ProvesTranslations().
+  bool ProveTranslation(const Pose& pose, const Eigen::Vector3d& move) const {
+    const bool proved = TranslationValid(pose, move);
+    CountCheck(true);
+    return proved;
+  }
+  virtual bool ProvesTranslations() const { return false; }
 
  protected:
   virtual double Slack(const Pose& pose) const = 0;
+  virtual bool TranslationValid(const Pose& /*pose*/, const Eigen::Vector3d& /*move*/) const { return false; }
   bool CheckValid(const Pose& pose) const override { return Slack(pose) >= 0; }
 };
 

@@ -334,4 +334,43 @@ double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const 
   return depth;
 }
 
+double ConvexSweptDepthBound(const Shell& a, const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& move,
+                             const Shell& b) {
+  thread_local std::vector<Eigen::Vector3d> corners_a;
+  corners_a.resize(a.corners.size());
+  for (std::size_t i = 0; i < a.corners.size(); ++i) corners_a[i] = pose_a * a.corners[i];
+  const Eigen::Matrix3d rotation = pose_a.linear();
+  double bound = std::numeric_limits<double>::infinity();
+  auto consider = [&](const Eigen::Vector3d& axis) {
+    double a_lo = std::numeric_limits<double>::infinity(), a_hi = -a_lo, b_lo = a_lo, b_hi = -a_lo;
+    for (const auto& p : corners_a) {
+      const double d = axis.dot(p);
+      a_lo = std::min(a_lo, d);
+      a_hi = std::max(a_hi, d);
+    }
+    for (const auto& p : b.corners) {
+      const double d = axis.dot(p);
+      b_lo = std::min(b_lo, d);
+      b_hi = std::max(b_hi, d);
+    }
+    // rising = a_hi - b_lo + k s, falling = b_hi - a_lo - k s.
+    const double k = axis.dot(move);
+    const double rising = a_hi - b_lo, falling = b_hi - a_lo;
+    const double crossing = k != 0 ? std::clamp((falling - rising) / (2 * k), 0.0, 1.0) : 0.0;
+    bound = std::min(bound, std::min(rising + k * crossing, falling - k * crossing));
+  };
+  for (const auto& n : a.face_normals) consider(rotation * n);
+  for (const auto& n : b.face_normals) consider(n);
+  for (const auto& ea : a.edge_directions) {
+    const Eigen::Vector3d ra = rotation * ea;
+    for (const auto& eb : b.edge_directions) {
+      const Eigen::Vector3d c = ra.cross(eb);
+      const double length = c.norm();
+      if (length < 1e-9) continue;
+      consider(c / length);
+    }
+  }
+  return bound;
+}
+
 }  // namespace ausbau

@@ -66,4 +66,16 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
 // (the value is then that gap, negated). Both shells must be convex.
 double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b, double stop_gap = 0.0);
 
+// An upper bound on the largest ConvexSignedDepth over a translation: A at
+// pose_a moved by s * move (B's frame) for every s in [0, 1]. Along each
+// separating axis u the overlap is min(a_hi - b_lo, b_hi - a_lo), and the
+// translation shifts A's interval by s (u . move): the smaller of a rising
+// and a falling line, whose largest value over [0, 1] is at their crossing
+// (or an end). The depth is the least overlap over the axes at each s, so its
+// largest value is at most the least of those maxima. Exact where one axis
+// decides throughout (a box sliding on a face: the face normal's overlap
+// does not change).
+double ConvexSweptDepthBound(const Shell& a, const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& move,
+                             const Shell& b);
+
 }  // namespace ausbau

@@ -275,12 +275,40 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
     const Eigen::Vector3d omega = relative.axis() * relative.angle();
     const Eigen::Vector3d v = b.t - a.t;
     const double per_unit = (v + omega.cross(a.q * c)).norm() + angle * angle * c.norm() + angle * radius_c + 1e-300;
+    // A translation is proved in stretches by the swept bound
+    // (SlackValidity::ProveTranslation; a bolt drawn along its bore has a
+    // slack near zero all the way): the first stretch is the whole segment,
+    // one proved doubles the next, one not proved halves it, and where it
+    // is no longer than the slack's step the segment is walked pose by pose.
+    // Each stretch's end is judged like any checked pose (its depth
+    // reported, the crop kept: D's ball inside the box at both ends of a
+    // translation is inside it all the way).
+    const bool translation = a.q.coeffs() == b.q.coeffs() && v.norm() > 0;
+    double stretch = 1.0;
     double s = 0;
     while (s < 1.0) {
+      const double step = std::max(slack, tolerance / 10) / per_unit;
+      if (translation && std::min(stretch, 1.0 - s) > step) {
+        const double length = std::min(stretch, 1.0 - s);
+        const double end = length >= 1.0 - s ? 1.0 : s + length;
+        Pose from = a, to = b;  // the rotation is a's all the way
+        from.t = a.t + s * v;
+        if (end < 1.0) to.t = a.t + end * v;
+        const bool in_crop = !crop || crop->BallSlack(to.Apply(c), radius_c) >= tolerance / 10;
+        if (in_crop && checker.ProveTranslation(from, to.t - from.t)) {
+          s = end;
+          stretch = 2 * length;
+          ++report.stretches_proved;
+          slack = judge(to, static_cast<int>(i), s);
+          if (left_crop && *left_crop) return report;
+          continue;
+        }
+        stretch = 0.5 * length;
+      }
       // Inside a crop `slack` is at most the ball's distance to the box's
       // faces, which judge() keeps >= tolerance / 10, so D stays inside the
       // box between checked poses.
-      s = std::min(1.0, s + std::max(slack, tolerance / 10) / per_unit);
+      s = std::min(1.0, s + step);
       slack = judge(Interpolate(a, b, s), static_cast<int>(i), s);
       if (left_crop && *left_crop) return report;
     }

@@ -16,7 +16,11 @@
 //     the next pose is as far as the current slack allows (never less than
 //     `tolerance` / 10), with a rigorous bound on how far a point moves, so
 //     between two checked poses the depth can exceed the checked one by at
-//     most that floor.
+//     most that floor. On a segment that is a pure translation, stretches
+//     are first proved whole by the swept bound (RigidDepthChecker::
+//     TranslationValid: no rigid shell beyond its allowed depth anywhere on
+//     the stretch), which a part sliding along a fit or a contact needs: its
+//     slack stays near zero, a pose per tolerance / 10 of the way.
 // The same shells and roles as the planners (ClassifyParts at the start;
 // `unmeasured` as there).
 // A large S is checked within the smallest crop box (planning/reach_crop.h)
@@ -44,6 +48,9 @@ struct ExactCheckReport {
   bool valid = false;
   std::string reason;  // empty when valid
   std::int64_t poses_checked = 0;
+  // Stretches of translations proved at once by the swept bound (their ends
+  // are among the poses checked).
+  std::int64_t stretches_proved = 0;
   // >= 0; deepest rigid penetration along the path. Where it exceeds the
   // tolerance the path has failed and the stretch is sampled at steps of
   // the excess: the number is then at least half way from the tolerance to

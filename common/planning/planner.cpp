@@ -196,13 +196,17 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
   // D's principal axes in the world at the start, then the world's axes
   // (CAD parts sit square to the vehicle), less those along an axis tried.
+  // "Along" means within a micro-radian: a bolt's principal axis, tilted a
+  // few milliradians by its tessellation, drives its shank into the bore
+  // after a few mm, where the world's axis (or its normals' axis) draws it
+  // out.
   std::vector<Eigen::Vector3d> vertices;
   for (const auto& v : problem.robot.vertices) vertices.push_back(problem.start.q * v);
   const Eigen::Matrix3d principal = vertices.empty() ? Eigen::Matrix3d::Identity() : PrincipalAxes(vertices);
   std::vector<Eigen::Vector3d> axes;
   const auto add_axis = [&](const Eigen::Vector3d& axis) {
     if (std::none_of(axes.begin(), axes.end(),
-                     [&](const Eigen::Vector3d& a) { return std::abs(a.dot(axis)) > std::cos(0.01); }))
+                     [&](const Eigen::Vector3d& a) { return std::abs(a.dot(axis)) > std::cos(1e-6); }))
       axes.push_back(axis);
   };
   for (int k = 0; k < 3; ++k) add_axis(principal.col(k).normalized());

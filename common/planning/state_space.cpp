@@ -221,17 +221,51 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   // moves a point at most MaxDisplacement per unit of s (slerp turns at a
   // constant rate about one axis), so the next pose to check is d further.
   const double per_unit = MaxDisplacement(a, b, problem_->robot_radius);
-  double s = 0, valid = -1.0;  // valid: the last valid pose's s
+  // A translation is proved in stretches where the validity bounds a swept
+  // motion (SlackValidity::ProveTranslation): a part sliding along a fit or
+  // a contact has a slack near zero all the way. The first stretch is the
+  // whole motion; a stretch proved doubles the next, one not proved halves
+  // it, and where it is no longer than the slack's step the motion is
+  // walked pose by pose. Both ends of a stretch in bounds keep it in (the
+  // bounds are a box).
+  const bool sweeps = slack_->ProvesTranslations() && per_unit > 0 && a.q.coeffs() == b.q.coeffs();
+  double stretch = 1.0;
+  bool proved = false;                    // `pose` ends a proved stretch (valid; its slack not measured)
+  double s = 0, valid = -1.0, slack = 0;  // valid: the last valid pose's s
   Pose pose = a;
   while (true) {
-    const double slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
-    if (slack < 0) return valid;
+    if (!proved) {
+      slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
+      if (slack < 0) return valid;
+    }
     valid = s;
     if (last_valid) *last_valid = pose;
     if (s >= 1.0) return 1.0;
     if (deadline_ != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() >= deadline_)
       return valid;                       // out of time: blocked here
     if (CancelRequested()) return valid;  // the caller throws (core/cancel.h)
+    if (sweeps) {
+      const double length = std::min(stretch, 1.0 - s);
+      const double step = proved ? 0.0 : std::max(slack, slack_->MinStep()) / per_unit;
+      if (length > step) {
+        const double end = length >= 1.0 - s ? 1.0 : s + length;
+        Pose next = b;  // a translation: its rotation is a's all the way
+        if (end < 1.0) next.t = a.t + end * (b.t - a.t);
+        const bool ok = problem_->InBounds(next) && slack_->ProveTranslation(pose, next.t - pose.t);
+        if (ok) {
+          s = end;
+          pose = next;
+          stretch = 2 * length;
+          proved = true;
+          continue;
+        }
+        stretch = 0.5 * length;
+      }
+      if (proved) {  // measure the slack here, then step
+        proved = false;
+        continue;
+      }
+    }
     s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));
     pose = s == 1.0 ? b : Interpolate(a, b, s);
   }

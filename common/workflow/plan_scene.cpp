@@ -353,9 +353,11 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
     if (options.verify) {
       const ExactCheckReport check = ExactCheckPath(scene, artifact.waypoints, tolerance);
       if (!check.valid) throw std::runtime_error("planned path fails the exact check: " + check.reason);
-      LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s, fasteners %.4g %s",
-              static_cast<long long>(check.poses_checked), check.max_rigid_depth, scene.units.c_str(),
-              check.max_fastener_depth, scene.units.c_str());
+      LogInfo(
+          "exact check passed (%lld poses, %lld stretches proved swept): deepest rigid penetration %.4g %s, "
+          "fasteners %.4g %s",
+          static_cast<long long>(check.poses_checked), static_cast<long long>(check.stretches_proved),
+          check.max_rigid_depth, scene.units.c_str(), check.max_fastener_depth, scene.units.c_str());
     }
   }
   planned.status = result.status;

@@ -307,6 +307,7 @@ void AddExactCheck(const Verdict& v, JsonWriter& json) {
                                 .String("file", options.csv.empty() ? options.path : options.csv)
                                 .Number("rigid_tolerance", v.tolerance)
                                 .Int("poses_checked", exact->poses_checked)
+                                .Int("stretches_proved", exact->stretches_proved)
                                 .Number("max_rigid_penetration", exact->max_rigid_depth)
                                 .String("rigid_part", parts.Describe(exact->rigid_shell, true))
                                 .String("static_part", parts.Describe(exact->static_shell, false))
