@@ -95,7 +95,7 @@ TEST(SweptDepth, TheSweptBoundNeverFallsBelowADepthOnTheWay) {
   int proved = 0, not_proved = 0;
   for (const Pair& pair : pairs) {
     const DepthSurface a(OneShell(pair.a)), b(OneShell(pair.b));
-    for (int trial = 0; trial < 60; ++trial) {
+    for (int trial = 0; trial < 40; ++trial) {
       const Eigen::Isometry3d pose(
           Eigen::Translation3d(0.03 * Eigen::Vector3d(unit(random), unit(random), unit(random))));
       // Mostly along z (the cap lifts off, the L slides out of the U's

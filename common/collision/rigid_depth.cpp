@@ -315,7 +315,7 @@ struct PairMeasure {
   }
   // The work one pair's swept question may take: beyond it the answer is
   // "not proved" (the motion is then walked pose by pose).
-  static constexpr int kMaxSweptSubTriangles = 1 << 16;
+  static constexpr int kMaxSweptSubTriangles = 1 << 14;
 };
 
 }  // namespace

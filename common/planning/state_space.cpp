@@ -223,13 +223,18 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   const double per_unit = MaxDisplacement(a, b, problem_->robot_radius);
   // A translation is proved in stretches where the validity bounds a swept
   // motion (SlackValidity::ProveTranslation): a part sliding along a fit or
-  // a contact has a slack near zero all the way. The first stretch is the
-  // whole motion; a stretch proved doubles the next, one not proved halves
-  // it, and where it is no longer than the slack's step the motion is
-  // walked pose by pose. Both ends of a stretch in bounds keep it in (the
-  // bounds are a box).
+  // a contact has a slack near zero all the way. Only once the walk has
+  // taken kStepsBeforeSweeping steps (most motions a planner or the
+  // smoother tries are blocked within a few; a sweep would only add to
+  // their cost) and only where the stretch's end is valid. The first
+  // stretch is the rest of the motion; one proved doubles the next, one
+  // not proved halves it, and where it is no longer than the slack's step
+  // the walk goes on pose by pose. Both ends of a stretch in bounds keep it
+  // in (the bounds are a box).
+  constexpr int kStepsBeforeSweeping = 4;
   const bool sweeps = slack_->ProvesTranslations() && per_unit > 0 && a.q.coeffs() == b.q.coeffs();
   double stretch = 1.0;
+  int walked = 0;
   bool proved = false;                    // `pose` ends a proved stretch (valid; its slack not measured)
   double s = 0, valid = -1.0, slack = 0;  // valid: the last valid pose's s
   Pose pose = a;
@@ -244,15 +249,14 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
     if (deadline_ != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() >= deadline_)
       return valid;                       // out of time: blocked here
     if (CancelRequested()) return valid;  // the caller throws (core/cancel.h)
-    if (sweeps) {
+    if (sweeps && (proved || walked >= kStepsBeforeSweeping)) {
       const double length = std::min(stretch, 1.0 - s);
       const double step = proved ? 0.0 : std::max(slack, slack_->MinStep()) / per_unit;
       if (length > step) {
         const double end = length >= 1.0 - s ? 1.0 : s + length;
         Pose next = b;  // a translation: its rotation is a's all the way
         if (end < 1.0) next.t = a.t + end * (b.t - a.t);
-        const bool ok = problem_->InBounds(next) && slack_->ProveTranslation(pose, next.t - pose.t);
-        if (ok) {
+        if (problem_->InBounds(next) && slack_->IsValid(next) && slack_->ProveTranslation(pose, next.t - pose.t)) {
           s = end;
           pose = next;
           stretch = 2 * length;
@@ -266,6 +270,7 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
         continue;
       }
     }
+    ++walked;
     s = std::min(1.0, s + (per_unit > 0 ? std::max(slack, slack_->MinStep()) / per_unit : 1.0));
     pose = s == 1.0 ? b : Interpolate(a, b, s);
   }
