@@ -80,7 +80,7 @@ TEST(SweptDepth, APullThatDrivesThePinIntoTheWallIsNotProved) {
 TEST(SweptDepth, TheSweptBoundNeverFallsBelowADepthOnTheWay) {
   // A cap on a post and an L in a U, moved along random short translations
   // about contact: where the swept search proves "no deeper than `decide`",
-  // no pose sampled along the motion (every 1/40 of it) has a surface
+  // no pose sampled along the motion (every 1/20 of it) has a surface
   // attained deeper (the static search's lower bound: a depth found).
   const TriangleMesh cap = MakeSolidOfRevolution({{0, 8}, {4, 8}, {4, 0}, {6, 0}, {6, 10}, {0, 10}}, 24);
   const TriangleMesh post = MakeSolidOfRevolution({{0, -5}, {4.02, -5}, {4.02, 7}, {0, 7}}, 24);
@@ -95,7 +95,7 @@ TEST(SweptDepth, TheSweptBoundNeverFallsBelowADepthOnTheWay) {
   int proved = 0, not_proved = 0;
   for (const Pair& pair : pairs) {
     const DepthSurface a(OneShell(pair.a)), b(OneShell(pair.b));
-    for (int trial = 0; trial < 40; ++trial) {
+    for (int trial = 0; trial < 30; ++trial) {
       const Eigen::Isometry3d pose(
           Eigen::Translation3d(0.03 * Eigen::Vector3d(unit(random), unit(random), unit(random))));
       // Mostly along z (the cap lifts off, the L slides out of the U's
@@ -106,10 +106,10 @@ TEST(SweptDepth, TheSweptBoundNeverFallsBelowADepthOnTheWay) {
       const double decide = 0.02 + 0.1 * (unit(random) + 1);
       const SurfaceDepth swept = Swept(a, pose, move, b, decide, decide / 10);
       double deepest = 0;
-      for (int k = 0; k <= 40; ++k) {
+      for (int k = 0; k <= 20; ++k) {
         SurfaceDepthOptions options;
         options.resolution = decide / 20;
-        const Eigen::Isometry3d at = Eigen::Translation3d(move * (k / 40.0)) * pose;
+        const Eigen::Isometry3d at = Eigen::Translation3d(move * (k / 20.0)) * pose;
         deepest = std::max(deepest, MeasureSurfaceDepth(a, at, b, options).lower);
       }
       if (swept.upper <= decide) {

@@ -938,14 +938,16 @@ class SurfaceDepthSearch {
   }
 
   // StraddleBound (mesh_depth.h) for the prism of t and t + w across the
-  // plane of a face F of b: the part in front is outside when its cut with
-  // the plane has a point inside F's patch and it meets no triangle off
-  // that patch; the part behind, a convex piece, is bounded at its corners
-  // by the distance to F's patch, or to the patch nearest its centre, or by
-  // the ball about its centre. F: the face nearest the prism's centre, or
-  // the centre of either end of it (where a stretch of the motion carries a
-  // part out over a rim: a pin's edge out of its bore's mouth, whose face
-  // then bounds the part behind it). Infinite where no face gives a bound.
+  // (raised) plane of a face F of b: the part in front is outside when its
+  // centre is outside and it meets no triangle off F's flat region (or
+  // patch); the part behind, a convex piece, is bounded at its corners by
+  // the distance to F's patch, or to the patch nearest its centre, or by
+  // the ball about its centre. F: the face nearest the prism's centre, the
+  // centre of either end of it, or one of its six corners (where a stretch
+  // of the motion carries a part out over a rim, a pin's edge out of its
+  // bore's mouth, whose face then bounds the part behind it; or where a
+  // piece of one surface passes under a convex edge of the other).
+  // Infinite where no face gives a bound.
   double PrismStraddleBound(const DepthSurface& b, const Corners& t, const Eigen::Vector3d& w,
                             const TriangleBvh::Nearest& nearest) const {
     constexpr double kNone = std::numeric_limits<double>::infinity();
