@@ -832,6 +832,30 @@ class SurfaceDepthSearch {
     return true;
   }
 
+  // An upper bound on the depth of every point of the convex hull of
+  // `corners` from b's faces. A convex b lies behind each face plane, so a
+  // point inside is at most its height below any of them from b's surface
+  // (and a point outside has no depth): per plane an affine bound, largest
+  // at a corner, that holds past the face's edges too (a pin along the rim
+  // of a sleeve, a face resting on a box's top face); the least of them
+  // (only where `planes`). Otherwise the distance to the convex patch of
+  // `triangle` (convex, so largest at a corner).
+  template <typename Points>
+  double FaceBound(const DepthSurface& b, const Points& corners, int triangle, bool planes) const {
+    double bound = 0;
+    if (b.convex_ && planes && !b.planes_.empty()) {
+      bound = std::numeric_limits<double>::infinity();
+      for (const auto& [normal, offset] : b.planes_) {
+        double plane = 0;
+        for (const auto& c : corners) plane = std::max(plane, offset - c.dot(normal));
+        bound = std::min(bound, plane);
+      }
+    } else {
+      for (const auto& c : corners) bound = std::max(bound, b.PatchDistance(c, triangle));
+    }
+    return bound;
+  }
+
   // The upper bound on the depth of every point of sub-triangle t (centre
   // inside b or not, at distance d from its nearest point, corners within
   // `radius` of the centre). `offset`: added before asking whether a bound
@@ -842,23 +866,7 @@ class SurfaceDepthSearch {
   double TriangleUpper(const DepthSurface& b, const Corners& t, const TriangleBvh::Nearest& nearest, bool inside,
                        double d, double radius, bool measuring_region, double offset) const {
     double upper = inside ? d + radius : radius;
-    double face_bound = 0;
-    if (b.convex_ && !measuring_region && !b.planes_.empty()) {
-      // A convex b lies behind each face plane, so a point inside is at
-      // most its height below any of them from b's surface (and a point
-      // outside has no depth): per plane an affine bound, largest at a
-      // corner, that holds past the face's edges too (a pin along the rim
-      // of a sleeve, a face resting on a box's top face); the least of them.
-      face_bound = std::numeric_limits<double>::infinity();
-      for (const auto& [normal, offset_plane] : b.planes_) {
-        double plane = 0;
-        for (const auto& c : t) plane = std::max(plane, offset_plane - c.dot(normal));
-        face_bound = std::min(face_bound, plane);
-      }
-    } else {
-      for (const auto& c : t) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
-    }
-    upper = std::min(upper, face_bound);
+    upper = std::min(upper, FaceBound(b, t, nearest.triangle, !measuring_region));
     // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
     // the plane bounds, not where a region's area is measured.
     if (!measuring_region && !Settled(upper + offset))
@@ -1036,18 +1044,7 @@ class SurfaceDepthSearch {
     }
     // Bounds of the prism itself.
     double upper = inside ? d + radius : radius;
-    double face_bound = 0;
-    if (b.convex_ && !b.planes_.empty()) {
-      face_bound = std::numeric_limits<double>::infinity();
-      for (const auto& [normal, offset] : b.planes_) {
-        double plane = 0;
-        for (const auto& c : corners) plane = std::max(plane, offset - c.dot(normal));
-        face_bound = std::min(face_bound, plane);
-      }
-    } else {
-      for (const auto& c : corners) face_bound = std::max(face_bound, b.PatchDistance(c, nearest.triangle));
-    }
-    upper = std::min(upper, face_bound);
+    upper = std::min(upper, FaceBound(b, corners, nearest.triangle, true));
     if (!Settled(upper)) upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, shift_));
     // A yes/no question settles a prism that moved off b by as much as the
     // depth allowed lies wholly outside: no point of it is deeper (a part

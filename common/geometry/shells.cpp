@@ -291,85 +291,86 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
   return shells;
 }
 
-double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b, double stop_gap) {
-  // A's corners in B's frame.
-  thread_local std::vector<Eigen::Vector3d> corners_a;
-  corners_a.resize(a.corners.size());
-  for (std::size_t i = 0; i < a.corners.size(); ++i) corners_a[i] = pose_a * a.corners[i];
-  const Eigen::Matrix3d rotation = pose_a.linear();
+namespace {
 
-  double depth = std::numeric_limits<double>::infinity();
-  // Overlap of the two projections on `axis` (unit); negative = a gap.
-  auto overlap = [&](const Eigen::Vector3d& axis) {
-    double a_lo = std::numeric_limits<double>::infinity(), a_hi = -a_lo, b_lo = a_lo, b_hi = -a_lo;
-    for (const auto& p : corners_a) {
-      const double d = axis.dot(p);
-      a_lo = std::min(a_lo, d);
-      a_hi = std::max(a_hi, d);
-    }
-    for (const auto& p : b.corners) {
-      const double d = axis.dot(p);
-      b_lo = std::min(b_lo, d);
-      b_hi = std::max(b_hi, d);
-    }
-    return std::min(a_hi - b_lo, b_hi - a_lo);
-  };
-  auto consider = [&](const Eigen::Vector3d& axis) {
-    depth = std::min(depth, overlap(axis));
-    return stop_gap > 0 && depth < -stop_gap;
-  };
-  for (const auto& n : a.face_normals)
-    if (consider(rotation * n)) return depth;
-  for (const auto& n : b.face_normals)
-    if (consider(n)) return depth;
-  for (const auto& ea : a.edge_directions) {
-    const Eigen::Vector3d ra = rotation * ea;
-    for (const auto& eb : b.edge_directions) {
-      const Eigen::Vector3d c = ra.cross(eb);
-      const double length = c.norm();
-      if (length < 1e-9) continue;  // parallel edges: covered by the face normals
-      if (consider(c / length)) return depth;
-    }
+// The projections on a unit axis of A's corners (moved into B's frame) and
+// of B's.
+struct Projections {
+  double a_lo, a_hi, b_lo, b_hi;
+};
+Projections Project(const std::vector<Eigen::Vector3d>& corners_a, const Shell& b, const Eigen::Vector3d& axis) {
+  Projections x;
+  x.a_lo = x.b_lo = std::numeric_limits<double>::infinity();
+  x.a_hi = x.b_hi = -x.a_lo;
+  for (const auto& p : corners_a) {
+    const double d = axis.dot(p);
+    x.a_lo = std::min(x.a_lo, d);
+    x.a_hi = std::max(x.a_hi, d);
   }
-  return depth;
+  for (const auto& p : b.corners) {
+    const double d = axis.dot(p);
+    x.b_lo = std::min(x.b_lo, d);
+    x.b_hi = std::max(x.b_hi, d);
+  }
+  return x;
 }
 
-double ConvexSweptDepthBound(const Shell& a, const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& move,
-                             const Shell& b) {
-  thread_local std::vector<Eigen::Vector3d> corners_a;
-  corners_a.resize(a.corners.size());
-  for (std::size_t i = 0; i < a.corners.size(); ++i) corners_a[i] = pose_a * a.corners[i];
-  const Eigen::Matrix3d rotation = pose_a.linear();
-  double bound = std::numeric_limits<double>::infinity();
-  auto consider = [&](const Eigen::Vector3d& axis) {
-    double a_lo = std::numeric_limits<double>::infinity(), a_hi = -a_lo, b_lo = a_lo, b_hi = -a_lo;
-    for (const auto& p : corners_a) {
-      const double d = axis.dot(p);
-      a_lo = std::min(a_lo, d);
-      a_hi = std::max(a_hi, d);
-    }
-    for (const auto& p : b.corners) {
-      const double d = axis.dot(p);
-      b_lo = std::min(b_lo, d);
-      b_hi = std::max(b_hi, d);
-    }
-    // rising = a_hi - b_lo + k s, falling = b_hi - a_lo - k s.
-    const double k = axis.dot(move);
-    const double rising = a_hi - b_lo, falling = b_hi - a_lo;
-    const double crossing = k != 0 ? std::clamp((falling - rising) / (2 * k), 0.0, 1.0) : 0.0;
-    bound = std::min(bound, std::min(rising + k * crossing, falling - k * crossing));
-  };
-  for (const auto& n : a.face_normals) consider(rotation * n);
-  for (const auto& n : b.face_normals) consider(n);
+// The separating axes of two convex shells, A turned by `rotation` (unit):
+// both shells' face normals, then the cross products of their edge
+// directions (parallel edges left out: covered by the face normals).
+// `visit(axis)` returns true to stop.
+template <typename Visit>
+void ForEachSeparatingAxis(const Shell& a, const Eigen::Matrix3d& rotation, const Shell& b, Visit&& visit) {
+  for (const auto& n : a.face_normals)
+    if (visit(Eigen::Vector3d(rotation * n))) return;
+  for (const auto& n : b.face_normals)
+    if (visit(n)) return;
   for (const auto& ea : a.edge_directions) {
     const Eigen::Vector3d ra = rotation * ea;
     for (const auto& eb : b.edge_directions) {
       const Eigen::Vector3d c = ra.cross(eb);
       const double length = c.norm();
       if (length < 1e-9) continue;
-      consider(c / length);
+      if (visit(Eigen::Vector3d(c / length))) return;
     }
   }
+}
+
+// A's corners in B's frame (a buffer per thread).
+const std::vector<Eigen::Vector3d>& CornersIn(const Shell& a, const Eigen::Isometry3d& pose_a) {
+  thread_local std::vector<Eigen::Vector3d> corners_a;
+  corners_a.resize(a.corners.size());
+  for (std::size_t i = 0; i < a.corners.size(); ++i) corners_a[i] = pose_a * a.corners[i];
+  return corners_a;
+}
+
+}  // namespace
+
+double ConvexSignedDepth(const Shell& a, const Eigen::Isometry3d& pose_a, const Shell& b, double stop_gap) {
+  const std::vector<Eigen::Vector3d>& corners_a = CornersIn(a, pose_a);
+  // The least overlap of the two projections (negative: a gap).
+  double depth = std::numeric_limits<double>::infinity();
+  ForEachSeparatingAxis(a, pose_a.linear(), b, [&](const Eigen::Vector3d& axis) {
+    const Projections x = Project(corners_a, b, axis);
+    depth = std::min(depth, std::min(x.a_hi - x.b_lo, x.b_hi - x.a_lo));
+    return stop_gap > 0 && depth < -stop_gap;
+  });
+  return depth;
+}
+
+double ConvexSweptDepthBound(const Shell& a, const Eigen::Isometry3d& pose_a, const Eigen::Vector3d& move,
+                             const Shell& b) {
+  const std::vector<Eigen::Vector3d>& corners_a = CornersIn(a, pose_a);
+  double bound = std::numeric_limits<double>::infinity();
+  ForEachSeparatingAxis(a, pose_a.linear(), b, [&](const Eigen::Vector3d& axis) {
+    const Projections x = Project(corners_a, b, axis);
+    // rising = a_hi - b_lo + k s, falling = b_hi - a_lo - k s.
+    const double k = axis.dot(move);
+    const double rising = x.a_hi - x.b_lo, falling = x.b_hi - x.a_lo;
+    const double crossing = k != 0 ? std::clamp((falling - rising) / (2 * k), 0.0, 1.0) : 0.0;
+    bound = std::min(bound, std::min(rising + k * crossing, falling - k * crossing));
+    return false;
+  });
   return bound;
 }
 
