@@ -20,6 +20,11 @@ DEMO_SCENE ?= scenes/panel-tilt-slide-1/scene.yaml
 ORACLE ?= ../shared/benchmarks/inistate-external/oracle.py
 DEMO_RIGID_OUT ?= out/demo-rigid
 SEED ?= 1
+# A word for the shell, whatever it holds: every file or folder name a
+# recipe passes on goes through it (a name like `a;touch x` or `o ut` must
+# arrive as one argument, not run or split); the pipelines themselves then
+# refuse names they cannot pass on safely (pipelines/safe-names.mk).
+quote = '$(subst ','\'',$(1))'
 
 # Benchmarks (need OMPL: `scripts/install-deps.sh bench` adds libompl-dev).
 #   make bench   Ausbau's planners side by side with OMPL's RRT-Connect on the
@@ -47,10 +52,10 @@ deps:
 	@scripts/install-deps.sh
 
 configure: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake -S . -B $(call quote,$(BUILD)) -DCMAKE_BUILD_TYPE=Release > /dev/null
 
 build: configure
-	@cmake --build $(BUILD) -j $(JOBS)
+	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS))
 
 # The InIState pipeline on the shipped panel scene (scenes/panel-tilt-slide-1,
 # written by `ausbau-scene-gen --family panel-tilt-slide --seed 1`: a box-soup
@@ -60,22 +65,26 @@ build: configure
 # scenes (DEMO_SCENE=scenes/clips-ds1/scene.yaml: VALIDITY=auto picks labeled-mliv), the
 # generator's ground truth.
 demo: build
-	@$(MAKE) --no-print-directory -f pipelines/inistate.mk SCENE=$(DEMO_SCENE) OUT=$(DEMO_OUT) BIN=$(BUILD)/bin SEED=$(SEED)
-	@if [ -x $(BUILD)/bin/ausbau-check-path ] && [ -f $(dir $(DEMO_SCENE))ground_truth.yaml ]; then \
-	  printf 'demo: against the ground truth: '; $(BUILD)/bin/ausbau-check-path --scene $(DEMO_SCENE) \
-	    --ground-truth $(dir $(DEMO_SCENE))ground_truth.yaml --path $(DEMO_OUT)/path-smooth.h5 2>/dev/null; fi
-	@if [ -f $(dir $(DEMO_SCENE))boxes.json ] && [ -f $(ORACLE) ] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then \
-	  if /usr/bin/python3 $(ORACLE) $(dir $(DEMO_SCENE)) $(DEMO_OUT)/path.csv > $(DEMO_OUT)/oracle.json; then \
-	    echo "demo: $(ORACLE): path.csv valid"; else echo "demo: $(ORACLE): path.csv INVALID ($(DEMO_OUT)/oracle.json)"; exit 1; fi; fi
-	@echo "demo: verdict $(DEMO_OUT)/verdict.json (printed above); path $(DEMO_OUT)/path.csv (smoothed, x,y,z,qw,qx,qy,qz)"
-	@echo "demo: report: $(DEMO_OUT)/report.html (one self-contained HTML file: open it in a browser)"
+	@$(MAKE) --no-print-directory -f pipelines/inistate.mk $(call quote,SCENE=$(DEMO_SCENE)) $(call quote,OUT=$(DEMO_OUT)) \
+	  $(call quote,BIN=$(BUILD)/bin) $(call quote,SEED=$(SEED))
+	@if [ -x $(call quote,$(BUILD)/bin/ausbau-check-path) ] && [ -f $(call quote,$(dir $(DEMO_SCENE))ground_truth.yaml) ]; then \
+	  printf 'demo: against the ground truth: '; $(call quote,$(BUILD)/bin/ausbau-check-path) --scene $(call quote,$(DEMO_SCENE)) \
+	    --ground-truth $(call quote,$(dir $(DEMO_SCENE))ground_truth.yaml) --path $(call quote,$(DEMO_OUT)/path-smooth.h5) 2>/dev/null; fi
+	@if [ -f $(call quote,$(dir $(DEMO_SCENE))boxes.json) ] && [ -f $(call quote,$(ORACLE)) ] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then \
+	  if /usr/bin/python3 $(call quote,$(ORACLE)) $(call quote,$(dir $(DEMO_SCENE))) $(call quote,$(DEMO_OUT)/path.csv) > $(call quote,$(DEMO_OUT)/oracle.json); then \
+	    printf 'demo: %s: path.csv valid\n' $(call quote,$(ORACLE)); \
+	  else printf 'demo: %s: path.csv INVALID (%s/oracle.json)\n' $(call quote,$(ORACLE)) $(call quote,$(DEMO_OUT)); exit 1; fi; fi
+	@printf 'demo: verdict %s/verdict.json (printed above); path %s/path.csv (smoothed, x,y,z,qw,qx,qy,qz)\n' \
+	  $(call quote,$(DEMO_OUT)) $(call quote,$(DEMO_OUT))
+	@printf 'demo: report: %s/report.html (one self-contained HTML file: open it in a browser)\n' $(call quote,$(DEMO_OUT))
 
 # The rigid planning demo: a rod in a cage, plan -> smooth -> report.
 demo-rigid: build
-	@$(MAKE) --no-print-directory -f pipelines/plan.mk \
-	  SCENE=$(DEMO_RIGID_OUT)/scene/scene.yaml OUT=$(DEMO_RIGID_OUT) BIN=$(BUILD)/bin SEED=$(SEED) generate-demo-scene all
-	@echo "demo-rigid: path written to $(DEMO_RIGID_OUT)/path.csv (smoothed: $(DEMO_RIGID_OUT)/path-smooth.csv)"
-	@echo "demo-rigid: report: $(DEMO_RIGID_OUT)/report.html (one self-contained HTML file: open it in a browser)"
+	@$(MAKE) --no-print-directory -f pipelines/plan.mk $(call quote,SCENE=$(DEMO_RIGID_OUT)/scene/scene.yaml) \
+	  $(call quote,OUT=$(DEMO_RIGID_OUT)) $(call quote,BIN=$(BUILD)/bin) $(call quote,SEED=$(SEED)) generate-demo-scene all
+	@printf 'demo-rigid: path written to %s/path.csv (smoothed: %s/path-smooth.csv)\n' \
+	  $(call quote,$(DEMO_RIGID_OUT)) $(call quote,$(DEMO_RIGID_OUT))
+	@printf 'demo-rigid: report: %s/report.html (one self-contained HTML file: open it in a browser)\n' $(call quote,$(DEMO_RIGID_OUT))
 
 # One scene through the InIState pipeline; any pipeline variable (SEED,
 # TIME_LIMIT, VALIDITY, PLAN_FLAGS, PLAN=..., see pipelines/inistate.mk) can
@@ -83,40 +92,37 @@ demo-rigid: build
 # GNU make exits 2 for any failed recipe, so `make run` exits 0 removable
 # and 2 otherwise, and says which; for scripts, build/bin/ausbau-run
 # SCENE OUT exits 3 for not removable and 2 for bad input (README "Exit codes").
-# (quote: a word for the shell, whatever it holds; the pipeline itself
-# refuses names it cannot pass on safely, pipelines/safe-names.mk).
-quote = '$(subst ','\'',$(1))'
 run: build
-	@test -n "$(SCENE)" || { echo "make run: SCENE=path/to/scene.yaml is required" >&2; exit 2; }
-	@$(BUILD)/bin/ausbau-run $(call quote,$(SCENE)) $(call quote,$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))) \
+	@test -n $(call quote,$(SCENE)) || { echo "make run: SCENE=path/to/scene.yaml is required" >&2; exit 2; }
+	@$(call quote,$(BUILD)/bin/ausbau-run) $(call quote,$(SCENE)) $(call quote,$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))) \
 	  || { status=$$?; [ $$status -eq 3 ] && echo "make run: not removable (ausbau-run exits 3; make itself only 2)" >&2; exit $$status; }
 
 # Installs the stages, ausbau-run, the pipelines and the docs under PREFIX
 # (default /usr/local; cmake/AusbauInstall.cmake says what goes where).
 PREFIX ?= /usr/local
 install: build
-	cmake --install $(BUILD) --prefix $(call quote,$(PREFIX))
+	cmake --install $(call quote,$(BUILD)) --prefix $(call quote,$(PREFIX))
 
 # The Debian package (CPack): $(BUILD)/ausbau_<version>_<arch>.deb; install
 # it with `apt-get install ./$(BUILD)/ausbau_*.deb`.
 package: build
-	cd $(BUILD) && cpack -G DEB
+	cd $(call quote,$(BUILD)) && cpack -G DEB
 
 # Every SCENES/*/scene.yaml, one OUT/<scene>/ each; parallel with -j N (give
 # THREADS=1 then, so that the stages do not each take all cores). Prints a
 # table of the verdicts; fails when any scene is not removable or failed.
 batch: build
-	@test -n "$(SCENES)" || { echo "make batch: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
-	@$(MAKE) --no-print-directory -f pipelines/batch.mk SCENES=$(SCENES) BIN=$(abspath $(BUILD)/bin) \
-	  OUT=$(or $(OUT),out/batch)
+	@test -n $(call quote,$(SCENES)) || { echo "make batch: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
+	@$(MAKE) --no-print-directory -f pipelines/batch.mk $(call quote,SCENES=$(SCENES)) $(call quote,BIN=$(abspath $(BUILD)/bin)) \
+	  $(call quote,OUT=$(or $(OUT),out/batch))
 
 # A STEP assembly: ausbau-assembly writes a scene per part (OUT/scenes),
 # then the batch above runs them all (pipelines/step.mk; DYNAMIC=name or
 # path in the product tree for some parts only, DEFLECTION=mm).
 step: build
-	@test -n "$(STEP)" || { echo "make step: STEP=assembly.step is required" >&2; exit 2; }
-	@$(MAKE) --no-print-directory -f pipelines/step.mk STEP=$(STEP) BIN=$(abspath $(BUILD)/bin) \
-	  OUT=$(or $(OUT),out/step)
+	@test -n $(call quote,$(STEP)) || { echo "make step: STEP=assembly.step is required" >&2; exit 2; }
+	@$(MAKE) --no-print-directory -f pipelines/step.mk $(call quote,STEP=$(STEP)) $(call quote,BIN=$(abspath $(BUILD)/bin)) \
+	  $(call quote,OUT=$(or $(OUT),out/step))
 
 # The same batch through Snakemake (pipelines/Snakefile; needs
 # `scripts/install-deps.sh snakemake`): locally on CORES cores, or on a
@@ -132,16 +138,16 @@ SNAKEMAKE_VARS := SEED TIME_LIMIT TAU_TIME_LIMIT VALIDITY RIGID_TOLERANCE PLANNE
   VOXELIZE_FLAGS SPHERES_FLAGS LABEL_FLAGS DISTFIELD_FLAGS TAU_FLAGS PLAN_FLAGS SMOOTH_FLAGS VERDICT_FLAGS REPORT_FLAGS
 .PHONY: snakemake
 snakemake: build
-	@test -n "$(SCENES)" || { echo "make snakemake: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
+	@test -n $(call quote,$(SCENES)) || { echo "make snakemake: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
 	@command -v snakemake > /dev/null || { echo "make snakemake: snakemake is not installed (scripts/install-deps.sh snakemake)" >&2; exit 2; }
-	@snakemake -s pipelines/Snakefile $(if $(PROFILE),--profile $(PROFILE),--cores $(CORES)) $(SNAKEMAKE_ARGS) \
-	  --config SCENES=$(SCENES) OUT=$(SNAKEMAKE_OUT) BIN=$(abspath $(BUILD)/bin) \
-	  $(foreach v,$(SNAKEMAKE_VARS),$(if $(filter command line,$(origin $(v))),'$(v)=$($(v))'))
-	@if [ -f $(SNAKEMAKE_OUT)/verdicts.txt ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(SNAKEMAKE_OUT)/verdicts.txt; then \
-	  echo "make snakemake: not every scene is removable ($(SNAKEMAKE_OUT)/verdicts.txt)" >&2; exit 1; fi
+	@snakemake -s pipelines/Snakefile $(if $(PROFILE),--profile $(call quote,$(PROFILE)),--cores $(call quote,$(CORES))) $(SNAKEMAKE_ARGS) \
+	  --config $(call quote,SCENES=$(SCENES)) $(call quote,OUT=$(SNAKEMAKE_OUT)) $(call quote,BIN=$(abspath $(BUILD)/bin)) \
+	  $(foreach v,$(SNAKEMAKE_VARS),$(if $(filter command line,$(origin $(v))),$(call quote,$(v)=$($(v)))))
+	@if [ -f $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt) ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt); then \
+	  printf 'make snakemake: not every scene is removable (%s/verdicts.txt)\n' $(call quote,$(SNAKEMAKE_OUT)) >&2; exit 1; fi
 
 test: build deps-browser
-	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+	@cd $(call quote,$(BUILD)) && ctest --output-on-failure -j $(call quote,$(JOBS))
 
 # The unit tests built with AddressSanitizer and UndefinedBehaviorSanitizer
 # (-DAUSBAU_SANITIZE=ON: -O1 -g1, in $(SANITIZE_BUILD), apart from the
@@ -152,10 +158,10 @@ test: build deps-browser
 SANITIZE_BUILD ?= build-sanitize
 .PHONY: test-sanitize
 test-sanitize: deps
-	@cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUSBAU_SANITIZE=ON > /dev/null
-	@cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target ausbau_unit_tests
-	@cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:abort_on_error=1 \
-	  ctest -L unit -LE all-executables --output-on-failure -j $(JOBS)
+	@cmake -S . -B $(call quote,$(SANITIZE_BUILD)) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAUSBAU_SANITIZE=ON > /dev/null
+	@cmake --build $(call quote,$(SANITIZE_BUILD)) -j $(call quote,$(JOBS)) --target ausbau_unit_tests
+	@cd $(call quote,$(SANITIZE_BUILD)) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:abort_on_error=1 \
+	  ctest -L unit -LE all-executables --output-on-failure -j $(call quote,$(JOBS))
 
 # Chromium for the report's browser test; without it (no root, no apt) that
 # test is skipped, so this never fails the test run.
@@ -167,23 +173,23 @@ bench-deps:
 	@scripts/install-deps.sh bench
 
 bench-build: bench-deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > /dev/null
-	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-bench || \
+	@cmake -S . -B $(call quote,$(BUILD)) -DCMAKE_BUILD_TYPE=Release > /dev/null
+	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-bench || \
 	  { echo "bench: ausbau-bench did not build (is OMPL installed? scripts/install-deps.sh bench)" >&2; exit 1; }
 
 bench: bench-build
-	@$(BUILD)/bin/ausbau-bench --runs $(BENCH_RUNS) --time-limit $(BENCH_TIME_LIMIT) \
-	  $(if $(BENCH_SCENES),--scenes $(BENCH_SCENES)) --output-dir $(BENCH_OUT) $(BENCH_ARGS)
-	@echo "bench: $(BENCH_OUT)/summary.md (printed above), $(BENCH_OUT)/results.csv (one row per run),"
-	@echo "       $(BENCH_OUT)/ompl-benchmark.log and ompl-benchmark-<scene>.log (for ompl_benchmark_statistics.py)"
+	@$(call quote,$(BUILD)/bin/ausbau-bench) --runs $(call quote,$(BENCH_RUNS)) --time-limit $(call quote,$(BENCH_TIME_LIMIT)) \
+	  $(if $(BENCH_SCENES),--scenes $(call quote,$(BENCH_SCENES))) --output-dir $(call quote,$(BENCH_OUT)) $(BENCH_ARGS)
+	@printf 'bench: %s/summary.md (printed above), results.csv (one row per run),\n' $(call quote,$(BENCH_OUT))
+	@printf '       ompl-benchmark.log and ompl-benchmark-<scene>.log there (for ompl_benchmark_statistics.py)\n'
 
 study: bench-build
-	@$(BUILD)/bin/ausbau-bench --study --runs $(STUDY_RUNS) --time-limit $(STUDY_TIME_LIMIT) \
-	  --scenes $(STUDY_SCENES) --output-dir $(STUDY_OUT) $(STUDY_ARGS)
-	@echo "study: $(STUDY_OUT)/study-summary.md (printed above), study-<scene>.csv and heat maps study-<scene>.svg"
+	@$(call quote,$(BUILD)/bin/ausbau-bench) --study --runs $(call quote,$(STUDY_RUNS)) --time-limit $(call quote,$(STUDY_TIME_LIMIT)) \
+	  --scenes $(call quote,$(STUDY_SCENES)) --output-dir $(call quote,$(STUDY_OUT)) $(STUDY_ARGS)
+	@printf 'study: %s/study-summary.md (printed above), study-<scene>.csv and heat maps study-<scene>.svg\n' $(call quote,$(STUDY_OUT))
 
 clean:
-	rm -rf $(BUILD) $(SANITIZE_BUILD) out
+	rm -rf $(call quote,$(BUILD)) $(call quote,$(SANITIZE_BUILD)) out
 
 # Ours against OMPL's RRT-Connect with its default range, side by side in one
 # run (issue 29; docs/benchmarks.md "Planners against OMPL"): `ausbau-plan`
@@ -212,14 +218,14 @@ PLANNERS_CHECK_OUT ?= out/bench-planners-check
 
 .PHONY: bench-planners bench-planners-check
 bench-planners: bench-build build
-	@scripts/planner-bench.sh $(BUILD)/bin '$(PLANNERS_OUT)' $(PLANNERS_RUNS) $(PLANNERS_TIME_LIMIT) \
-	  '$(PLANNERS_SCENES)' '$(PLANNERS_CHANNELS)' '$(PLANNERS_RECORDED)'
+	@scripts/planner-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(PLANNERS_OUT)) $(call quote,$(PLANNERS_RUNS)) $(call quote,$(PLANNERS_TIME_LIMIT)) \
+	  $(call quote,$(PLANNERS_SCENES)) $(call quote,$(PLANNERS_CHANNELS)) $(call quote,$(PLANNERS_RECORDED))
 
 bench-planners-check: bench-build build
 	@if [ ! -d ../shared/benchmarks/ompl ]; then \
 	  echo "bench-planners-check: skipped: ../shared/benchmarks/ompl/ (the OMPL.app scenes) is not there" >&2; exit 0; fi; \
-	$(BUILD)/bin/ausbau-bench --planners ausbau-plan,cr-rrtc --ompl-ranges default --runs 3 --time-limit 30 \
-	  --scenes alpha-1.5,Apartment,Home --output-dir '$(PLANNERS_CHECK_OUT)' --recorded bench/planners/recorded-short.csv
+	$(call quote,$(BUILD)/bin/ausbau-bench) --planners ausbau-plan,cr-rrtc --ompl-ranges default --runs 3 --time-limit 30 \
+	  --scenes alpha-1.5,Apartment,Home --output-dir $(call quote,$(PLANNERS_CHECK_OUT)) --recorded bench/planners/recorded-short.csv
 
 # FARR against plain FCL (thesis 4.3: sample sets, detection rate, collision
 # time, whole planning with the distance-field build) on alpha-1.2, alpha-1.5,
@@ -237,13 +243,13 @@ PATHS_OUT ?= out/bench-paths
 PATHS_SEEDS ?= 1 2 3 4
 .PHONY: bench-paths
 bench-paths: build
-	@scripts/path-quality-bench.sh $(abspath $(BUILD)/bin) $(PATHS_OUT) "$(PATHS_SEEDS)"
+	@scripts/path-quality-bench.sh $(call quote,$(abspath $(BUILD)/bin)) $(call quote,$(PATHS_OUT)) $(call quote,$(PATHS_SEEDS))
 
 .PHONY: bench-farr
 bench-farr: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-farr-bench
-	@$(BUILD)/bin/ausbau-farr-bench --output-dir $(BENCH_FARR_OUT) $(BENCH_FARR_ARGS)
-	@echo "bench-farr: $(BENCH_FARR_OUT)/farr-summary.md (printed above), $(BENCH_FARR_OUT)/farr-results.csv"
+	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-farr-bench
+	@$(call quote,$(BUILD)/bin/ausbau-farr-bench) --output-dir $(call quote,$(BENCH_FARR_OUT)) $(BENCH_FARR_ARGS)
+	@printf 'bench-farr: %s/farr-summary.md (printed above), farr-results.csv\n' $(call quote,$(BENCH_FARR_OUT))
 
 # Thesis table 16 on the generated clip scenes clips-ds1 .. clips-ds5:
 # shrink, IV, MLIV and Labeled-MLIV InIState planning (voxelize, label, tau,
@@ -256,9 +262,9 @@ BENCH_INISTATE_ARGS ?=
 
 .PHONY: bench-inistate
 bench-inistate: configure
-	@cmake --build $(BUILD) -j $(JOBS) --target ausbau-inistate-bench
-	@$(BUILD)/bin/ausbau-inistate-bench --output-dir $(BENCH_INISTATE_OUT) $(BENCH_INISTATE_ARGS)
-	@echo "bench-inistate: $(BENCH_INISTATE_OUT)/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv"
+	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-inistate-bench
+	@$(call quote,$(BUILD)/bin/ausbau-inistate-bench) --output-dir $(call quote,$(BENCH_INISTATE_OUT)) $(BENCH_INISTATE_ARGS)
+	@printf 'bench-inistate: %s/inistate-summary.md (printed above), inistate-results.csv, inistate-scenes.csv\n' $(call quote,$(BENCH_INISTATE_OUT))
 
 # The whole pipeline (pipelines/inistate.mk, default VALIDITY=auto) on every
 # family, clips-ds* and panel-* (coarse, fine and the moulded twin, turned
@@ -272,8 +278,8 @@ BENCH_E2E_ARGS ?=
 
 .PHONY: bench-end-to-end
 bench-end-to-end: build
-	@$(BUILD)/bin/ausbau-inistate-bench --end-to-end --output-dir $(BENCH_E2E_OUT) $(BENCH_E2E_ARGS)
-	@echo "bench-end-to-end: $(BENCH_E2E_OUT)/end-to-end-summary.md (printed above), end-to-end-results.csv"
+	@$(call quote,$(BUILD)/bin/ausbau-inistate-bench) --end-to-end --output-dir $(call quote,$(BENCH_E2E_OUT)) $(BENCH_E2E_ARGS)
+	@printf 'bench-end-to-end: %s/end-to-end-summary.md (printed above), end-to-end-results.csv\n' $(call quote,$(BENCH_E2E_OUT))
 
 # The vehicle benchmark (issue 18, item 4; scripts/vehicle-bench.sh): a
 # generated body shell of ~1.2M triangles with VEHICLE_PARTS fastened parts,
@@ -287,7 +293,7 @@ VEHICLE_BUDGET ?= 120
 
 .PHONY: bench-vehicle
 bench-vehicle: build
-	@scripts/vehicle-bench.sh $(BUILD)/bin $(VEHICLE_OUT) $(VEHICLE_PARTS) $(VEHICLE_RUN) $(VEHICLE_BUDGET)
+	@scripts/vehicle-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(VEHICLE_OUT)) $(call quote,$(VEHICLE_PARTS)) $(call quote,$(VEHICLE_RUN)) $(call quote,$(VEHICLE_BUDGET))
 
 # The real-mesh benchmark (scripts/real-bench.sh): every bench/real/*/scene.yaml
 # (public CAD and robot-assembly meshes: pegs in holes with tens of micrometres
@@ -299,7 +305,7 @@ BENCH_REAL_OUT ?= out/bench-real
 
 .PHONY: bench-real
 bench-real: build
-	@scripts/real-bench.sh $(BUILD)/bin $(BENCH_REAL_OUT) bench/real
+	@scripts/real-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(BENCH_REAL_OUT)) bench/real
 
 # The disassembly order on real meshes (scripts/order-bench.sh): assemblies
 # made of the bench/real scenes' parts in their assembled poses
@@ -310,7 +316,7 @@ BENCH_ORDER_OUT ?= out/bench-order
 
 .PHONY: bench-order
 bench-order: build
-	@scripts/order-bench.sh $(BUILD)/bin $(BENCH_ORDER_OUT)
+	@scripts/order-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(BENCH_ORDER_OUT))
 
 # The external benchmark set (scripts/external-bench.sh): its box-soup scenes
 # and their moulded twins (D one welded solid) through the InIState pipeline,
@@ -320,7 +326,7 @@ BENCH_EXTERNAL_OUT ?= out/bench-external
 
 .PHONY: bench-external
 bench-external: build
-	@scripts/external-bench.sh $(BUILD)/bin $(BENCH_EXTERNAL_OUT)
+	@scripts/external-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(BENCH_EXTERNAL_OUT))
 
 # libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
@@ -336,7 +342,7 @@ FUZZ_RUNS ?=
 
 fuzz:
 	@scripts/install-deps.sh fuzz
-	@cmake -S . -B $(FUZZ_BUILD) -DAUSBAU_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	@cmake -S . -B $(call quote,$(FUZZ_BUILD)) -DAUSBAU_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ > /dev/null
-	@cmake --build $(FUZZ_BUILD) -j $(JOBS) --target ausbau_fuzzers
-	@FUZZ_RUNS=$(FUZZ_RUNS) fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_HARNESSES)
+	@cmake --build $(call quote,$(FUZZ_BUILD)) -j $(call quote,$(JOBS)) --target ausbau_fuzzers
+	@FUZZ_RUNS=$(call quote,$(FUZZ_RUNS)) fuzz/run.sh $(call quote,$(FUZZ_BUILD)) $(call quote,$(FUZZ_SECONDS)) $(FUZZ_HARNESSES)

@@ -36,7 +36,10 @@ all: $(addprefix scene-,$(NAMES))
 	@$(BATCH_MK_DIR)../scripts/verdict-table.sh $(OUT) $(NAMES)
 
 # The sub-make's failure is recorded, not propagated: the table decides.
+# The scene's folder, its log and its exit file are written by the shell
+# (a redirection follows a link): a link there is refused, not followed.
 $(addprefix scene-,$(NAMES)): scene-%:
+	@$(call refuse_links,$(OUT)/$* $(OUT)/$*/pipeline.log $(OUT)/$*/pipeline.exit)
 	@mkdir -p $(OUT)/$*
 	@echo "batch: $* ..."
 	@rc=0; $(MAKE) --no-print-directory -f $(BATCH_MK_DIR)inistate.mk SCENE=$(SCENES)/$*/scene.yaml OUT=$(OUT)/$* \

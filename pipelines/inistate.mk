@@ -15,8 +15,10 @@
 # Outputs in OUT: voxels.h5, spheres.h5, labels.h5, distfield-static.h5,
 # distfield-dynamic.h5, tau.h5, tau-trace.csv, path.h5 (planned),
 # path-smooth.h5 + path-smooth.csv (smoothed), path.csv (the final path: a
-# copy of path-smooth.csv), profile.csv, verdict.json, report.html, and
-# times/<stage>.seconds (wall time of each stage in this run).
+# copy of path-smooth.csv), profile.csv, verdict.json, report.html,
+# times/<stage>.seconds (wall time of each stage in this run), and
+# .ausbau-cache/ (the distance fields' cache, unless AUSBAU_CACHE_DIR names
+# another). Nothing is written outside OUT.
 #
 # Caching: every stage skips work whose existing output has the same
 # provenance (inputs' contents + options) and leaves that output untouched,
@@ -29,7 +31,8 @@
 # parts of S that block D at its end), path.csv and the
 # smoothed files are removed, and make fails (the last step exits 3).
 #
-# Time budget: BUDGET=S (seconds) ends the run when S is used up. The
+# Time budget: BUDGET=S (seconds) ends the run when S is used up (a positive
+# number; above 1e9, about 30 years, it is taken as 1e9). The
 # start of the run is taken once, when make reads this file, and every stage
 # that can run long gets an absolute deadline (--deadline, seconds since the
 # epoch) rather than a number of seconds: what the stages before it used is
@@ -104,16 +107,20 @@ SEED := $(strip $(SEED))
 TIME_LIMIT := $(strip $(TIME_LIMIT))
 TAU_TIME_LIMIT := $(strip $(TAU_TIME_LIMIT))
 override VALIDITY := $(strip $(VALIDITY))
-BUDGET := $(strip $(BUDGET))
+override BUDGET := $(strip $(BUDGET))
 ifneq ($(BUDGET),)
 $(call require_safe,BUDGET)
 ifneq ($(shell awk -v b='$(BUDGET)' 'BEGIN { print (b ~ /^[0-9]*\.?[0-9]+([eE][+]?[0-9]+)?$$/ && b + 0 > 0) ? "ok" : "bad" }'),ok)
 $(error BUDGET=$(BUDGET): must be a positive number of seconds)
 endif
+# More than 1e9 s (30 years) is as good as none: taken as 1e9, for the
+# deadlines and the verdict's record alike (BUDGET=1e308 works; 1e309 and
+# more, which are no double, too).
+# (override: BUDGET is mostly given on the command line, whose value a plain
+# assignment would not change.)
+override BUDGET := $(shell awk -v b='$(BUDGET)' 'BEGIN { if (b + 0 > 1e9) print "1e9"; else print b }')
 BUDGET_START := $(shell date +%s.%N)
-# (More than 1e9 s, 30 years, is as good as none: the deadlines stay numbers
-# the stages read.)
-budget_deadline = $(shell awk -v s=$(BUDGET_START) -v b=$(BUDGET) -v f=$(1) 'BEGIN { if (b > 1e9) b = 1e9; printf "%.3f", s + f * b }')
+budget_deadline = $(shell awk -v s=$(BUDGET_START) -v b=$(BUDGET) -v f=$(1) 'BEGIN { printf "%.3f", s + f * b }')
 TAU_DEADLINE := $(call budget_deadline,0.40)
 PLAN_DEADLINE := $(call budget_deadline,0.75)
 SMOOTH_DEADLINE := $(call budget_deadline,0.90)
@@ -133,6 +140,10 @@ THREADS := $(strip $(THREADS))
 WITH_REPORT := $(strip $(WITH_REPORT))
 
 TIMES := $(OUT)/times
+# The stages' cache of distance fields (collision/distance_field.h) would go
+# beside the scene (<scene folder>/.ausbau-cache): the pipeline writes inside
+# OUT only, so it goes there, unless the user chose one (a shared cache).
+export AUSBAU_CACHE_DIR ?= $(abspath $(OUT))/.ausbau-cache
 VOLUME_MODE := $(filter-out collision rigid-exact,$(VALIDITY))
 # rigid-exact (docs/rigid-exact.md): exact shell depths, no voxels,
 # labels, tau or distance fields.
@@ -154,8 +165,11 @@ all: verdict $(if $(filter 1,$(WITH_REPORT)),report)
 	  { echo "inistate: $(SCENE): not removable (see $(OUT)/verdict.json)" >&2; exit 3; }
 
 # This run's timings only (stale ones would be summed by the verdict), and
-# no verdict of an earlier run when this one fails before its verdict.
+# no verdict of an earlier run when this one fails before its verdict. The
+# pipeline's own paths that recipes (not stages) write or delete must not be
+# symbolic links: they would lead the rm and the writes outside OUT.
 start:
+	@$(call refuse_links,$(TIMES) $(OUT)/.path.csv.tmp $(OUT)/path.csv $(OUT)/.ausbau-cache)
 	@mkdir -p $(TIMES)
 	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path $(OUT)/verdict.json
 
@@ -204,10 +218,12 @@ plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
   --rigid-tolerance $(RIGID_TOLERANCE) --clearance $(CLEARANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(OUT)/profile.csv \
   -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+# (mv -T: a link put at path.csv during the run, to a folder too, is
+# replaced, never moved into; `start` refused one before.)
 smooth: plan
 	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \
 	echo '$(SMOOTH_CMD)'; $(TIMED) smooth $(TIMES) $(SMOOTH_CMD) && \
-	cp $(OUT)/path-smooth.csv $(OUT)/.path.csv.tmp && mv -f $(OUT)/.path.csv.tmp $(OUT)/path.csv
+	rm -f $(OUT)/.path.csv.tmp && cp $(OUT)/path-smooth.csv $(OUT)/.path.csv.tmp && mv -fT $(OUT)/.path.csv.tmp $(OUT)/path.csv
 
 # Exit 3 (not removable) still writes verdict.json; `all` fails afterwards,
 # so that the report is written for a failed scene too.

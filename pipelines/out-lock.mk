@@ -4,7 +4,8 @@
 # an exclusive lock on OUT/.ausbau-lock (flock, util-linux): make re-runs
 # itself under the lock, and a second run on the same OUT stops at once with
 #   pipeline: OUT <dir> is in use by pid N (...)
-# and exit 2. The including makefile puts its rules inside
+# and exit 2. A lock file that is a symbolic link is refused (exit 2): the
+# pid would be written into the file it names. The including makefile puts its rules inside
 #   ifeq ($(OUT_LOCKED),yes) ... endif
 # so that the outer make (the one taking the lock) has only the rule below.
 ifeq ($(AUSBAU_OUT_LOCK),$(abspath $(OUT)))
@@ -16,7 +17,8 @@ OUT_LOCKED := no
 # into the lock file for the message) and in every stage it starts.
 out-lock:
 	@mkdir -p '$(OUT)'
-	@exec 9>>'$(OUT)/.ausbau-lock'; \
+	@$(call refuse_links,'$(OUT)/.ausbau-lock'); \
+	exec 9>>'$(OUT)/.ausbau-lock'; \
 	if ! flock -n 9; then \
 	  echo "pipeline: OUT $(OUT) is in use by pid $$(cat '$(OUT)/.ausbau-lock' 2>/dev/null) (another pipeline is writing there; wait for it or choose another OUT)" >&2; \
 	  exit 2; \

@@ -49,7 +49,9 @@ smooth: plan
 report: smooth
 	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html
 
+# Generated once: an existing scene (the demo's of an earlier run, or a
+# user's) is kept, never replaced (ausbau-scene-gen refuses that too).
 generate-demo-scene:
-	@$(SCENE_GEN) --family rod-in-cage --seed $(SEED) -o $(dir $(SCENE)) > /dev/null
+	@[ -f $(SCENE) ] || $(SCENE_GEN) --family rod-in-cage --seed $(SEED) -o $(dir $(SCENE)) > /dev/null
 
 endif  # OUT_LOCKED (out-lock.mk)

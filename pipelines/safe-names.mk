@@ -18,3 +18,13 @@ unsafe_rest = $(if $(2),$(call unsafe_rest,$(subst $(firstword $(2)),,$(1)),$(wo
 # "yes" when the variable named $(1) holds one safe word.
 safe_var = $(and $($(1)),$(if $(word 2,$($(1))),,$(if $(call unsafe_rest,$(subst $(SAFE_NAME_COMMA),?,$($(1))),$(SAFE_NAME_CHARS)),,yes)))
 require_safe = $(if $(call safe_var,$(1)),,$(error $(1)=$($(1)): only letters, digits and _./+@- are supported (the name reaches a shell)))
+
+# Shell code for a recipe: stops it (exit 2, one line) when one of the
+# pipeline's own paths under OUT, $(1) (already checked safe names), is a
+# symbolic link. The pipeline writes, truncates and deletes these (its
+# lock, times/*.seconds, temporaries); through a link that would happen
+# outside OUT, to whatever file the link names. Refused, never followed:
+#   @$(call refuse_links,$(OUT)/times $(OUT)/.path.csv.tmp)
+refuse_links = for p in $(1); do if [ -L "$$p" ]; then \
+  echo "pipeline: $$p is a symbolic link; the pipeline writes only its own files inside OUT and does not follow it (remove it)" >&2; \
+  exit 2; fi; done

@@ -17,5 +17,9 @@ start=$(date +%s.%N)
 code=$?
 end=$(date +%s.%N)
 tmp="$dir/.$name.seconds.$$"
-awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f\n", b - a }' > "$tmp" && mv -f "$tmp" "$dir/$name.seconds"
+# A new file of ours (rm, then noclobber): never written through a link
+# planted under the temporary's name; mv -T replaces a link at the result's
+# name (to a folder too: not moved into it).
+rm -f "$tmp"
+(set -C; awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f\n", b - a }' > "$tmp") && mv -fT "$tmp" "$dir/$name.seconds"
 exit $code

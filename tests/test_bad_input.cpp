@@ -190,6 +190,10 @@ std::vector<Case> SceneCases() {
        "name must not hold control characters"},
       {"SceneUnitsWithANewline", key("units", "\"mm\\n=HYPERLINK(1)\""), check, 2,
        "units must not hold control characters"},
+      // Units reach profile.csv's header: a comma or a leading = would be a
+      // cell holding a formula there.
+      {"SceneUnitsWithAFormula", key("units", "\"mm,=HYPERLINK(\\\"http://x\\\")\""), check, 2,
+       "units must be a unit's name"},
       {"SceneMissing", kNothing, "ausbau-scene-check --scene none.yaml", 2,
        "none\\.yaml: .*(not found|no such|cannot)"},
       {"SceneEmpty", [](const fs::path& d) { Write(d / "scene.yaml", ""); }, check, 2, "scene\\.yaml"},
@@ -553,6 +557,15 @@ std::vector<Case> FileSystemCases() {
       {"SceneGenOutputIsAFile", kNothing, "ausbau-scene-gen --family two-boxes -o scene.yaml", 2, "scene\\.yaml"},
       {"SceneGenOverAUsersScene", kNothing, "ausbau-scene-gen --family rod-in-cage -o .", 2,
        "already holds a scene.*--force", Unchanged("part.obj")},
+      {"SceneGenOverAUsersMeshes",
+       [](const fs::path& d) {
+         fs::create_directory(d / "meshes");
+         fs::copy_file(d / "part.obj", d / "meshes/part.obj");
+       },
+       "ausbau-scene-gen --family two-boxes -o meshes", 2, "meshes: the folder is not empty.*--force",
+       [](const fs::path& d, const Outcome&) {
+         EXPECT_TRUE(Read(d / "meshes/part.obj") == Read(Template() / "part.obj")) << "the user's mesh was replaced";
+       }},
       {"OutputInAMissingFolderIsCreated", kNothing, "ausbau-plan --scene scene.yaml -o new/deeper/p.h5", 0, "",
        [](const fs::path& d, const Outcome&) { EXPECT_TRUE(fs::exists(d / "new/deeper/p.h5")); }},
       {"OutputFolderCannotBeCreated", kNothing, "ausbau-plan --scene scene.yaml -o /proc/no/such/p.h5", 1,
@@ -706,9 +719,14 @@ std::vector<Case> ArtifactCases() {
        [](const fs::path& d, const Outcome&) {
          EXPECT_NE(Read(d / "v.json").find("\"removable\": false"), std::string::npos) << Read(d / "v.json");
        }},
-      {"PathOfOneWaypointClaimingSuccess",
-       [](const fs::path& d) { WritePath(d / "path.h5", [](PathArtifact* p) { p->waypoints.resize(1); }); }, verdict, 2,
-       "path\\.h5: claims success with 1 waypoint", Absent("v.json")},
+      // One waypoint is a D already in its goal at the installed pose (judged
+      // as staying there); here the goal is elsewhere: not removable, said so.
+      {"PathOfOneWaypointNotInTheGoal",
+       [](const fs::path& d) { WritePath(d / "path.h5", [](PathArtifact* p) { p->waypoints.resize(1); }); }, verdict, 3,
+       "NOT REMOVABLE"},
+      {"PathOfNoWaypointClaimingSuccess",
+       [](const fs::path& d) { WritePath(d / "path.h5", [](PathArtifact* p) { p->waypoints.clear(); }); }, verdict, 2,
+       "path\\.h5: (claims success with 0 waypoints|.*waypoints)", Absent("v.json")},
       {"PathNotStartingAtTheInstalledPose",
        [](const fs::path& d) {
          WritePath(d / "path.h5", [](PathArtifact* p) { p->waypoints.erase(p->waypoints.begin()); });

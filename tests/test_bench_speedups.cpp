@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "speedup_check.h"
+#include "test_scenes.h"
 
 namespace ausbau::bench {
 namespace {
@@ -43,8 +44,14 @@ SceneResult Alpha(int ours_dense = 1) {
   return s;
 }
 
+// The test process's folder for its files, removed when it ends.
+const testing::ScopedTempDir& Dir() {
+  static const testing::ScopedTempDir dir("bench-speedups");
+  return dir;
+}
+
 fs::path WriteFile(const std::string& name, const std::string& text) {
-  const fs::path file = fs::temp_directory_path() / (name + "-" + std::to_string(::getpid()) + ".csv");
+  const fs::path file = Dir() / (name + ".csv");
   std::ofstream(file) << text;
   return file;
 }
@@ -70,7 +77,7 @@ TEST(BenchSpeedups, NoOmplRunNoRow) {
 
 TEST(BenchSpeedups, CsvRoundTripsAndTheGateHalvesTheRecordedRatio) {
   const std::vector<SpeedupRow> rows = Speedups({Alpha()}, 60);
-  const fs::path file = fs::temp_directory_path() / ("speedups-" + std::to_string(::getpid()) + ".csv");
+  const fs::path file = Dir() / "speedups.csv";
   WriteSpeedupsCsv(file, rows);
   const std::vector<RecordedSpeedup> back = ReadRecordedSpeedups(file);
   fs::remove(file);

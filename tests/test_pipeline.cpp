@@ -39,7 +39,9 @@ Outcome Shell(const std::string& command) {
 // thread, coarse distance fields, fewer labeling load cases, no report).
 // Most tests here exercise the volume pipeline (voxels, labels, tau, its
 // caching), so they ask for VALIDITY=labeled-mliv; `validity` empty runs the
-// pipeline's default (auto).
+// pipeline's default (auto). Every run also checks that nothing outside OUT
+// changed: the folder around it holds the test's scene (and the distance
+// fields' cache no longer goes beside it).
 Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::string& variables = "",
                     const std::string& validity = "labeled-mliv") {
   const std::string command =
@@ -48,7 +50,10 @@ Outcome RunPipeline(const fs::path& scene, const fs::path& out, const std::strin
       " THREADS=1 WITH_REPORT=0 TIME_LIMIT=30 DISTFIELD_FLAGS='--field-cells 64' "
       "LABEL_FLAGS='--max-load-cases 300' " +
       (validity.empty() ? "" : "VALIDITY=" + validity + " ") + variables;
-  return Shell(command);
+  const testing::OutsideOut outside(out.parent_path(), out);
+  const Outcome outcome = Shell(command);
+  EXPECT_EQ(outside.Changes(), "") << "outside OUT " << out << " after:\n" << command;
+  return outcome;
 }
 
 fs::file_time_type MTime(const fs::path& file) { return fs::last_write_time(file); }
@@ -230,12 +235,13 @@ TEST_F(PipelineTest, ChangingDsMeshReRunsEverythingThatDependsOnD) {
 TEST_F(PipelineTest, AStageCanBeSwappedByItsVariable) {
   const fs::path dir = Copy("swap");
   const fs::path wrapper = dir / "my-verdict.sh";
-  std::ofstream(wrapper) << "#!/bin/sh\necho swapped > \"" << (dir / "swapped").string() << "\"\nexec "
+  // (The mark goes into OUT: RunPipeline checks that nothing outside changed.)
+  std::ofstream(wrapper) << "#!/bin/sh\necho swapped > \"" << (dir / "out/swapped").string() << "\"\nexec "
                          << (testing::BinDir() / "ausbau-verdict").string() << " \"$@\"\n";
   fs::permissions(wrapper, fs::perms::owner_all, fs::perm_options::add);
   const Outcome run = RunPipeline(dir / "scene/scene.yaml", dir / "out", "VERDICT=" + wrapper.string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_TRUE(fs::exists(dir / "swapped")) << run.output;
+  EXPECT_TRUE(fs::exists(dir / "out/swapped")) << run.output;
   EXPECT_TRUE(HasLine(testing::ReadTextFile(dir / "out/verdict.json"), "\"removable\": true"));
 }
 
@@ -396,6 +402,7 @@ TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
   scene_folder("x$(touch${IFS}PWNED)");
   scene_folder("a,$(touch${IFS}COMMA)");  // a comma would split make's function arguments around the check
   scene_folder("good");
+  const testing::OutsideOut outside(dir, dir / "out");
   // make -f pipelines/<makefile> in `dir`, every name single-quoted.
   const auto make = [&](const std::string& makefile, const std::string& variables) {
     return Shell("make --no-print-directory -C '" + dir.string() + "' -f '" +
@@ -414,6 +421,7 @@ TEST(PipelineNames, ShellCodeInANameStopsTheRunBeforeAnyRecipe) {
   EXPECT_NE(spaced.output.find("OUT=o ut"), std::string::npos) << spaced.output;
   EXPECT_FALSE(fs::exists(dir / "o"));
   EXPECT_FALSE(fs::exists(dir / "o ut"));
+  EXPECT_EQ(outside.Changes(), "");
 }
 
 }  // namespace

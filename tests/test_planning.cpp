@@ -172,14 +172,14 @@ TEST(Planner, ProcessWideCancelStopsPlannersAndIsNoAnswer) {
   PlannerOptions options;
   EXPECT_THROW(PlanWithRestarts(f.problem, f.checker, options), Cancelled);
   EXPECT_THROW(TryStraightPulls(f.problem, f.checker, options), Cancelled);
-  const auto file = std::filesystem::temp_directory_path() / "ausbau-cancel-test.txt";
+  const testing::ScopedTempDir dir("cancel");
+  const auto file = dir / "cancel-test.txt";
   ResetCancel();
   WriteTextFileAtomically(file, "before");
   RequestCancel();
   EXPECT_THROW(WriteTextFileAtomically(file, "after"), Cancelled);
   ResetCancel();
   EXPECT_EQ(testing::ReadTextFile(file), "before");
-  std::filesystem::remove(file);
 }
 
 // The progress callback reports iterations against the limit, and whether

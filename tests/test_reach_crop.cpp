@@ -13,6 +13,7 @@
 #include "planning/reach_crop.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
+#include "test_scenes.h"
 #include "workflow/plan_scene.h"
 
 namespace ausbau {
@@ -196,12 +197,10 @@ TEST(ReachCrop, SmootherTakesTheLevelThatHoldsThePath) {
 }
 
 TEST(ReachCrop, SmallScenesAndScenesWithBoundsAreNotCropped) {
-  const auto dir = std::filesystem::temp_directory_path() / "ausbau-test-reach-crop";
-  std::filesystem::remove_all(dir);
-  const Scene small = LoadScene(GenerateScene("peg-in-plate", 1, dir));
+  const testing::ScopedTempDir dir("reach-crop");  // removed at the end of the test, also after a failure
+  const Scene small = LoadScene(GenerateScene("peg-in-plate", 1, dir.path()));
   EXPECT_FALSE(ChooseReachCrop(small, 0).has_value());
   EXPECT_EQ(MakePlanningProblem(small).crop, nullptr);
-  std::filesystem::remove_all(dir);
 
   Scene bounded = VehicleScene(0);
   Aabb bounds;

@@ -2,12 +2,49 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace ausbau::testing {
 
-// A new empty folder under the system's temporary directory, unique per call.
+// A new empty folder under the system's temporary directory, unique per call
+// (removed, with what it holds, when the test process ends).
 std::filesystem::path MakeTempDir(const std::string& prefix);
+
+// A temporary folder of one test, removed (with what it holds) when the
+// object goes out of scope, also when an ASSERT returns early.
+// AUSBAU_KEEP_TEST_DIRS=1 keeps it, for a look after a failure.
+class ScopedTempDir {
+ public:
+  explicit ScopedTempDir(const std::string& prefix);
+  ~ScopedTempDir();
+  ScopedTempDir(const ScopedTempDir&) = delete;
+  ScopedTempDir& operator=(const ScopedTempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// "Nothing outside OUT changed": a snapshot of the folder `around` (all of
+// it, recursively, without following links), taken before a stage or a
+// pipeline runs and compared after. Per entry: its type, size and
+// modification time, and for a symbolic link its target. `out` (the run's
+// own folder, inside `around`) and what it holds are left out: the run may
+// write there and only there.
+class OutsideOut {
+ public:
+  OutsideOut(const std::filesystem::path& around, const std::filesystem::path& out);
+  // What changed outside `out` since the constructor: one line per entry
+  // created, removed or changed; empty when nothing did.
+  std::string Changes() const;
+
+ private:
+  std::map<std::string, std::string> Snapshot() const;
+  std::filesystem::path around_, out_;
+  std::map<std::string, std::string> before_;
+};
 
 // Generates `family` (see fixtures/generators.h) into a fresh folder and
 // returns the scene.yaml path.

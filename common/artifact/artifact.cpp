@@ -429,7 +429,7 @@ ArtifactWriter::ArtifactWriter(std::filesystem::path path, std::string schema, i
     // Never replace a link, FIFO or device; clear what killed writers left.
     CheckOutputTarget(impl_->target);
     RemoveStaleTemporaries(impl_->target);
-    impl_->temp = TemporaryPathFor(impl_->target);
+    const std::filesystem::path temporary = TemporaryPathFor(impl_->target);
 
     Handle fcpl = PropertyList(H5P_FILE_CREATE);
     CheckTargetId(fcpl.get(), impl_->target, "cannot set up file creation");
@@ -437,9 +437,13 @@ ArtifactWriter::ArtifactWriter(std::filesystem::path path, std::string schema, i
     Handle fapl = PropertyList(H5P_FILE_ACCESS);
     CheckTargetId(fapl.get(), impl_->target, "cannot set up file access");
     CheckTarget(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), impl_->target, "cannot set up file access");
-    impl_->file = Handle(CheckTargetId(H5Fcreate(impl_->temp.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()),
-                                       impl_->target, "cannot create temporary file '" + impl_->temp.string() + "'"),
+    // H5F_ACC_EXCL (O_CREAT | O_EXCL): the temporary is a new file of ours;
+    // a name that exists already (a link planted under it, pointing outside
+    // the output folder) is refused, not written through, and left alone.
+    impl_->file = Handle(CheckTargetId(H5Fcreate(temporary.c_str(), H5F_ACC_EXCL, fcpl.get(), fapl.get()),
+                                       impl_->target, "cannot create temporary file '" + temporary.string() + "'"),
                          H5Fclose);
+    impl_->temp = temporary;
 
     const std::int64_t version = schema_version;
     impl_->WithObject("", "schema", [&](hid_t root) { impl_->WriteStringAttribute(root, "schema", schema); });

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "core/format.h"
 #include "core/hash.h"
 #include "core/log.h"
 
@@ -138,14 +139,16 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
 }
 
 int StageDefinition::PrintValidation(const Provenance& provenance) const {
+  // The options hold file names (the scene's, its meshes'): their control
+  // characters are shown, not sent to the terminal.
   std::printf("%s: the options and inputs are valid\n", name_.c_str());
-  std::printf("options (cache key):\n%s", provenance.parameters_yaml.c_str());
+  std::printf("options (cache key):\n%s", TerminalSafeLines(provenance.parameters_yaml).c_str());
   std::printf("inputs:\n");
   for (const auto& [role, hash] : provenance.inputs) std::printf("  %s: %s\n", role.c_str(), hash.c_str());
   std::printf("provenance hash: %s\n", provenance.Hash().c_str());
   if (has_output_) {
     const bool current = ExistingProvenanceHash(output_, output_schema_, output_schema_version_) == provenance.Hash();
-    std::printf("output %s: %s\n", output_.c_str(), current ? "up to date" : "would be computed");
+    std::printf("output %s: %s\n", TerminalSafe(output_).c_str(), current ? "up to date" : "would be computed");
   }
   return kExitOk;
 }

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/cancel.h"
+#include "core/format.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "core/suggest.h"
@@ -197,10 +198,10 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    std::fprintf(stderr, "%s: error: %s (see --help)\n", name.c_str(), e.what());
+    std::fprintf(stderr, "%s: error: %s (see --help)\n", name.c_str(), TerminalSafe(e.what()).c_str());
     return kExitBadInput;
   } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), TerminalSafe(e.what()).c_str());
     return kExitBadInput;
   }
   return -1;
@@ -213,7 +214,7 @@ int RunWithExitCodes(const std::string& name, const std::function<int()>& work) 
     std::fprintf(stderr, "%s: cancelled; no output written (what was there before is unchanged)\n", name.c_str());
     return kExitCancelled;
   } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    std::fprintf(stderr, "%s: error: %s\n", name.c_str(), TerminalSafe(e.what()).c_str());
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
     // Readers bound their sizes by what the file holds and the stages their
@@ -225,7 +226,7 @@ int RunWithExitCodes(const std::string& name, const std::function<int()>& work) 
                  name.c_str());
     return kExitInternal;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: internal error: %s\n", name.c_str(), e.what());
+    std::fprintf(stderr, "%s: internal error: %s\n", name.c_str(), TerminalSafe(e.what()).c_str());
     return kExitInternal;
   } catch (...) {
     std::fprintf(stderr, "%s: internal error: unknown exception\n", name.c_str());

@@ -1,5 +1,6 @@
 #include "core/atomic_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -7,7 +8,6 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "core/cancel.h"
@@ -79,20 +79,32 @@ void WriteTextFileAtomically(const std::filesystem::path& file, const std::strin
   RemoveStaleTemporaries(file);
   const std::filesystem::path temporary = TemporaryPathFor(file);
   std::error_code ignored;
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw std::runtime_error(file.string() + ": cannot create temporary file (" + std::strerror(errno) + ")");
-    }
-    out << text;
-    out.flush();
-    if (!out) {
+  // O_EXCL | O_NOFOLLOW: the temporary is a new regular file of ours. A name
+  // that already exists (a link planted under it, pointing outside the
+  // output folder) is refused instead of written through.
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) {
+    throw std::runtime_error(file.string() + ": cannot create temporary file (" + std::strerror(errno) + ")");
+  }
+  const char* data = text.data();
+  std::size_t left = text.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) {
       // errno is that of the failed write (no space left, file too large).
-      const std::string reason = std::strerror(errno);
-      out.close();
+      const std::string reason = std::strerror(written < 0 ? errno : EIO);
+      ::close(fd);
       std::filesystem::remove(temporary, ignored);
       throw std::runtime_error(file.string() + ": cannot write file (" + reason + ")");
     }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  if (::close(fd) != 0) {
+    const std::string reason = std::strerror(errno);
+    std::filesystem::remove(temporary, ignored);
+    throw std::runtime_error(file.string() + ": cannot write file (" + reason + ")");
   }
   // A cancelled run commits nothing (core/cancel.h).
   if (CancelRequested()) {

@@ -3,10 +3,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdarg>
 #include <cstdio>
 #include <memory>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace ausbau {
 namespace {
@@ -33,9 +35,16 @@ void Emit(LogLevel level, const char* tag, const char* format, va_list args) {
     std::fputs("\r\033[K", stderr);
     g_bar_drawn = false;
   }
-  std::fprintf(stderr, "%s: %s", g_program.c_str(), tag);
-  std::vfprintf(stderr, format, args);
-  std::fputc('\n', stderr);
+  // The message may hold names from files (parts, meshes, file names):
+  // their control characters are shown, not sent to the terminal.
+  va_list copy;
+  va_copy(copy, args);
+  const int length = std::vsnprintf(nullptr, 0, format, copy);
+  va_end(copy);
+  std::string message(length > 0 ? static_cast<std::size_t>(length) + 1 : 1, '\0');
+  if (length > 0) std::vsnprintf(message.data(), message.size(), format, args);
+  message.resize(length > 0 ? static_cast<std::size_t>(length) : 0);
+  std::fprintf(stderr, "%s: %s%s\n", g_program.c_str(), tag, TerminalSafe(message).c_str());
 }
 
 }  // namespace

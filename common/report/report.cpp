@@ -64,7 +64,14 @@ std::string HtmlEscape(std::string_view text) {
       case '>': out += "&gt;"; break;
       case '"': out += "&quot;"; break;
       case '\'': out += "&#39;"; break;
-      default: out += c;
+      default:
+        // A control character from a name (an escape sequence in a file's
+        // name) is shown, as on the terminal (core/format.h TerminalSafe).
+        if ((static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t' && c != '\r') || c == 0x7f) {
+          out += Fmt("\\x%02x", static_cast<unsigned char>(c));
+        } else {
+          out += c;
+        }
     }
   }
   return out;
@@ -96,7 +103,7 @@ std::string MeshJson(const TriangleMesh& mesh, const Eigen::Vector3d& shift, Buf
 // folder (the command line's files win). What a run folder lacks is noted
 // in the summary and in `artifacts` (name, status as HTML).
 struct ReportFiles {
-  fs::path path_file, smoothed_file, labels_file, verdict_file, stats_file, spheres_file, profile_file, path_csv;
+  fs::path path_file, smoothed_file, labels_file, verdict_file, spheres_file, profile_file, path_csv;
 };
 
 ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary,
@@ -107,7 +114,6 @@ ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary
   fs::path& smoothed_file = files.smoothed_file;
   fs::path& labels_file = files.labels_file;
   fs::path& verdict_file = files.verdict_file;
-  fs::path& stats_file = files.stats_file;
   fs::path& spheres_file = files.spheres_file;
   path_file = options.path;
   smoothed_file = options.smoothed;
@@ -115,12 +121,23 @@ ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary
   if (!options.run_dir.empty()) {
     std::error_code ec;
     if (!fs::is_directory(options.run_dir, ec)) throw InputErrorAt(options.run_dir.string(), "run folder not found");
+    // A symbolic link in the run folder is not followed: it may point at
+    // any file the user can read (stages write regular files only).
+    auto linked = [&](const fs::path& candidate) {
+      if (!IsSymbolicLink(candidate)) return false;
+      const std::string note = candidate.string() + ": is a symbolic link; not followed (left out of the report)";
+      LogWarn("%s", note.c_str());
+      summary->notes.push_back(note);
+      return true;
+    };
     auto pick = [&](const char* name, fs::path* slot, bool explicit_given) {
       const fs::path candidate = options.run_dir / name;
       if (explicit_given) {
         artifacts.emplace_back(name, "replaced by the command line's file");
-      } else if (IsRegularFile(candidate)) {
+      } else if (IsOwnRegularFile(candidate)) {
         *slot = candidate;
+      } else if (linked(candidate)) {
+        artifacts.emplace_back(name, "<span class=\"note\">ignored: a symbolic link</span>");
       } else {
         artifacts.emplace_back(name, "absent");
         absent += std::string(absent.empty() ? "" : ", ") + name;
@@ -131,9 +148,12 @@ ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary
     pick("labels.h5", &labels_file, false);
     pick("spheres.h5", &spheres_file, false);
     pick("verdict.json", &verdict_file, false);
-    pick("stats.json", &stats_file, false);
     pick("profile.csv", &files.profile_file, false);
-    if (IsRegularFile(options.run_dir / "path.csv")) files.path_csv = options.run_dir / "path.csv";
+    if (IsOwnRegularFile(options.run_dir / "path.csv")) {
+      files.path_csv = options.run_dir / "path.csv";
+    } else {
+      linked(options.run_dir / "path.csv");
+    }
     if (!absent.empty()) summary->notes.push_back("not in " + options.run_dir.string() + ": " + absent);
   }
 
@@ -182,15 +202,14 @@ std::string LabelsJson(const fs::path& labels_file, const Scene& scene, BufferSt
   return labels_json;
 }
 
-// verdict.json and stats.json as they are, for the page's tables; an
+// verdict.json as it is, for the page's tables; an
 // unreadable one is noted and left out. The verdict is also parsed (for the
 // headline) into `verdict`, or `verdict_problem` says why not.
 std::string JsonFilesJson(const ReportFiles& files, ReportSummary* summary, Artifacts* artifacts,
                           std::optional<JsonValue>* verdict, std::string* verdict_problem) {
   *verdict_problem = "no verdict.json";
   std::string json_files = "[";
-  for (const auto& [name, file] :
-       {std::pair<std::string, fs::path>{"verdict", files.verdict_file}, {"stats", files.stats_file}}) {
+  for (const auto& [name, file] : {std::pair<std::string, fs::path>{"verdict", files.verdict_file}}) {
     if (file.empty()) continue;
     std::string text;
     try {

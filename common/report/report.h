@@ -23,7 +23,8 @@ struct ReportOptions {
   std::filesystem::path path;      // the planned path (ausbau-path); optional
   std::filesystem::path smoothed;  // the smoothed path (ausbau-path); optional
   // A run's output folder: path.h5, path-smooth.h5, labels.h5, spheres.h5,
-  // verdict.json, stats.json are used when present (explicit options win).
+  // verdict.json, profile.csv, path.csv are used when present and regular
+  // files (a symbolic link is not followed; explicit options win).
   std::filesystem::path run_dir;
   // Clearance is computed at every waypoint and at this many poses evenly
   // spread over the path's animation time (0: waypoints only).
@@ -47,7 +48,7 @@ struct ReportSummary {
 // and returns the HTML. Throws InputError (one line, naming the file) for a
 // missing or bad scene, a path file that is missing or not an ausbau-path
 // artifact, or a path that belongs to another scene. Optional run-folder
-// extras (labels, verdict, stats) that are unreadable are reported in
+// extras (labels, verdict, profile) that are unreadable are reported in
 // `summary->notes` and in the page instead.
 std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& assets, ReportSummary* summary);
 

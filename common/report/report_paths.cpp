@@ -145,7 +145,7 @@ void AttachPathCsv(PathEntry* entry, const fs::path& also) {
   fs::path sibling = entry->file;
   sibling.replace_extension(".csv");
   for (const fs::path& candidate : {also, sibling}) {
-    if (candidate.empty() || !IsRegularFile(candidate)) continue;
+    if (candidate.empty() || !IsOwnRegularFile(candidate)) continue;  // a link could point anywhere
     try {
       if (!SameWaypoints(ReadPathCsv(candidate), entry->artifact.waypoints)) continue;
       entry->csv_text = ReadTextFile(candidate);

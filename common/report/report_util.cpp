@@ -27,6 +27,16 @@ bool IsRegularFile(const fs::path& file) {
   return fs::is_regular_file(file, ec);
 }
 
+bool IsOwnRegularFile(const fs::path& file) {
+  std::error_code ec;
+  return fs::is_regular_file(fs::symlink_status(file, ec));
+}
+
+bool IsSymbolicLink(const fs::path& file) {
+  std::error_code ec;
+  return fs::is_symlink(fs::symlink_status(file, ec));
+}
+
 // A JSON string literal that is also safe inside an HTML <script> element
 // ("<" is escaped, so "</script>" cannot appear).
 std::string JsonString(std::string_view text) {

@@ -17,6 +17,12 @@ namespace ausbau::report_internal {
 
 std::string ReadTextFile(const std::filesystem::path& file);
 bool IsRegularFile(const std::filesystem::path& file);
+// A regular file that is not a symbolic link (lstat). The files a report
+// takes from a run folder on its own (not named on the command line) must
+// be this: a link there may point at any file the user can read, whose
+// bytes would then be embedded in a page meant to be shared.
+bool IsOwnRegularFile(const std::filesystem::path& file);
+bool IsSymbolicLink(const std::filesystem::path& file);
 
 // A JSON string literal that is also safe inside an HTML <script> element
 // ("<" is escaped, so "</script>" cannot appear).

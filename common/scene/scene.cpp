@@ -659,7 +659,21 @@ Scene LoadScene(const fs::path& path) {
 
     scene.file = path;
     scene.name = root["name"] ? r.String(root["name"], "name") : path.stem().string();
-    if (root["units"]) scene.units = r.String(root["units"], "units");
+    if (root["units"]) {
+      scene.units = r.String(root["units"], "units");
+      // The unit's name reaches CSV headers (profile.csv) and tables: a
+      // comma, a quote or a leading = + - @ there is a cell or a formula
+      // (=HYPERLINK), not a unit. Unknown plain names stay a warning.
+      const bool plain = std::all_of(scene.units.begin(), scene.units.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == ' ' || c == '_' || c == '.' || c == '^';
+      });
+      if (!plain) {
+        r.Fail(
+            "units must be a unit's name (mm, cm, m, inch, unitless, none): letters, digits, spaces and _.^ only "
+            "(line " +
+            std::to_string(Reader::Line(root["units"])) + ")");
+      }
+    }
 
     const fs::path dir = path.parent_path();
     if (scene.format_version == 1) {

@@ -19,6 +19,29 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The folder of a part's attempts (and the name of its attempt scenes):
+// its name with each control character (C0, DEL, C1: a newline or an escape
+// sequence from a file name) as '_', so that a folder listing or a scene
+// name cannot carry one; letters of any script stay as they are. CheckParts
+// has refused '/', '\\', "." and ".."; the name itself stays as given (order.json
+// escapes it, the terminal shows it escaped).
+std::string PartFolderName(const std::string& name) {
+  std::string out;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    if (c < 0x20 || c == 0x7f) {
+      out += '_';
+    } else if (c == 0xc2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) >= 0x80 &&
+               static_cast<unsigned char>(name[i + 1]) <= 0x9f) {
+      out += '_';
+      ++i;
+    } else {
+      out += name[i];
+    }
+  }
+  return out;
+}
+
 double Now() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 // The scene of one attempt: `part` as D, `others` as S (one static file
@@ -27,7 +50,7 @@ double Now() { return std::chrono::duration<double>(std::chrono::system_clock::n
 Scene AttemptScene(const AssemblyPart& part, const std::vector<const AssemblyPart*>& others, int round,
                    const DisassemblyOrderOptions& options, const fs::path& folder) {
   Scene description;
-  description.name = part.name + "-round-" + std::to_string(round);
+  description.name = PartFolderName(part.name) + "-round-" + std::to_string(round);
   description.units = options.units;
   description.dynamic_file = fs::absolute(part.file);
   for (const AssemblyPart* other : others) description.static_files.push_back(fs::absolute(other->file));
@@ -48,7 +71,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   PartAttempt attempt;
   attempt.round = round;
   attempt.part = part.name;
-  const fs::path folder = options.out / ("round-" + std::to_string(round)) / part.name;
+  const fs::path folder = options.out / ("round-" + std::to_string(round)) / PartFolderName(part.name);
   fs::create_directories(folder);
   attempt.folder = folder.string();
   const Scene scene = AttemptScene(part, others, round, options, folder);
@@ -67,8 +90,12 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   attempt.waypoints = written.size();
 
   const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene.units, nullptr);
-  if (path.success && path.waypoints.size() >= 2) {
-    const ExactCheckReport exact = ExactCheckPath(scene, path.waypoints, tolerance);
+  if (path.success && !path.waypoints.empty()) {
+    // One waypoint: the part is already clear of the rest where it is;
+    // judged as staying there, as ausbau-verdict does.
+    std::vector<Pose> judged = path.waypoints;
+    if (judged.size() == 1) judged.push_back(judged.front());
+    const ExactCheckReport exact = ExactCheckPath(scene, judged, tolerance);
     attempt.removable = exact.valid && exact.starts_at_start && exact.ends_separated;
   }
   if (attempt.removable) {
@@ -89,7 +116,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
 
 void CheckParts(const std::vector<AssemblyPart>& parts) {
   if (parts.size() < 2) throw InputError("--part: an assembly needs at least two parts");
-  std::set<std::string> names;
+  std::set<std::string> names, folders;
   bool any_movable = false;
   for (const AssemblyPart& part : parts) {
     if (part.name.empty() || part.name.find_first_of("/\\") != std::string::npos || part.name == "." ||
@@ -97,8 +124,20 @@ void CheckParts(const std::vector<AssemblyPart>& parts) {
       throw InputErrorAt(part.file.string(), "part name '" + part.name + "' is empty or not a plain file name");
     }
     if (!names.insert(part.name).second) throw InputError("--part: the name '" + part.name + "' is given twice");
+    if (!folders.insert(PartFolderName(part.name)).second) {
+      throw InputError("--part: two names share the folder '" + PartFolderName(part.name) +
+                       "' (their control characters are written as '_'); rename one");
+    }
     std::error_code error;
     if (!fs::is_regular_file(part.file, error)) throw InputErrorAt(part.file.string(), "part file not found");
+    // Each attempt's scene.yaml names the files, and a scene refuses file
+    // names with control characters (scene/scene.h): said here, before any
+    // round, rather than by the first attempt.
+    if (PartFolderName(fs::absolute(part.file).string()) != fs::absolute(part.file).string()) {
+      throw InputErrorAt(part.file.string(),
+                         "the file's name holds control characters (a newline, an escape "
+                         "sequence); rename the file");
+    }
     any_movable = any_movable || !part.fixed;
   }
   if (!any_movable) throw InputError("--fixed: every part is fixed; nothing to take out");

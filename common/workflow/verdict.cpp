@@ -2,13 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/json_writer.h"
 #include "core/log.h"
 #include "workflow/made_from.h"
@@ -64,9 +68,10 @@ std::optional<MaxVolume> FindMaxVolume(const PathArtifact& path) {
 
 // A path the verdict can judge at all: finite numbers throughout (a NaN
 // volume or length must not reach a "removable" line), and a claimed success
-// that is a motion (at least two waypoints). Where it starts and ends is the
-// exact check's part (planning/exact_check.h: the start pose, the scene's
-// goal at the end), which a removable verdict requires.
+// with at least one waypoint (one: D already in its goal at the installed
+// pose, clear of S; JudgeRun judges it as staying there). Where it starts
+// and ends is the exact check's part (planning/exact_check.h: the start
+// pose, the scene's goal at the end), which a removable verdict requires.
 void CheckPathIsJudgeable(const std::string& file, const PathArtifact& path) {
   for (std::size_t i = 0; i < path.waypoints.size(); ++i) {
     const Pose& pose = path.waypoints[i];
@@ -88,9 +93,8 @@ void CheckPathIsJudgeable(const std::string& file, const PathArtifact& path) {
     if (!std::isfinite(length) || length < 0) throw InputErrorAt(file, "a path length is not a finite number >= 0");
   }
   if (!std::isfinite(path.tau) || !std::isfinite(path.psi)) throw InputErrorAt(file, "tau or psi is not finite");
-  if (path.success && path.waypoints.size() < 2) {
-    throw InputErrorAt(file, "claims success with " + std::to_string(path.waypoints.size()) +
-                                 " waypoint(s); a removal needs at least two");
+  if (path.success && path.waypoints.empty()) {
+    throw InputErrorAt(file, "claims success with 0 waypoints; a removal needs at least the start pose");
   }
 }
 
@@ -202,15 +206,20 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
       IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener : UnmeasuredInterference::kRigid;
   v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
   if (path.success && !path.waypoints.empty()) {
-    const std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
+    std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
+    // One waypoint: the planner found D already in its goal (by default
+    // clear of S) at the installed pose. Judged as the motion that stays
+    // there: removable, trivially, when that pose is the start and passes.
+    v.already_in_goal = written.size() == 1;
+    if (v.already_in_goal) written.push_back(written.front());
     exact = ExactCheckPath(scene, written, v.tolerance, unmeasured, options.progress);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
   // Removable only when the path as written starts at the installed pose and
   // ends in the scene's goal (default: separated; planning/scene_goal.h),
   // both part of exact->valid, without breaking the limits.
-  v.removable = path.success && path.waypoints.size() >= 2 && exact && exact->valid && exact->starts_at_start &&
-                exact->ends_in_goal;
+  v.removable =
+      path.success && !path.waypoints.empty() && exact && exact->valid && exact->starts_at_start && exact->ends_in_goal;
   // Not removable: what holds D (straight pulls from the installed pose).
   if (!v.removable) {
     // The exact check classified D's solids the same way: reused.
@@ -359,6 +368,8 @@ std::string VerdictJson(const Verdict& v) {
   json.Add("scene",
            JsonWriter().String("name", v.scene_name).String("file", v.scene_file).String("units", v.units).Text());
   json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
+  // Only where it holds (the recorded verdicts of other runs stay the same).
+  if (removable && v.already_in_goal) json.Bool("already_in_goal", true);
   AddWhyNotRemovable(v, json);
   json.String("validity", ValidityModeName(path.validity)).Number("tau", v.tau_value).Number("psi", v.psi_value);
   AddTauEstimate(v, json);
@@ -408,7 +419,14 @@ std::string VerdictJson(const Verdict& v) {
   return json.Text() + "\n";
 }
 
-void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std::FILE* out) {
+void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std::FILE* terminal) {
+  // Written into memory first and shown with TerminalSafeLines: the scene's
+  // name (its file's stem, when it gives none) and its parts' names come
+  // from files, and their control characters must not reach the terminal.
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* out = open_memstream(&buffer, &size);
+  if (out == nullptr) throw std::runtime_error("cannot format the verdict's summary");
   const VerdictInputs& options = v.inputs;
   const PathArtifact& path = v.path;
   const auto& exact = v.exact;
@@ -421,6 +439,9 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
                  units, max->index, path.waypoints.size());
     if (max->part >= 0) std::fprintf(out, " (part %d, deformability %.2f)", max->part, max->deformability);
     std::fprintf(out, ", %s sigma_1 (tau %.6g)\n", max->in_sigma_1 ? "in" : "outside", v.tau_value);
+  }
+  if (v.removable && v.already_in_goal) {
+    std::fprintf(out, "  already separated: D is clear of S (in its goal) at the installed pose; nothing to move\n");
   }
   if (v.removable) {
     std::fprintf(out, "  path: %s (%zu waypoints, length %.4f normalized)\n",
@@ -453,7 +474,11 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
     std::fprintf(out, " (budget %.6g s: %s)", options.budget,
                  v.total_seconds <= options.budget ? "within" : "exceeded");
   std::fprintf(out, "\n  verdict: %s\n", verdict_file.c_str());
-  std::fflush(out);
+  std::fclose(out);
+  const std::string text(buffer, size);
+  std::free(buffer);
+  std::fputs(TerminalSafeLines(text).c_str(), terminal);
+  std::fflush(terminal);
 }
 
 }  // namespace ausbau

@@ -57,6 +57,9 @@ struct Verdict {
   std::optional<PathQuality> quality;   // with a path: its lengths and clearance (workflow/path_quality.h)
   double tau_value = 0, psi_value = 0;  // NaN where none
   bool removable = false;
+  // The path is one waypoint: D already in its goal (clear of S) at the
+  // installed pose, judged as staying there (removable without a motion).
+  bool already_in_goal = false;
   // Not removable: the time budget ended the search (the path artifact's
   // stopped_by_budget): "not-removable (budget)".
   bool stopped_by_budget = false;

@@ -6,6 +6,7 @@
 
 #include "cad/step_scenes.h"
 #include "cli/stage_main.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "scene/assembly.h"
 
@@ -59,11 +60,12 @@ int ListStepParts(const AssemblyStageOptions& options) {
     std::string path;
     for (const std::string& node : part.path) path += (path.empty() ? "" : "/") + node;
     if (part.mesh.triangles.empty()) {  // left out of the OBJ: no surface (a wireframe, an empty compound)
-      std::printf("-\t%s\t0\t-\t-\t%s\n", names[k].c_str(), path.c_str());
+      std::printf("-\t%s\t0\t-\t-\t%s\n", TerminalSafe(names[k]).c_str(), TerminalSafe(path).c_str());
       continue;
     }
-    std::printf("%d\t%s\t%zu\t%g %g %g\t%g %g %g\t%s\n", index++, names[k].c_str(), part.mesh.triangles.size(),
-                box.min.x(), box.min.y(), box.min.z(), box.max.x(), box.max.y(), box.max.z(), path.c_str());
+    std::printf("%d\t%s\t%zu\t%g %g %g\t%g %g %g\t%s\n", index++, TerminalSafe(names[k]).c_str(),
+                part.mesh.triangles.size(), box.min.x(), box.min.y(), box.min.z(), box.max.x(), box.max.y(),
+                box.max.z(), TerminalSafe(path).c_str());
   }
   return kExitOk;
 }
@@ -79,7 +81,7 @@ int SplitStepAssembly(const AssemblyStageOptions& options) {
   LogInfo("reading and tessellating %s (chord error %g mm)", options.assembly.c_str(),
           options.tessellation.deflection_mm);
   const StepScenes scenes = WriteStepAssemblyScenes(options.assembly, options.output, step);
-  for (const AssemblyPart& part : scenes.parts) std::printf("%s\n", part.scene.string().c_str());
+  for (const AssemblyPart& part : scenes.parts) std::printf("%s\n", TerminalSafe(part.scene.string()).c_str());
   LogInfo("%d instances of %d products, %lld triangles (file units: %s) -> %s; wrote %zu scenes and %s/assembly.json",
           scenes.instances, scenes.products, scenes.triangles,
           scenes.file_units.empty() ? "not given" : scenes.file_units.c_str(), scenes.mesh.string().c_str(),
@@ -93,8 +95,9 @@ int SplitStepAssembly(const AssemblyStageOptions& options) {
 int ListParts(const std::string& assembly) {
   std::printf("index\tname\ttriangles\tbox_min\tbox_max\n");
   for (const AssemblyPart& part : ListAssemblyParts(assembly)) {
-    std::printf("%d\t%s\t%lld\t%g %g %g\t%g %g %g\n", part.index, part.name.c_str(), part.triangles, part.box.min.x(),
-                part.box.min.y(), part.box.min.z(), part.box.max.x(), part.box.max.y(), part.box.max.z());
+    std::printf("%d\t%s\t%lld\t%g %g %g\t%g %g %g\n", part.index, TerminalSafe(part.name).c_str(), part.triangles,
+                part.box.min.x(), part.box.min.y(), part.box.min.z(), part.box.max.x(), part.box.max.y(),
+                part.box.max.z());
   }
   return kExitOk;
 }
@@ -106,7 +109,7 @@ int SplitAssembly(const AssemblyStageOptions& options) {
   }
   if (options.list) return ListParts(options.assembly);
   const std::vector<AssemblyPart> parts = WriteAssemblyScenes(options.assembly, options.output, options.scenes);
-  for (const AssemblyPart& part : parts) std::printf("%s\n", part.scene.string().c_str());
+  for (const AssemblyPart& part : parts) std::printf("%s\n", TerminalSafe(part.scene.string()).c_str());
   LogInfo("wrote %zu scenes and %s/assembly.json", parts.size(), options.output.c_str());
   return kExitOk;
 }

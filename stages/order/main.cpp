@@ -6,6 +6,7 @@
 #include "cli/stage_main.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "workflow/disassembly_order.h"
 
@@ -48,24 +49,24 @@ void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
   std::printf("%s\n", order.complete ? "ORDER FOUND" : "NO ORDER EXISTS");
   for (std::size_t i = 0; i < order.steps.size(); ++i) {
     std::printf("  step %zu:", i + 1);
-    for (const std::string& name : order.steps[i]) std::printf(" %s", name.c_str());
+    for (const std::string& name : order.steps[i]) std::printf(" %s", TerminalSafe(name).c_str());
     std::printf("\n");
   }
   for (const PartAttempt& a : order.attempts) {
     if (a.removable) continue;
-    std::printf("  round %d: %s %s", a.round, a.part.c_str(), a.status_detail.c_str());
+    std::printf("  round %d: %s %s", a.round, TerminalSafe(a.part).c_str(), a.status_detail.c_str());
     for (std::size_t i = 0; i < a.blocked_by.size(); ++i) {
-      std::printf("%s%s", i == 0 ? "; blocked by " : ", ", DescribePartContact(a.blocked_by[i]).c_str());
+      std::printf("%s%s", i == 0 ? "; blocked by " : ", ", TerminalSafe(DescribePartContact(a.blocked_by[i])).c_str());
     }
     std::printf("\n");
   }
   if (!order.cycle.empty()) {
     std::printf("  cycle:");
     for (std::size_t i = 0; i < order.cycle.size(); ++i)
-      std::printf("%s %s", i > 0 ? " ->" : "", order.cycle[i].c_str());
+      std::printf("%s %s", i > 0 ? " ->" : "", TerminalSafe(order.cycle[i]).c_str());
     std::printf("\n");
   }
-  std::printf("  order: %s\n", json.string().c_str());
+  std::printf("  order: %s\n", TerminalSafe(json.string()).c_str());
   std::fflush(stdout);
 }
 

@@ -40,7 +40,7 @@ void DeclareReport(CLI::App& app, ReportStageOptions* options) {
   app.add_option("--path", options->path, "planned path artifact (ausbau-path)");
   app.add_option("--smoothed", options->smoothed, "smoothed path artifact (ausbau-path)");
   app.add_option("--run-dir", options->run_dir,
-                 "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json, stats.json "
+                 "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json "
                  "when present (explicit --path/--smoothed win)");
   app.add_option("--clearance-samples", options->report.clearance_samples,
                  "poses along the path at which clearance and penetration are measured, besides the waypoints")

@@ -122,7 +122,7 @@ function poseAt(path, u) {
 
 // ------------------------------------------------------------- JSON tables
 
-// A value of verdict.json / stats.json as a cell: an angle (a key
+// A value of verdict.json as a cell: an angle (a key
 // "rotation") in radians and degrees, null as "none".
 function valueText(key, value) {
   if (value === null) return 'none';

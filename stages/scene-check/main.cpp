@@ -5,6 +5,7 @@
 
 #include "cli/stage.h"
 #include "core/atomic_file.h"
+#include "core/format.h"
 #include "scene/scene.h"
 #include "scene/scene_check.h"
 #include "workflow/installed_check.h"
@@ -46,7 +47,8 @@ int Check(const StageRun& run, const SceneCheckOptions& options) {
     for (SceneFinding& finding : CheckInstalledPose(run.scene, options.installed))
       summary.findings.push_back(std::move(finding));
   }
-  std::fputs(SceneSummaryText(summary).c_str(), stdout);
+  // Names in it come from files (the scene's, its parts'): shown, never sent raw.
+  std::fputs(TerminalSafeLines(SceneSummaryText(summary)).c_str(), stdout);
   std::fflush(stdout);
   if (!options.json.empty()) WriteTextFileAtomically(options.json, SceneSummaryJson(summary));
   // --strict is for scripts that want to stop on a suspicious scene; 1 is the code left free by bad input (2).

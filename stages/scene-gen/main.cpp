@@ -73,10 +73,19 @@ int GenerateFamily(const SceneGenOptions& options) {
     throw InputError("--triangles: applies only to the clips-ds* families");
   }
   // A user's scene is not replaced unasked (the meshes it names would be).
+  // Any file in the folder may be one of them (a mesh of the same name as
+  // one the family writes), so a folder that holds anything is refused too.
+  // symlink_status: a link named scene.yaml counts as one.
+  const std::filesystem::path folder(options.output);
   std::error_code ignored;
-  if (!options.force && std::filesystem::exists(std::filesystem::path(options.output) / "scene.yaml", ignored)) {
+  if (!options.force && std::filesystem::exists(std::filesystem::symlink_status(folder / "scene.yaml", ignored))) {
     throw InputError("-o " + options.output +
                      ": the folder already holds a scene (scene.yaml); give --force to replace it, or another folder");
+  }
+  if (!options.force && std::filesystem::is_directory(folder, ignored) && !std::filesystem::is_empty(folder, ignored)) {
+    throw InputError("-o " + options.output +
+                     ": the folder is not empty (files of the same names as the scene's would be replaced); give "
+                     "--force to write into it anyway, or an empty or new folder");
   }
   for (const std::string& line : GenerateSceneFamily(family, options.output)) std::printf("%s\n", line.c_str());
   return kExitOk;

@@ -19,7 +19,10 @@
 #     inside S) ends with plan.status no-path, no smoothing and a
 #     not-removable verdict (pipeline.exit 3);
 #     (that dry run through the Slurm profile, pipelines/slurm: it parses);
-#  6. bad config (an unknown VALIDITY) exits 2 with one line.
+#  6. bad config (an unknown VALIDITY) exits 2 with one line;
+#  7. hostile names and links (issue 33, the rest in test_hostile_files):
+#     a scene folder named like a command, and a link where a job writes
+#     its log, exit 2 before any job, naming it; nothing runs or is written.
 # The Slurm profile's jobs with stand-ins for sbatch and sacct: slurm.sh.
 set -u
 if [ $# -ne 2 ]; then
@@ -121,6 +124,17 @@ grep -q '^rule smooth:' run5.log && fail "boxed: smoothing ran without a path"
 # 6. Bad config: exit 2 and one line naming the key.
 sm bad2.log -n --config SCENES=scenes OUT=x BIN="$BIN" VALIDITY=exact
 [ $? -eq 2 ] && grep -q 'error: VALIDITY=exact' bad2.log || fail "VALIDITY=exact: not exit 2 with a message"
+
+# 7. Hostile names and links: refused while the Snakefile is read.
+mkdir -p hostile && cp -r scenes/two-boxes 'hostile/x$(touch${IFS}PWNED)'
+sm bad3.log -n --config SCENES=hostile OUT=out-hostile BIN="$BIN"
+[ $? -eq 2 ] && grep -qF "the folder name 'x\$(touch" bad3.log && [ ! -e PWNED ] && [ ! -e out-hostile ] ||
+  fail "a scene folder named like a command: not exit 2 with a message, or it ran"
+echo "the user's" > victim.txt && rm -f out/two-boxes/logs/plan.log && ln -s "$WORK/victim.txt" out/two-boxes/logs/plan.log
+sm bad4.log -n "${CONFIG[@]}"
+[ $? -eq 2 ] && grep -qF 'out/two-boxes/logs/plan.log is a symbolic link' bad4.log &&
+  [ "$(cat victim.txt)" = "the user's" ] || fail "a link at a job's log: not exit 2 with a message, or written through"
+rm -f out/two-boxes/logs/plan.log
 
 if [ $failures -ne 0 ]; then
   echo "snakemake_batch: $failures failure(s); logs in $WORK" >&2
