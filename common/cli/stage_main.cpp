@@ -1,13 +1,16 @@
 #include "cli/stage_main.h"
 
+#include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <thread>
 
 #include "core/atomic_file.h"
 #include "core/cancel.h"
@@ -182,6 +185,24 @@ void CancelOnInterrupt() {
   }
 }
 
+namespace {
+
+// OpenMP's default team size, from OMP_NUM_THREADS, clamped to the cores
+// (and kMaxThreads) before any parallel region: OMP_NUM_THREADS=100000
+// with the default --threads 0 made libgomp crash voxelize and
+// medial-spheres (SIGSEGV creating the threads). Fewer than the cores (a
+// cluster job's share) stay as they are.
+void ClampOpenMpThreads() {
+  const int cores = std::min(kMaxThreads, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (omp_get_max_threads() > cores) {
+    LogWarn("OpenMP's default of %d threads (OMP_NUM_THREADS) is more than the %d cores: using %d",
+            omp_get_max_threads(), cores, cores);
+    omp_set_num_threads(cores);
+  }
+}
+
+}  // namespace
+
 int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG instead of
   // killing the process, so that the writer can remove its temporary file
@@ -193,6 +214,7 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
     RefuseUnknownFlags(app, argc, argv);
     app.parse(argc, argv);
     SetLogLevel(ParseLogLevel(log_level));
+    ClampOpenMpThreads();
     CheckOutputPaths(app);
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version

@@ -11,6 +11,7 @@
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <sys/stat.h>
 #include <assimp/Importer.hpp>
 
 #include <Eigen/Core>
@@ -190,6 +191,33 @@ class OnlyThisFile : public Assimp::DefaultIOSystem {
 
  private:
   std::string file_;
+};
+
+// Every other format may name files of its own (a glTF buffer's or image's
+// uri, a COLLADA image): assimp opens them as it finds them, and a FIFO
+// among them blocked the importer forever, a device (/dev/zero) never ends.
+// Only regular files are opened; the first one refused is remembered, so
+// that the error can name it instead of assimp's "cannot open".
+class RegularFilesOnly : public Assimp::DefaultIOSystem {
+ public:
+  bool Exists(const char* path) const override { return IsRegular(path) && DefaultIOSystem::Exists(path); }
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    if (!IsRegular(path)) {
+      if (refused_.empty()) refused_ = path;
+      return nullptr;
+    }
+    return DefaultIOSystem::Open(path, mode);
+  }
+  const std::string& refused() const { return refused_; }
+
+ private:
+  // stat(2) does not open the file, so it does not block on a FIFO. A
+  // missing file passes: assimp's own "cannot open" says that well.
+  static bool IsRegular(const char* path) {
+    struct stat info;
+    return ::stat(path, &info) != 0 || S_ISREG(info.st_mode);
+  }
+  std::string refused_;
 };
 
 // The structure of an OFF file, checked before assimp reads it: assimp
@@ -679,11 +707,22 @@ MeshFile LoadMeshFile(const fs::path& path) {
   // 5.2's COLLADA importer crashes on a malformed file
   // (fuzz/known-findings/), and the rest are not hardened either.
   if (lower == ".obj" || lower == ".ply" || lower == ".off" || lower == ".stl") return ImportWithAssimp(importer, name);
+  auto* files = new RegularFilesOnly;
+  importer.SetIOHandler(files);  // the importer owns it
+  const auto import = [&] {
+    try {
+      return ImportWithAssimp(importer, name);
+    } catch (const InputError&) {
+      if (files->refused().empty()) throw;
+      throw InputErrorAt(name, "cannot read mesh (it names '" + files->refused() +
+                                   "', which is not a regular file: a FIFO, socket or device)");
+    }
+  };
   // The child may take 1 GiB plus 64 bytes per byte of the file: an XML
   // format's document tree and the meshes take a few times the file (a
   // fuzzed 700-byte COLLADA file made assimp ask for 3 GB).
   const std::size_t allowance = (std::size_t{1} << 30) + 64 * static_cast<std::size_t>(fs::file_size(path));
-  const std::string bytes = RunInChildProcess([&] { return MeshFileBytes(ImportWithAssimp(importer, name)); }, name,
+  const std::string bytes = RunInChildProcess([&] { return MeshFileBytes(import()); }, name,
                                               "the " + lower.substr(1) + " importer of assimp", allowance);
   return MeshFileBytesReader(bytes).Read();
 }

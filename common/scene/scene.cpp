@@ -392,6 +392,28 @@ void ReadFilesV2(const Reader& r, const YAML::Node& root, const fs::path& dir, S
   SetFiles(scene);
 }
 
+// Records in scene.stored_spacing the spacing of single precision at the
+// largest coordinate of `file` as stored (before a pose places it; a
+// pose's translation is kept in double), in scene units, when it is the
+// coarsest so far. The whole file counts, not only the parts picked: its
+// coordinates went through float32 all the same, and the largest one is
+// the conservative choice.
+void NoteStoredSpacing(const MeshSource& source, const MeshFile& file, Scene& scene) {
+  double magnitude = 0;
+  for (const MeshPart& node : file.nodes) {
+    for (const Eigen::Vector3d& v : node.mesh.vertices) magnitude = std::max(magnitude, v.cwiseAbs().maxCoeff());
+  }
+  if (!(magnitude > 0) || !std::isfinite(magnitude)) return;
+  // float32 has a 24-bit significand: numbers in [2^e, 2^(e+1)) lie
+  // 2^(e-23) apart.
+  const double spacing = std::ldexp(1.0, std::ilogb(magnitude) - 23) * std::abs(source.scale);
+  if (spacing > scene.stored_spacing) {
+    scene.stored_spacing = spacing;
+    scene.stored_magnitude = magnitude;
+    scene.stored_spacing_file = source.file;
+  }
+}
+
 // Loads every file once (errors name the key: "assembly: ", "static: ",
 // "dynamic: "), resolves the parts, adds the assembly's rest to S, builds
 // S piece by piece and D, and (in /2) checks that D is not part of S.
@@ -434,6 +456,9 @@ void LoadSceneMeshes(const Reader& r, Scene& scene) {
     AppendStaticEntry(scene, static_cast<int>(i), files.Get(scene.static_sources[i].file));
   }
   scene.dynamic_mesh = SourceMesh(scene.dynamic_source, files.Get(scene.dynamic_source.file));
+  std::vector<const MeshSource*> sources = {&scene.dynamic_source};
+  for (const MeshSource& source : scene.static_sources) sources.push_back(&source);
+  for (const MeshSource* source : sources) NoteStoredSpacing(*source, files.Get(source->file), scene);
   if (scene.format_version >= 2) {
     try {
       CheckDynamicApartFromStatic(scene, files);

@@ -103,6 +103,15 @@ struct Scene {
   // view): "x", "y", "z", "-x", "-y" or "-z"; empty where the key is absent
   // (SceneUpAxis then picks it from the mesh files).
   std::string up_axis;
+  // The coarsest spacing of the stored coordinates of any mesh file the
+  // scene loads (scene units), with that file and the largest magnitude of
+  // its coordinates (the file's units). Every mesh passes through single
+  // precision on its way in (assimp's float, binary STL's float32): far from
+  // the origin its corners are rounded to this spacing before any check
+  // sees them (CheckStoredPrecision in planning/exact_check.h).
+  double stored_spacing = 0;
+  double stored_magnitude = 0;
+  std::filesystem::path stored_spacing_file;
 };
 
 // The up axis of a view of the scene and where it came from: `up_axis` where

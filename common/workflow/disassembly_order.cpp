@@ -66,7 +66,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   WritePathCsv(folder / "path.csv", written);
   attempt.waypoints = written.size();
 
-  const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene, nullptr);
   if (path.success && path.waypoints.size() >= 2) {
     const ExactCheckReport exact = ExactCheckPath(scene, path.waypoints, tolerance);
     attempt.removable = exact.valid && exact.starts_at_start && exact.ends_separated;

@@ -295,7 +295,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
 // says whether the level cropped S.
 PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene, int crop_level, double time_limit_s,
                              bool* cropped) {
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene, crop_level);
   *cropped = problem.crop != nullptr;
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
@@ -375,7 +375,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
 // is shared evenly among the levels that may be tried.
 PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
   bool assumed = false;
-  RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
+  RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, &assumed);
   if (assumed) {
     LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
             options.volume.rigid_tolerance_mm);
@@ -455,6 +455,10 @@ void PlanSceneOptions::Check() const {
 
 PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   options.Check();
+  // Every mode's path ends in the exact check at the rigid tolerance: a
+  // scene whose meshes single precision rounded coarser than that is
+  // refused before any work, whatever the validity (planning/exact_check.h).
+  CheckStoredPrecision(scene, RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr));
   // A hand-written scene whose start is far off S plans a task nobody meant (scene/scene_check.h).
   const std::string far_start = FarStartWarning(scene);
   if (!far_start.empty()) LogWarn("%s: %s", scene.file.string().c_str(), far_start.c_str());
@@ -502,7 +506,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // motion, through S (the L-channel family: 5 mm deep by the external
       // oracle). Split such segments as the rigid-exact mode does, to a tenth
       // of the rigid tolerance; the motion stays the one planned.
-      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr) / 10;
+      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr) / 10;
       artifact.waypoints =
           DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point, problem.dynamic_origin, deviation);
     }
@@ -536,7 +540,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
 }
 
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
-  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));

@@ -200,7 +200,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   // interference the exact check cannot measure is left to that model.
   const UnmeasuredInterference unmeasured =
       IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener : UnmeasuredInterference::kRigid;
-  v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene, nullptr);
   if (path.success && !path.waypoints.empty()) {
     const std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
     exact = ExactCheckPath(scene, written, v.tolerance, unmeasured, options.progress);
