@@ -192,6 +192,28 @@ class OnlyThisFile : public Assimp::DefaultIOSystem {
   std::string file_;
 };
 
+// Every other format may read more files than the one named (a glTF's
+// external buffers): they are recorded, each once, so that the scene's
+// cache keys can hash them with the file (MeshFile::also_read). Only files
+// that opened count: assimp also probes names that do not exist.
+class RecordingIOSystem : public Assimp::DefaultIOSystem {
+ public:
+  explicit RecordingIOSystem(std::string file) : file_(std::move(file)) {}
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    Assimp::IOStream* stream = DefaultIOSystem::Open(path, mode);
+    if (stream != nullptr && path != file_ &&
+        std::find(opened_.begin(), opened_.end(), std::string(path)) == opened_.end()) {
+      opened_.emplace_back(path);
+    }
+    return stream;
+  }
+  const std::vector<std::string>& opened() const { return opened_; }
+
+ private:
+  std::string file_;
+  std::vector<std::string> opened_;
+};
+
 // The structure of an OFF file, checked before assimp reads it: assimp
 // 5.2's OFF importer reads out of bounds on a malformed face line (fuzz_mesh
 // found "@3 0 1 2" crashing it). Header (OFF, COFF, NOFF, ...), the counts,
@@ -587,6 +609,7 @@ std::string MeshFileBytes(const MeshFile& file) {
     PutArray(out, node.mesh.triangles);
   }
   PutArray(out, file.parts);
+  PutTexts(out, file.also_read);
   return out;
 }
 
@@ -606,6 +629,7 @@ class MeshFileBytesReader {
       Array(node.mesh.triangles);
     }
     Array(file.parts);
+    file.also_read = Texts();
     if (pos_ != bytes_.size()) throw std::runtime_error("mesh import: bytes left over from the child process");
     return file;
   }
@@ -679,12 +703,19 @@ MeshFile LoadMeshFile(const fs::path& path) {
   // 5.2's COLLADA importer crashes on a malformed file
   // (fuzz/known-findings/), and the rest are not hardened either.
   if (lower == ".obj" || lower == ".ply" || lower == ".off" || lower == ".stl") return ImportWithAssimp(importer, name);
+  auto* recording = new RecordingIOSystem(name);
+  importer.SetIOHandler(recording);  // the importer owns it
   // The child may take 1 GiB plus 64 bytes per byte of the file: an XML
   // format's document tree and the meshes take a few times the file (a
   // fuzzed 700-byte COLLADA file made assimp ask for 3 GB).
   const std::size_t allowance = (std::size_t{1} << 30) + 64 * static_cast<std::size_t>(fs::file_size(path));
-  const std::string bytes = RunInChildProcess([&] { return MeshFileBytes(ImportWithAssimp(importer, name)); }, name,
-                                              "the " + lower.substr(1) + " importer of assimp", allowance);
+  const std::string bytes = RunInChildProcess(
+      [&] {
+        MeshFile file = ImportWithAssimp(importer, name);
+        file.also_read = recording->opened();
+        return MeshFileBytes(file);
+      },
+      name, "the " + lower.substr(1) + " importer of assimp", allowance);
   return MeshFileBytesReader(bytes).Read();
 }
 
