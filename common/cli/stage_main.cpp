@@ -283,7 +283,7 @@ void AddSceneInputs(const Scene& scene, Provenance* provenance) {
   const std::size_t static_count = scene.static_files.size();
   for (std::size_t i = 0; i < static_count; ++i) {
     const std::string role = static_count == 1 ? "static" : "static[" + std::to_string(i) + "]";
-    provenance->inputs.emplace_back(role, HashFile(scene.static_files[i]));
+    provenance->inputs.emplace_back(role, MeshFileHash(scene, scene.static_files[i]));
   }
   provenance->inputs.emplace_back("dynamic", DynamicContentHash(scene));
 }

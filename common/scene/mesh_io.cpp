@@ -194,21 +194,31 @@ class OnlyThisFile : public Assimp::DefaultIOSystem {
 };
 
 // Every other format may name files of its own (a glTF buffer's or image's
-// uri, a COLLADA image): assimp opens them as it finds them, and a FIFO
-// among them blocked the importer forever, a device (/dev/zero) never ends.
-// Only regular files are opened; the first one refused is remembered, so
-// that the error can name it instead of assimp's "cannot open".
-class RegularFilesOnly : public Assimp::DefaultIOSystem {
+// uri, a COLLADA image): assimp opens them as it finds them. Two things are
+// done here. Only regular files are opened: a FIFO among them blocked the
+// importer forever, a device (/dev/zero) never ends; the first one refused is
+// remembered, so that the error can name it instead of assimp's "cannot
+// open". And the files that did open are recorded, each once, so that the
+// scene's cache keys hash them with the file (MeshFile::also_read); assimp
+// also probes names that do not exist, which do not count.
+class RegularFilesRecorded : public Assimp::DefaultIOSystem {
  public:
+  explicit RegularFilesRecorded(std::string file) : file_(std::move(file)) {}
   bool Exists(const char* path) const override { return IsRegular(path) && DefaultIOSystem::Exists(path); }
   Assimp::IOStream* Open(const char* path, const char* mode) override {
     if (!IsRegular(path)) {
       if (refused_.empty()) refused_ = path;
       return nullptr;
     }
-    return DefaultIOSystem::Open(path, mode);
+    Assimp::IOStream* stream = DefaultIOSystem::Open(path, mode);
+    if (stream != nullptr && path != file_ &&
+        std::find(opened_.begin(), opened_.end(), std::string(path)) == opened_.end()) {
+      opened_.emplace_back(path);
+    }
+    return stream;
   }
   const std::string& refused() const { return refused_; }
+  const std::vector<std::string>& opened() const { return opened_; }
 
  private:
   // stat(2) does not open the file, so it does not block on a FIFO. A
@@ -217,7 +227,9 @@ class RegularFilesOnly : public Assimp::DefaultIOSystem {
     struct stat info;
     return ::stat(path, &info) != 0 || S_ISREG(info.st_mode);
   }
+  std::string file_;
   std::string refused_;
+  std::vector<std::string> opened_;
 };
 
 // The structure of an OFF file, checked before assimp reads it: assimp
@@ -615,6 +627,7 @@ std::string MeshFileBytes(const MeshFile& file) {
     PutArray(out, node.mesh.triangles);
   }
   PutArray(out, file.parts);
+  PutTexts(out, file.also_read);
   return out;
 }
 
@@ -634,6 +647,7 @@ class MeshFileBytesReader {
       Array(node.mesh.triangles);
     }
     Array(file.parts);
+    file.also_read = Texts();
     if (pos_ != bytes_.size()) throw std::runtime_error("mesh import: bytes left over from the child process");
     return file;
   }
@@ -707,11 +721,13 @@ MeshFile LoadMeshFile(const fs::path& path) {
   // 5.2's COLLADA importer crashes on a malformed file
   // (fuzz/known-findings/), and the rest are not hardened either.
   if (lower == ".obj" || lower == ".ply" || lower == ".off" || lower == ".stl") return ImportWithAssimp(importer, name);
-  auto* files = new RegularFilesOnly;
+  auto* files = new RegularFilesRecorded(name);
   importer.SetIOHandler(files);  // the importer owns it
   const auto import = [&] {
     try {
-      return ImportWithAssimp(importer, name);
+      MeshFile file = ImportWithAssimp(importer, name);
+      file.also_read = files->opened();
+      return file;
     } catch (const InputError&) {
       if (files->refused().empty()) throw;
       throw InputErrorAt(name, "cannot read mesh (it names '" + files->refused() +

@@ -41,6 +41,11 @@ struct MeshPart {
 struct MeshFile {
   std::vector<MeshPart> nodes;
   std::vector<int> parts;
+  // The other files the importer read for it, in the order it opened them
+  // (a glTF's external .bin buffers, ...): what its geometry also depends
+  // on, so that they go into every cache key with the file (scene.h
+  // MeshFileHash). Empty for OBJ, STL, PLY and OFF, which read one file.
+  std::vector<std::string> also_read;
 
   TriangleMesh Merged() const;  // every node appended: LoadMesh's mesh
   const MeshPart& Part(int k) const { return nodes[parts[k]]; }

@@ -195,6 +195,22 @@ class Reader {
           Fail(buf);
         }
       }
+      // The planner asks for a hair more than the region (scene_goal.cpp:
+      // 1e-9 of its size and place inside each face) and converts poses
+      // between conventions in doubles: a region narrower than a
+      // millionth of its distance from the origin (plus 1) may hold no
+      // pose it accepts, and would never be reached (issue 33).
+      const double scale = 1 + box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).maxCoeff();
+      for (int a = 0; a < 3; ++a) {
+        if (box.max[a] - box.min[a] < kMinGoalRegionWidth * scale) {
+          char buf[320];
+          std::snprintf(buf, sizeof(buf),
+                        "goal.region is %.6g wide on axis %c, narrower than the planner resolves there "
+                        "(%.6g = 1e-6 x (1 + its largest |coordinate|)); make it at least that wide",
+                        box.max[a] - box.min[a], kAxis[a], kMinGoalRegionWidth * scale);
+          Fail(buf);
+        }
+      }
       goal.region = box;
     }
     scene->goal_condition = goal;
@@ -459,6 +475,13 @@ void LoadSceneMeshes(const Reader& r, Scene& scene) {
   std::vector<const MeshSource*> sources = {&scene.dynamic_source};
   for (const MeshSource& source : scene.static_sources) sources.push_back(&source);
   for (const MeshSource* source : sources) NoteStoredSpacing(*source, files.Get(source->file), scene);
+  // What else each importer read goes into the scene's cache keys (MeshFileHash).
+  std::vector<fs::path> mesh_files = scene.static_files;
+  mesh_files.push_back(scene.dynamic_file);
+  for (const fs::path& file : mesh_files) {
+    const std::vector<std::string>& also_read = files.Get(file).also_read;
+    if (!also_read.empty()) scene.also_read[file].assign(also_read.begin(), also_read.end());
+  }
   if (scene.format_version >= 2) {
     try {
       CheckDynamicApartFromStatic(scene, files);
@@ -775,8 +798,20 @@ UpAxis SceneUpAxis(const Scene& scene) {
   return {"z", "default for OBJ/STL/STEP data"};
 }
 
+std::string MeshFileHash(const Scene& scene, const fs::path& file) {
+  const auto read = scene.also_read.find(file);
+  if (read == scene.also_read.end() || read->second.empty()) return HashFile(file);
+  Hasher hasher;
+  hasher.Add(HashFile(file));
+  for (const fs::path& other : read->second) {
+    hasher.Add(other.lexically_relative(file.parent_path()).generic_string());
+    hasher.Add(HashFile(other));
+  }
+  return hasher.HexDigest();
+}
+
 std::string DynamicContentHash(const Scene& scene) {
-  const std::string file_hash = HashFile(scene.dynamic_file);
+  const std::string file_hash = MeshFileHash(scene, scene.dynamic_file);
   const MeshSource& source = scene.dynamic_source;
   if (source.file != scene.dynamic_file || (source.picks.empty() && source.scale == 1.0)) return file_hash;
   char scale[40];
