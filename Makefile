@@ -146,7 +146,7 @@ snakemake: build
 	@if [ -f $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt) ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt); then \
 	  printf 'make snakemake: not every scene is removable (%s/verdicts.txt)\n' $(call quote,$(SNAKEMAKE_OUT)) >&2; exit 1; fi
 
-test: build deps-browser
+test: build deps-browser deps-snakemake
 	@cd $(call quote,$(BUILD)) && ctest --output-on-failure -j $(call quote,$(JOBS))
 
 # The unit tests built with AddressSanitizer and UndefinedBehaviorSanitizer
@@ -166,6 +166,13 @@ test-sanitize: deps
 # Chromium for the report's browser test; without it (no root, no apt) that
 # test is skipped, so this never fails the test run.
 .PHONY: deps-browser
+# Snakemake (Debian's package) for the Snakefile's tests (ctest
+# snakemake_batch, snakemake_slurm). .ci/run sets AUSBAU_REQUIRE_SNAKEMAKE=1,
+# so that there a missing snakemake fails those tests instead of skipping them.
+.PHONY: deps-snakemake
+deps-snakemake:
+	@scripts/install-deps.sh snakemake || echo "deps-snakemake: Snakemake could not be installed; the Snakefile's tests will be skipped" >&2
+
 deps-browser:
 	@scripts/install-deps.sh browser || echo "deps-browser: Chromium could not be installed; the browser test will be skipped" >&2
 

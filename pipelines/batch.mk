@@ -29,6 +29,10 @@ endif
 $(foreach name,$(NAMES),$(if $(and $(call safe_var,name),$(if $(findstring /,$(name)),,yes)),,\
   $(error SCENES=$(SCENES): a scene folder name has a space or characters that would reach a shell (near '$(name)'); use letters, digits and _.+@-)))
 
+# One mesh cache for every scene (inistate.mk): the parts of an assembly
+# share S's file, which is then parsed once, not once per part and stage.
+export AUSBAU_MESH_CACHE ?= $(OUT)/.mesh-cache
+
 .PHONY: all $(addprefix scene-,$(NAMES))
 .DEFAULT_GOAL := all
 

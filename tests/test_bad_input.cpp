@@ -226,6 +226,11 @@ std::vector<Case> SceneCases() {
       {"SceneStartShortVector", key("start", "{t: [-3, 0], q: [1, 0, 0, 0]}"), check, 2, "start"},
       {"SceneStartText", key("start", "{t: [a, b, c], q: [1, 0, 0, 0]}"), check, 2, "start"},
       {"SceneGoalNaN", key("goal", "{t: [.nan, 0, 0], q: [1, 0, 0, 0]}"), check, 2, "goal"},
+      // Issue 33: a goal region narrower than the planner resolves was
+      // accepted and never reached (the planner's inset emptied it).
+      {"SceneGoalRegionTooSmallToReach", key("goal", "{region: {min: [3, 0, 0], max: [3.000000001, 1, 1]}}"),
+       "ausbau-plan --scene scene.yaml --time-limit 5 -o p.h5", 2,
+       "scene\\.yaml: goal\\.region is 1e-09 wide on axis x, narrower than the planner resolves", Absent("p.h5")},
       {"SceneBoundsInverted", key("bounds", "{min: [5, 5, 5], max: [-5, -5, -5]}"), check, 2, "bounds"},
       {"SceneBoundsNaN", key("bounds", "{min: [.nan, -5, -5], max: [5, 5, 5]}"), check, 2, "bounds"},
       {"SceneDynamicOriginHuge", key("dynamic_origin", "[1e300, 0, 0]"), "ausbau-plan --scene scene.yaml -o p.h5", 2,
@@ -760,6 +765,37 @@ std::vector<Case> ArtifactCases() {
        "ausbau-verdict --scene scene.yaml --path path.h5 --csv-name bad.csv -o v.json", 2, "bad\\.csv"},
       {"PathCsvEmpty", [](const fs::path& d) { Write(d / "bad.csv", ""); },
        "ausbau-verdict --scene scene.yaml --path path.h5 --csv-name bad.csv -o v.json", 2, "bad\\.csv"},
+      // Issue 33: links out of an artifact. HDF5 follows them on reading,
+      // while the provenance and every content hash see only this file.
+      {"ArtifactWithAnExternalLink",
+       [](const fs::path& d) {
+         const hid_t other = H5Fcreate((d / "other.h5").c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+         ASSERT_GE(other, 0);
+         const hsize_t dims[2] = {2, 7};
+         const std::vector<double> poses = {0, 0, 0, 1, 0, 0, 0, 100, 0, 0, 1, 0, 0, 0};
+         const hid_t space = H5Screate_simple(2, dims, nullptr);
+         const hid_t set = H5Dcreate2(other, "w", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+         H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, poses.data());
+         H5Dclose(set);
+         H5Sclose(space);
+         H5Fclose(other);
+         const hid_t h5 = H5Fopen((d / "path.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+         ASSERT_GE(h5, 0);
+         H5Ldelete(h5, "waypoints", H5P_DEFAULT);
+         ASSERT_GE(H5Lcreate_external("other.h5", "/w", h5, "waypoints", H5P_DEFAULT, H5P_DEFAULT), 0);
+         H5Fclose(h5);
+       },
+       smooth, 2, "path\\.h5: 'waypoints' is an external link to other\\.h5:/w: an artifact must hold all its data",
+       Absent("s.h5")},
+      {"ArtifactWithASoftLink",
+       [](const fs::path& d) {
+         const hid_t h5 = H5Fopen((d / "path.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+         ASSERT_GE(h5, 0);
+         H5Ldelete(h5, "waypoints", H5P_DEFAULT);
+         ASSERT_GE(H5Lcreate_soft("/elsewhere/waypoints", h5, "waypoints", H5P_DEFAULT, H5P_DEFAULT), 0);
+         H5Fclose(h5);
+       },
+       verdict, 2, "path\\.h5: 'waypoints' is a soft link", Absent("v.json")},
       // Reader classes (branch fuzz): a dataset far larger than its file.
       {"ArtifactDeclaringAHugeDataset",
        [](const fs::path& d) {

@@ -261,6 +261,71 @@ TEST_F(SceneFiles, SaveObjRoundTripsThroughLoadMesh) {
   EXPECT_THROW(SaveObj(box, dir_ / "box.obj" / "box.obj"), std::exception);
 }
 
+// The mesh cache (mesh_io.h MeshCacheDir): a file of 1 MiB or more is
+// parsed once; the entry gives back exactly the same MeshFile, a damaged
+// entry is noticed and rewritten, an edited file gets an entry of its own,
+// and without AUSBAU_MESH_CACHE nothing is written.
+TEST_F(SceneFiles, MeshCacheGivesBackTheParsedFileAndCatchesDamage) {
+  TriangleMesh many;
+  for (int k = 0; k < 4000; ++k) {
+    const TriangleMesh box = MakeBox({k * 1.1, 0.3 * k, 0.7}, {k * 1.1 + 1, 0.3 * k + 1.25, 2.1});
+    const int first = static_cast<int>(many.vertices.size());
+    many.vertices.insert(many.vertices.end(), box.vertices.begin(), box.vertices.end());
+    for (const auto& t : box.triangles) many.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+  }
+  const fs::path file = dir_ / "many.obj";
+  SaveObj(many, file);
+  ASSERT_GE(fs::file_size(file), std::uintmax_t{1} << 20);
+  const fs::path cache = dir_ / "cache";
+  const auto entries = [&] {
+    std::vector<fs::path> found;
+    if (fs::exists(cache))
+      for (const auto& e : fs::directory_iterator(cache)) found.push_back(e.path());
+    return found;
+  };
+  const auto expect_same = [&](const MeshFile& a, const MeshFile& b) {
+    ASSERT_EQ(a.nodes.size(), b.nodes.size());
+    for (std::size_t n = 0; n < a.nodes.size(); ++n) {
+      EXPECT_EQ(a.nodes[n].name, b.nodes[n].name);
+      EXPECT_EQ(a.nodes[n].mesh.vertices, b.nodes[n].mesh.vertices);
+      EXPECT_EQ(a.nodes[n].mesh.triangles, b.nodes[n].mesh.triangles);
+    }
+    EXPECT_EQ(a.parts, b.parts);
+  };
+
+  ::unsetenv("AUSBAU_MESH_CACHE");
+  const MeshFile parsed = LoadMeshFile(file);
+  EXPECT_TRUE(entries().empty());
+
+  ::setenv("AUSBAU_MESH_CACHE", cache.c_str(), 1);
+  expect_same(LoadMeshFile(file), parsed);  // parsed, entry written
+  ASSERT_EQ(entries().size(), 1u);
+  const fs::path entry = entries()[0];
+  expect_same(LoadMeshFile(file), parsed);  // from the entry
+
+  // One byte of the vertices changed: the payload hash no longer matches.
+  {
+    std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(fs::file_size(entry) / 2));
+    f.put('\x7f');
+  }
+  const std::uintmax_t damaged_size = fs::file_size(entry);
+  expect_same(LoadMeshFile(file), parsed);
+  expect_same(LoadMeshFile(file), parsed);  // the rewritten entry
+  EXPECT_EQ(fs::file_size(entry), damaged_size);
+  // A truncated entry too.
+  fs::resize_file(entry, 100);
+  expect_same(LoadMeshFile(file), parsed);
+
+  // An edited file is another key: its own entry, its own geometry.
+  many.vertices[0].x() -= 0.5;
+  SaveObj(many, file);
+  const MeshFile edited = LoadMeshFile(file);
+  EXPECT_EQ(entries().size(), 2u);
+  EXPECT_EQ(edited.nodes[0].mesh.vertices[0].x(), parsed.nodes[0].mesh.vertices[0].x() - 0.5);
+  ::unsetenv("AUSBAU_MESH_CACHE");
+}
+
 // ----------------------------------------------------------------- errors
 
 TEST_F(SceneFiles, MissingSceneFile) { ExpectSceneError(dir_ / "absent.yaml", {"absent.yaml", "file not found"}); }

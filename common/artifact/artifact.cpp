@@ -541,6 +541,62 @@ void ArtifactWriter::Commit() {
 // ---------------------------------------------------------------------------
 // ArtifactReader
 
+// The first link or dataset of an open file whose data lives outside it,
+// described ("'waypoints' is an external link to other.h5:/w"), or "" when
+// every object is the file's own. Our writers only make hard links and
+// contiguous or chunked datasets; anything else was put there by hand. An
+// external link (or a soft link, which can lead into one, or a link type
+// of a plugin), an external raw-data file or a virtual dataset would be
+// followed on reading, while the provenance and every content hash see
+// only this file: an edit of the other file would pass as unchanged.
+std::string ForeignStorage(hid_t file) {
+  struct Found {
+    std::string what;
+  } found;
+  const H5L_iterate_t visit = [](hid_t group, const char* name, const auto* info, void* data) -> herr_t {
+    std::string& what = static_cast<Found*>(data)->what;
+    const std::string quoted = "'" + std::string(name) + "'";
+    if (info->type == H5L_TYPE_EXTERNAL) {
+      what = quoted + " is an external link";
+      std::vector<char> value(info->u.val_size + 1, '\0');
+      const char* target_file = nullptr;
+      const char* target_object = nullptr;
+      if (H5Lget_val(group, name, value.data(), value.size(), H5P_DEFAULT) >= 0 &&
+          H5Lunpack_elink_val(value.data(), info->u.val_size, nullptr, &target_file, &target_object) >= 0 &&
+          target_file != nullptr && target_object != nullptr) {
+        what += " to " + std::string(target_file) + ":" + target_object;
+      }
+      return 1;
+    }
+    if (info->type == H5L_TYPE_SOFT) {
+      what = quoted + " is a soft link";
+      return 1;
+    }
+    if (info->type != H5L_TYPE_HARD) {
+      what = quoted + " is a link of a user-defined type";
+      return 1;
+    }
+    const hid_t object = H5Oopen(group, name, H5P_DEFAULT);
+    if (object < 0) return 0;  // unreadable objects fail where they are read
+    if (H5Iget_type(object) == H5I_DATASET) {
+      const hid_t plist = H5Dget_create_plist(object);
+      if (plist >= 0) {
+        if (H5Pget_layout(plist) == H5D_VIRTUAL) {
+          what = quoted + " is a virtual dataset (its data lives in other files)";
+        } else if (H5Pget_external_count(plist) > 0) {
+          what = quoted + " keeps its data in an external file";
+        }
+        H5Pclose(plist);
+      }
+    }
+    H5Oclose(object);
+    return what.empty() ? 0 : 1;
+  };
+  H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, visit, &found);
+  H5Eclear2(H5E_DEFAULT);
+  return found.what;
+}
+
 struct ArtifactReader::Impl {
   std::filesystem::path path;
   std::uint64_t file_bytes = 0;  // bounds what a dataset may declare (MaxDataBytes)
@@ -741,6 +797,10 @@ ArtifactReader::ArtifactReader(std::filesystem::path path, const std::string& sc
 #endif
     impl_->file = Handle(H5Fopen(impl_->path.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
     if (!impl_->file.valid()) impl_->Fail("not a readable HDF5 file (truncated or corrupt?)");
+    const std::string foreign = ForeignStorage(impl_->file.get());
+    if (!foreign.empty()) {
+      impl_->Fail(foreign + ": an artifact must hold all its data itself (links and data in other files are refused)");
+    }
 
     const std::string actual_schema = impl_->ReadString("", "schema");
     if (actual_schema != schema) {

@@ -154,18 +154,8 @@ int StageDefinition::PrintValidation(const Provenance& provenance) const {
 }
 
 int StageDefinition::RunParsed(const StageWork& work) {
-  if (threads_ && *threads_ > 0) {
-    omp_set_num_threads(*threads_);
-  } else {
-    // "All cores", whatever the environment says: OMP_NUM_THREADS=100000
-    // made libgomp crash the stage. Fewer (a cluster job's share) stay.
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    if (omp_get_max_threads() > cores) {
-      LogWarn("OpenMP's default of %d threads (OMP_NUM_THREADS) is more than the %d cores: using %d",
-              omp_get_max_threads(), cores, cores);
-      omp_set_num_threads(cores);
-    }
-  }
+  // (--threads 0 keeps the default ParseStageArguments clamped to the cores.)
+  if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
   const struct Scene scene = LoadScene(scene_path_);
   {
     // The outputs against the mesh files scene.yaml names (--csv onto D's

@@ -1,13 +1,16 @@
 #include "cli/stage_main.h"
 
+#include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <new>
+#include <thread>
 
 #include "core/atomic_file.h"
 #include "core/cancel.h"
@@ -183,6 +186,24 @@ void CancelOnInterrupt() {
   }
 }
 
+namespace {
+
+// OpenMP's default team size, from OMP_NUM_THREADS, clamped to the cores
+// (and kMaxThreads) before any parallel region: OMP_NUM_THREADS=100000
+// with the default --threads 0 made libgomp crash voxelize and
+// medial-spheres (SIGSEGV creating the threads). Fewer than the cores (a
+// cluster job's share) stay as they are.
+void ClampOpenMpThreads() {
+  const int cores = std::min(kMaxThreads, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (omp_get_max_threads() > cores) {
+    LogWarn("OpenMP's default of %d threads (OMP_NUM_THREADS) is more than the %d cores: using %d",
+            omp_get_max_threads(), cores, cores);
+    omp_set_num_threads(cores);
+  }
+}
+
+}  // namespace
+
 int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char** argv, const std::string& log_level) {
   // Past a file size limit (ulimit -f) a write fails with EFBIG instead of
   // killing the process, so that the writer can remove its temporary file
@@ -194,6 +215,7 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
     RefuseUnknownFlags(app, argc, argv);
     app.parse(argc, argv);
     SetLogLevel(ParseLogLevel(log_level));
+    ClampOpenMpThreads();
     CheckOutputPaths(app);
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
@@ -262,7 +284,7 @@ void AddSceneInputs(const Scene& scene, Provenance* provenance) {
   const std::size_t static_count = scene.static_files.size();
   for (std::size_t i = 0; i < static_count; ++i) {
     const std::string role = static_count == 1 ? "static" : "static[" + std::to_string(i) + "]";
-    provenance->inputs.emplace_back(role, HashFile(scene.static_files[i]));
+    provenance->inputs.emplace_back(role, MeshFileHash(scene, scene.static_files[i]));
   }
   provenance->inputs.emplace_back("dynamic", DynamicContentHash(scene));
 }

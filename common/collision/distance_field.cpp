@@ -815,6 +815,21 @@ std::string DistanceFieldProvenanceHash(const DistanceFieldProvenanceInfo& info)
   return MakeFieldProvenance(info).Hash();
 }
 
+std::string DistanceFieldContentHash(const DistanceField& field) {
+  Hasher hasher;
+  const auto& d = field.dims();
+  const std::int32_t dims[3] = {d[0], d[1], d[2]};
+  const double geometry[4] = {field.origin().x(), field.origin().y(), field.origin().z(), field.spacing()};
+  const std::int64_t triangles = field.triangle_count();
+  hasher.Add(dims, sizeof dims).Add(geometry, sizeof geometry).Add(&triangles, sizeof triangles);
+  hasher.Add(field.mesh_hash());
+  const std::size_t n = static_cast<std::size_t>(field.size());
+  hasher.Add(field.classes(), n);
+  static_assert(sizeof(DistanceField::Cell) == 16, "a cell is 3 floats and an int32, no padding");
+  hasher.Add(field.cells(), n * sizeof(DistanceField::Cell));
+  return hasher.HexDigest();
+}
+
 void WriteDistanceField(const std::filesystem::path& path, const DistanceField& field, const std::string& units,
                         const std::string& frame) {
   const Provenance provenance = MakeFieldProvenance({field.mesh_hash(), field.resolution(), field.padding()});
@@ -859,6 +874,7 @@ void WriteDistanceField(const std::filesystem::path& path, const DistanceField& 
   writer.SetAttribute("", "triangles", field.triangle_count());
   writer.SetAttribute("", "frame", frame.empty() ? std::string("mesh coordinates") : frame);
   writer.SetAttribute("", "class_values", std::string("0 outside, 1 inside, 2 surface"));
+  writer.SetAttribute("", "content_hash", DistanceFieldContentHash(field));
   writer.Commit();
 }
 
@@ -935,8 +951,33 @@ std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& pa
       std::memcpy(field->cells_[i].nearest, &nearest.data[3 * i], 3 * sizeof(float));
     }
   }
+  // The provenance says what the field was built from, not that these are
+  // the cells that were built: an edited or damaged cell would pass every
+  // check above and give wrong distances. The content hash written with
+  // the cells tells.
+  if (reader.ReadStringAttribute("", "content_hash") != DistanceFieldContentHash(*field)) {
+    throw InputErrorAt(where, "the field does not match its content_hash (edited or damaged)");
+  }
   return field;
 }
+
+namespace {
+
+// Whether `path` holds a field with the provenance `expected` whose cells
+// are the ones written (content_hash); a field that is not says so in one
+// line, so that the caller builds it again.
+bool VerifiedField(const std::filesystem::path& path, const std::string& expected, const std::string& name) {
+  if (ExistingProvenanceHash(path, kDistanceFieldSchema, kDistanceFieldSchemaVersion) != expected) return false;
+  try {
+    ReadDistanceField(path);
+    return true;
+  } catch (const InputError& e) {
+    LogWarn("%s: %s; building it again", name.c_str(), e.what());
+    return false;
+  }
+}
+
+}  // namespace
 
 std::filesystem::path DistanceFieldCachePath(const std::filesystem::path& cache_dir, const std::string& mesh_hash,
                                              int resolution) {
@@ -957,7 +998,14 @@ std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& 
     const char* home = std::getenv("HOME");
     if (xdg != nullptr && xdg[0] != '\0') return std::filesystem::path(xdg) / "ausbau";
     if (home != nullptr && home[0] != '\0') return std::filesystem::path(home) / ".cache" / "ausbau";
-    return std::filesystem::temp_directory_path() / "ausbau-cache";
+    // No user cache to go to: no cache at all. A fixed folder in the
+    // system's temporary directory (as before) is shared by every user of
+    // the machine, who could plant fields there for the next run to trust.
+    LogInfo(
+        "no cache for the distance fields: %s is read-only and neither XDG_CACHE_HOME nor HOME is set "
+        "(set AUSBAU_CACHE_DIR to keep them)",
+        dir.string().c_str());
+    return std::filesystem::path();
   }
   return dir / ".ausbau-cache";
 }
@@ -1019,16 +1067,22 @@ std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const Dist
   namespace fs = std::filesystem;
   const std::string mesh_hash = MeshContentHash(mesh);
   const std::string expected = DistanceFieldProvenanceHash({mesh_hash, options.resolution, options.padding});
-  const fs::path cached = DistanceFieldCachePath(cache_dir, mesh_hash, options.resolution);
+  if (cache_dir.empty() && explicit_target.empty()) {
+    throw InputError(
+        "--output-dir: there is no cache to build the fields into (DefaultDistanceFieldCacheDir); "
+        "give --output-dir or set AUSBAU_CACHE_DIR");
+  }
+  // No cache: the target alone.
+  const fs::path cached =
+      cache_dir.empty() ? fs::path() : DistanceFieldCachePath(cache_dir, mesh_hash, options.resolution);
   const fs::path target = explicit_target.empty() ? cached : explicit_target;
   PlanDistanceField(mesh, options);  // the memory guard, before any work
-  if (!force && ExistingProvenanceHash(target, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
+  if (!force && VerifiedField(target, expected, name)) {
     LogInfo("%s: %s is up to date (same mesh and resolution); use --force to build again", name.c_str(),
             target.string().c_str());
     return target;
   }
-  if (!force && target != cached &&
-      ExistingProvenanceHash(cached, kDistanceFieldSchema, kDistanceFieldSchemaVersion) == expected) {
+  if (!force && !cached.empty() && target != cached && VerifiedField(cached, expected, name)) {
     // Copy the cached file (atomically: a temporary beside the target, then rename).
     if (!target.parent_path().empty()) fs::create_directories(target.parent_path());
     const fs::path temporary = target.string() + ".tmp-" + std::to_string(::getpid());
@@ -1041,7 +1095,7 @@ std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const Dist
   WriteDistanceField(target, *field, units, frame);
   LogInfo("%s: %d x %d x %d cells (cell %g %s), written to %s", name.c_str(), field->dims()[0], field->dims()[1],
           field->dims()[2], field->spacing(), units.empty() ? "units" : units.c_str(), target.string().c_str());
-  if (target != cached) {
+  if (!cached.empty() && target != cached) {
     try {
       fs::create_directories(cache_dir);
       WriteDistanceField(cached, *field, units, frame);

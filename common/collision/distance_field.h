@@ -185,22 +185,32 @@ std::string DistanceFieldProvenanceHash(const DistanceFieldProvenanceInfo& info)
 void WriteDistanceField(const std::filesystem::path& path, const DistanceField& field, const std::string& units = "",
                         const std::string& frame = "");
 // Throws InputError on a missing, corrupt or wrong-schema file, or a dataset
-// of the wrong shape.
+// of the wrong shape, and when the cells do not match the root attribute
+// content_hash (an edited or damaged field: a cache entry is then built
+// again).
 std::shared_ptr<DistanceField> ReadDistanceField(const std::filesystem::path& path);
+// XXH3-128 over the grid (dims, origin, spacing), the mesh hash and
+// triangle count, and every cell's class, nearest point and triangle: the
+// root attribute content_hash that ReadDistanceField checks.
+std::string DistanceFieldContentHash(const DistanceField& field);
 
 // The cache: <cache_dir>/distfield-<first 16 hex digits of the mesh hash>-r<resolution>.h5.
 std::filesystem::path DistanceFieldCachePath(const std::filesystem::path& cache_dir, const std::string& mesh_hash,
                                              int resolution);
 // $AUSBAU_CACHE_DIR when set and not empty, else <folder of scene_file>/.ausbau-cache,
 // except for a scene folder marked read-only (no owner write bit, as the
-// shared benchmark data): then $XDG_CACHE_HOME/ausbau or ~/.cache/ausbau.
+// shared benchmark data): then $XDG_CACHE_HOME/ausbau or ~/.cache/ausbau,
+// and where neither XDG_CACHE_HOME nor HOME is set, no cache (an empty
+// path, with a note): never a fixed folder that other users can write.
 std::filesystem::path DefaultDistanceFieldCacheDir(const std::filesystem::path& scene_file);
 
 // ausbau-distfield-build's step for one mesh: the field at
 // `explicit_target` (empty: in the cache) when up to date (same mesh and
-// resolution) and not `force`; else copied from the cache; else built and
-// written to the target and, when that is another file, to the cache.
-// Returns the file.
+// resolution, its cells matching their content hash) and not `force`; else
+// copied from the cache (checked the same way); else built and written to
+// the target and, when that is another file, to the cache. An empty
+// `cache_dir` is no cache (then `explicit_target` is needed: InputError
+// otherwise). Returns the file.
 std::filesystem::path MakeDistanceFieldFile(const TriangleMesh& mesh, const DistanceFieldOptions& options,
                                             const std::filesystem::path& cache_dir,
                                             const std::filesystem::path& explicit_target, bool force,

@@ -620,20 +620,6 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   double installed_magnitude = 0;
   for (const auto& v : robot.vertices)
     installed_magnitude = std::max(installed_magnitude, installed.Apply(v).cwiseAbs().maxCoeff());
-  // Meshes pass through single precision on their way in (assimp's float,
-  // binary STL's float32): far from the origin the stored corners are
-  // spaced coarser than the tolerance, and a 9.7 mm opening may be stored
-  // as 10 mm. No check can then be exact: refuse, plainly.
-  double stored_magnitude = installed_magnitude;
-  for (const auto& v : environment.vertices) stored_magnitude = std::max(stored_magnitude, v.cwiseAbs().maxCoeff());
-  const double spacing = stored_magnitude > 0 ? std::ldexp(1.0, std::ilogb(stored_magnitude) - 23) : 0.0;
-  if (spacing > tolerance / 2) {
-    throw InputError(
-        Fmt("the scene's coordinates reach %.6g (scene units), where single precision (the float32 of "
-            "mesh files and of the mesh reader) stores them only %.3g apart, coarser than half the "
-            "rigid tolerance (%.3g): move the scene nearer the origin (its meshes and start pose)",
-            stored_magnitude, spacing, tolerance));
-  }
   parts->robot_shells = SplitIntoShells(robot, installed_magnitude);
   parts->static_shells = SplitIntoShells(environment);
   const int n = static_cast<int>(parts->robot_shells.size());

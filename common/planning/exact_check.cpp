@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/cancel.h"
+#include "core/error.h"
 #include "core/format.h"
 #include "geometry/principal_axes.h"
 #include "planning/reach_crop.h"
@@ -18,6 +19,23 @@ double RigidToleranceInSceneUnits(double millimetres, const std::string& units, 
   const std::optional<double> per_unit = MillimetresPerUnit(units);
   if (assumed) *assumed = !per_unit.has_value();
   return per_unit ? millimetres / *per_unit : millimetres;
+}
+
+double RigidToleranceInSceneUnits(double millimetres, const Scene& scene, bool* assumed) {
+  const double tolerance = RigidToleranceInSceneUnits(millimetres, scene.units, assumed);
+  CheckStoredPrecision(scene, tolerance);
+  return tolerance;
+}
+
+void CheckStoredPrecision(const Scene& scene, double tolerance) {
+  if (!(scene.stored_spacing > tolerance / kStoredSpacingShare)) return;
+  // A 9.7 mm opening 1e7 mm from the origin was stored as 10 mm and a
+  // 10 mm cube passed it: no check can be exact on such coordinates.
+  throw InputErrorAt(scene.stored_spacing_file.string(),
+                     Fmt("coordinates reach %.6g, where single precision (the float32 of mesh files and of the "
+                         "mesh reader) stores them only %.3g (scene units) apart, more than 1/%g of the rigid "
+                         "tolerance (%.3g): move the model nearer the origin",
+                         scene.stored_magnitude, scene.stored_spacing, kStoredSpacingShare, tolerance));
 }
 
 FitRule SceneFitRule(const Scene& scene) {
@@ -56,6 +74,7 @@ std::vector<Pose> DensifyForPlainInterpolation(const std::vector<Pose>& waypoint
 
 std::shared_ptr<const PartModel> ClassifySceneParts(const Scene& scene, double tolerance,
                                                     UnmeasuredInterference unmeasured) {
+  CheckStoredPrecision(scene, tolerance);
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
   return ClassifyParts(robot, scene.static_mesh, scene.start, tolerance, unmeasured, SceneFitRule(scene));

@@ -163,6 +163,10 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   const ArtifactReader reader(file, kPathSchema, kPathSchemaVersion);
   PathArtifact path;
   path.waypoints = ReadPoseRows(reader, "waypoints");
+  if (path.waypoints.size() > kMaxPathWaypoints) {
+    throw InputErrorAt(file.string(), Fmt("holds %zu waypoints, more than the limit of %zu", path.waypoints.size(),
+                                          kMaxPathWaypoints));
+  }
   path.reference_point = ReadVector3(reader, "reference_point");
   path.dynamic_origin = ReadVector3(reader, "dynamic_origin");
   path.success = ReadIntScalar(reader, "stats/success") != 0;
@@ -178,6 +182,10 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   path.length_rotation =
       reader.Has("stats/length_rotation") ? ReadScalar(reader, "stats/length_rotation") : std::nan("");
   if (reader.Has("partial/waypoints")) path.partial_waypoints = ReadPoseRows(reader, "partial/waypoints");
+  if (path.partial_waypoints.size() > kMaxPathWaypoints) {
+    throw InputErrorAt(file.string(), Fmt("holds %zu partial waypoints, more than the limit of %zu",
+                                          path.partial_waypoints.size(), kMaxPathWaypoints));
+  }
   path.stopped_by_budget =
       reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
   // Absent in artifacts written before they were recorded.

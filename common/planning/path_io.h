@@ -14,6 +14,11 @@ namespace ausbau {
 
 inline constexpr char kPathSchema[] = "ausbau-path";
 inline constexpr int kPathSchemaVersion = 1;
+// The most waypoints a path artifact may hold (`waypoints`, and
+// `partial/waypoints`). Planned and smoothed paths hold tens to a few
+// thousand; a path of a million made ausbau-smooth run past 600 s and
+// ausbau-report write 175 MB, so readers refuse more than this.
+inline constexpr std::size_t kMaxPathWaypoints = 100000;
 
 struct PathArtifact {
   std::vector<Pose> waypoints;                                // scene convention

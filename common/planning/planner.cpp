@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 
 #include "core/cancel.h"
 #include "core/error.h"
@@ -237,7 +238,12 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
       // The shortest pull (to a probe's step) that reaches the goal region.
       Pose end = problem.start;
       bool reached = false;
+      // Reach over probe is about 100 (1 + S's size / D's) steps; for a D
+      // of 1e-6 mm in S of tens it was billions, so the clock is read
+      // every 4096 of them (past the deadline the pull counts as blocked).
+      std::int64_t probes = 0;
       for (double s = probe; s <= reach && !reached; s += probe) {
+        if (++probes % 4096 == 0 && std::chrono::steady_clock::now() >= deadline) break;
         end.t = problem.start.t + s * sign * axis;
         reached = problem.InGoalRegion(end) && problem.InBounds(end);
       }

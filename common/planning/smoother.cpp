@@ -242,20 +242,26 @@ bool FullShortcut(const PlanningProblem& problem, const MotionChecker& motion, c
   return true;
 }
 
-// Drops waypoints whose neighbours see each other directly.
-void DropNeedlessWaypoints(const MotionChecker& motion, const ReplacementGuard* guard, std::vector<Pose>* path) {
-  for (std::size_t i = 0; i + 2 < path->size();) {
-    const std::vector<Pose>& p = *path;
-    if (motion.MotionValid(p[i], p[i + 2]) &&
-        (guard == nullptr || guard->Accepts({p[i], p[i + 1], p[i + 2]}, {p[i], p[i + 2]}))) {
-      path->erase(path->begin() + i + 1);
-    } else {
-      ++i;
-    }
-  }
-}
-
 using Clock = std::chrono::steady_clock;
+
+// Drops waypoints whose neighbours see each other directly: the kept path
+// is built anew (erasing in place was quadratic in the waypoints), and
+// past `deadline` the rest is kept as it is.
+void DropNeedlessWaypoints(const MotionChecker& motion, const ReplacementGuard* guard, Clock::time_point deadline,
+                           std::vector<Pose>* path) {
+  const std::vector<Pose>& p = *path;
+  if (p.size() < 3) return;
+  std::vector<Pose> kept = {p.front()};
+  for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+    // kept.back() and p[k + 1] are the neighbours of p[k] in the path as it
+    // stands once the waypoints before p[k] are dropped or kept.
+    const bool needless = Clock::now() < deadline && motion.MotionValid(kept.back(), p[k + 1]) &&
+                          (guard == nullptr || guard->Accepts({kept.back(), p[k], p[k + 1]}, {kept.back(), p[k + 1]}));
+    if (!needless) kept.push_back(p[k]);
+  }
+  kept.push_back(p.back());
+  path->swap(kept);
+}
 
 // Steps 1-4 on one path, by `deadline`. The full shortcuts get at most half
 // of the time left: where the time limit (a safety valve) is hit on a slow
@@ -278,7 +284,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
     next_attempt();
     if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
-  DropNeedlessWaypoints(motion, guard, &path);
+  DropNeedlessWaypoints(motion, guard, deadline, &path);
   if (!out_of_time()) result->retreat_from = StraightRetreat(problem, motion, guard, 0, &path);
 
   // Partial shortcuts: a quarter of the attempts, each on one degree of
@@ -296,7 +302,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
     }
   }
   if (!out_of_time()) FreezeTailRotation(problem, motion, guard, result);
-  DropNeedlessWaypoints(motion, guard, &path);
+  DropNeedlessWaypoints(motion, guard, deadline, &path);
   if (progress) progress(attempts + partial_attempts, attempts + partial_attempts);
 }
 
@@ -406,19 +412,22 @@ int StraightRetreatFrom(const PlanningProblem& problem, const PoseValidity& vali
 SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& validity, const std::vector<Pose>& input,
                         const SmoothOptions& options, const ReplacementGuard* guard) {
   options.Check();
+  const Clock::time_point start = Clock::now();
+  // (At most 30 years: a longer limit would overflow the clock's count.)
+  const Clock::time_point deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                                 std::chrono::duration<double>(std::min(options.time_limit_s, 1e9)));
   // Shortcuts are few: check them at the certification step (planner step / 4,
   // planning/certify.h) so that smoothing never trades certainty for length.
-  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0);
+  // Past the deadline a motion counts as blocked (the path is kept as it
+  // is): a shortcut of billions of steps (a D of 1e-6 mm) had run far past
+  // --time-limit.
+  const MotionChecker motion(problem, validity, options.resolution * problem.robot_diagonal / 4.0, deadline);
   SmoothResult result;
   result.path = input;
   result.before = MeasurePath(problem, input);
   Random random(options.seed);
   const int attempts =
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
-  const Clock::time_point start = Clock::now();
-  // (At most 30 years: a longer limit would overflow the clock's count.)
-  const Clock::time_point deadline = start + std::chrono::duration_cast<Clock::duration>(
-                                                 std::chrono::duration<double>(std::min(options.time_limit_s, 1e9)));
   // A disassembly keeps 40% of the time for the translation-only
   // alternative (step 5), should the limit be hit.
   const Clock::time_point first_deadline = EndIsFree(problem) ? start + (deadline - start) * 3 / 5 : deadline;

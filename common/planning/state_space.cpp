@@ -276,25 +276,35 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   }
 }
 
-int MotionChecker::Steps(const Pose& a, const Pose& b) const {
+std::int64_t MotionChecker::Steps(const Pose& a, const Pose& b) const {
+  // In 64 bits: a motion across bounds of 1e9 (goal: {clearance: 1e9}) at
+  // a step of 0.1 is 1e10 steps, past an int.
   const double displacement = MaxDisplacement(a, b, problem_->robot_radius);
-  return std::max(1, static_cast<int>(std::ceil(displacement / step_)));
+  return std::max<std::int64_t>(1, static_cast<std::int64_t>(std::min(std::ceil(displacement / step_), 1e18)));
+}
+
+bool MotionChecker::OutOfTime() const {
+  return (deadline_ != std::chrono::steady_clock::time_point::max() && std::chrono::steady_clock::now() >= deadline_) ||
+         CancelRequested();  // the caller throws (core/cancel.h)
 }
 
 bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
   if (slack_) return Advance(a, b, nullptr) >= 1.0;
-  const int steps = Steps(a, b);
+  const std::int64_t steps = Steps(a, b);
   if (!IsValid(b)) return false;
   // Bisection order (as OMPL's discrete motion validator): a collision in
   // the middle of an edge is found after few checks.
-  std::queue<std::pair<int, int>> intervals;
+  std::queue<std::pair<std::int64_t, std::int64_t>> intervals;
   intervals.emplace(0, steps);
-  while (!intervals.empty()) {
+  for (std::int64_t checked = 0; !intervals.empty(); ++checked) {
+    // Past the deadline the motion counts as blocked, as Advance's does: a
+    // huge one (bounds of 1e9) had run for hours past --time-limit.
+    if (checked % 64 == 63 && OutOfTime()) return false;
     const auto [lo, hi] = intervals.front();
     intervals.pop();
     if (hi - lo < 2) continue;
-    const int mid = (lo + hi) / 2;
-    if (!IsValid(Interpolate(a, b, static_cast<double>(mid) / steps))) return false;
+    const std::int64_t mid = lo + (hi - lo) / 2;
+    if (!IsValid(Interpolate(a, b, static_cast<double>(mid) / static_cast<double>(steps)))) return false;
     intervals.emplace(lo, mid);
     intervals.emplace(mid, hi);
   }
@@ -308,17 +318,18 @@ double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid
     if (last_valid) *last_valid = last;
     return std::max(0.0, reached);
   }
-  const int steps = Steps(a, b);
-  int valid = 0;
+  const std::int64_t steps = Steps(a, b);
+  std::int64_t valid = 0;
   Pose last = a;
-  for (int i = 1; i <= steps; ++i) {
-    const Pose pose = i == steps ? b : Interpolate(a, b, static_cast<double>(i) / steps);
+  for (std::int64_t i = 1; i <= steps; ++i) {
+    if (i % 64 == 0 && OutOfTime()) break;  // blocked here, as in Advance
+    const Pose pose = i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
     if (!IsValid(pose)) break;
     valid = i;
     last = pose;
   }
   if (last_valid) *last_valid = last;
-  return static_cast<double>(valid) / steps;
+  return static_cast<double>(valid) / static_cast<double>(steps);
 }
 
 }  // namespace ausbau

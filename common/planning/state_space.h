@@ -9,6 +9,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -137,15 +138,16 @@ bool SampleGoalRegion(const PlanningProblem& problem, Random& random, Pose* pose
 // allows, never shorter than its MinStep.
 class MotionChecker {
  public:
-  // `deadline`: a motion walked by conservative advancement stops there, as
-  // if blocked (a planner's time limit, which an edge of thousands of slow
-  // checks in a narrow passage would otherwise overrun by minutes).
+  // `deadline`: a motion stops there, as if blocked (a planner's time
+  // limit, which an edge of thousands of slow checks in a narrow passage,
+  // or of billions of steps across huge bounds, would otherwise overrun by
+  // minutes or hours).
   MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step,
                 std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
   bool IsValid(const Pose& pose) const { return problem_->InBounds(pose) && validity_->IsValid(pose); }
   // Number of equal sub-steps needed between a and b.
-  int Steps(const Pose& a, const Pose& b) const;
+  std::int64_t Steps(const Pose& a, const Pose& b) const;
   // Whole motion valid (a is assumed valid and not re-checked; b is checked).
   bool MotionValid(const Pose& a, const Pose& b) const;
   // Walks from a towards b and returns the fraction in [0, 1] of the last
@@ -159,6 +161,8 @@ class MotionChecker {
   // advancement; returns how far it got in [0, 1] (1 when every pose was
   // valid, -1 when a is invalid) and the last valid pose.
   double Advance(const Pose& a, const Pose& b, Pose* last_valid) const;
+  // Past the deadline, or cancelled.
+  bool OutOfTime() const;
 
   const PlanningProblem* problem_;
   const PoseValidity* validity_;

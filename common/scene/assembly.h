@@ -48,9 +48,10 @@ struct AssemblyOptions {
 // Writes <output>/<folder>/scene.yaml per part (D = the part, picked by name
 // when its name is unique, else by index; S = the rest) and
 // <output>/assembly.json (the parts, their folders and scenes), each
-// atomically; then loads every scene written, so that a part whose
-// geometry S also holds (a duplicate) is reported as LoadScene's
-// InputError. An assembly of one part has no rest: InputError. Returns the
+// atomically; then checks every part against the rest as LoadScene would
+// (CheckDynamicApartFromStatic), in one pass over the file, so that a part
+// whose geometry S also holds (a duplicate) is an InputError naming its
+// scene. An assembly of one part has no rest: InputError. Returns the
 // parts with their scenes.
 std::vector<AssemblyPart> WriteAssemblyScenes(const std::filesystem::path& assembly,
                                               const std::filesystem::path& output, const AssemblyOptions& options);

@@ -11,6 +11,7 @@
 #include <assimp/DefaultIOSystem.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <sys/stat.h>
 #include <assimp/Importer.hpp>
 
 #include <Eigen/Core>
@@ -23,7 +24,9 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -34,7 +37,9 @@
 #include "core/atomic_file.h"
 #include "core/child_process.h"
 #include "core/error.h"
+#include "core/hash.h"
 #include "core/input_file.h"
+#include "core/log.h"
 #include "scene/obj_check.h"
 
 namespace ausbau {
@@ -190,6 +195,45 @@ class OnlyThisFile : public Assimp::DefaultIOSystem {
 
  private:
   std::string file_;
+};
+
+// Every other format may name files of its own (a glTF buffer's or image's
+// uri, a COLLADA image): assimp opens them as it finds them. Two things are
+// done here. Only regular files are opened: a FIFO among them blocked the
+// importer forever, a device (/dev/zero) never ends; the first one refused is
+// remembered, so that the error can name it instead of assimp's "cannot
+// open". And the files that did open are recorded, each once, so that the
+// scene's cache keys hash them with the file (MeshFile::also_read); assimp
+// also probes names that do not exist, which do not count.
+class RegularFilesRecorded : public Assimp::DefaultIOSystem {
+ public:
+  explicit RegularFilesRecorded(std::string file) : file_(std::move(file)) {}
+  bool Exists(const char* path) const override { return IsRegular(path) && DefaultIOSystem::Exists(path); }
+  Assimp::IOStream* Open(const char* path, const char* mode) override {
+    if (!IsRegular(path)) {
+      if (refused_.empty()) refused_ = path;
+      return nullptr;
+    }
+    Assimp::IOStream* stream = DefaultIOSystem::Open(path, mode);
+    if (stream != nullptr && path != file_ &&
+        std::find(opened_.begin(), opened_.end(), std::string(path)) == opened_.end()) {
+      opened_.emplace_back(path);
+    }
+    return stream;
+  }
+  const std::string& refused() const { return refused_; }
+  const std::vector<std::string>& opened() const { return opened_; }
+
+ private:
+  // stat(2) does not open the file, so it does not block on a FIFO. A
+  // missing file passes: assimp's own "cannot open" says that well.
+  static bool IsRegular(const char* path) {
+    struct stat info;
+    return ::stat(path, &info) != 0 || S_ISREG(info.st_mode);
+  }
+  std::string file_;
+  std::string refused_;
+  std::vector<std::string> opened_;
 };
 
 // The structure of an OFF file, checked before assimp reads it: assimp
@@ -587,6 +631,7 @@ std::string MeshFileBytes(const MeshFile& file) {
     PutArray(out, node.mesh.triangles);
   }
   PutArray(out, file.parts);
+  PutTexts(out, file.also_read);
   return out;
 }
 
@@ -606,6 +651,7 @@ class MeshFileBytesReader {
       Array(node.mesh.triangles);
     }
     Array(file.parts);
+    file.also_read = Texts();
     if (pos_ != bytes_.size()) throw std::runtime_error("mesh import: bytes left over from the child process");
     return file;
   }
@@ -647,14 +693,9 @@ class MeshFileBytesReader {
   std::size_t pos_ = 0;
 };
 
-}  // namespace
-
-MeshFile LoadMeshFile(const fs::path& path) {
+// The file parsed by assimp, after our structure checks (LoadMeshFile).
+MeshFile ParseMeshFile(const fs::path& path) {
   const std::string name = path.string();
-  // Missing, a folder, a FIFO or a device, absurdly large: refused before
-  // assimp opens it (a FIFO would block it forever).
-  CheckInputFile(path, kMaxMeshFileBytes, "mesh");
-
   // assimp's logging is off unless a DefaultLogger is created; none is.
   Assimp::Importer importer;
   // assimp picks its importer by the extension; for an unknown one it tries
@@ -679,13 +720,102 @@ MeshFile LoadMeshFile(const fs::path& path) {
   // 5.2's COLLADA importer crashes on a malformed file
   // (fuzz/known-findings/), and the rest are not hardened either.
   if (lower == ".obj" || lower == ".ply" || lower == ".off" || lower == ".stl") return ImportWithAssimp(importer, name);
+  auto* files = new RegularFilesRecorded(name);
+  importer.SetIOHandler(files);  // the importer owns it
+  const auto import = [&] {
+    try {
+      MeshFile file = ImportWithAssimp(importer, name);
+      file.also_read = files->opened();
+      return file;
+    } catch (const InputError&) {
+      if (files->refused().empty()) throw;
+      throw InputErrorAt(name, "cannot read mesh (it names '" + files->refused() +
+                                   "', which is not a regular file: a FIFO, socket or device)");
+    }
+  };
   // The child may take 1 GiB plus 64 bytes per byte of the file: an XML
   // format's document tree and the meshes take a few times the file (a
   // fuzzed 700-byte COLLADA file made assimp ask for 3 GB).
   const std::size_t allowance = (std::size_t{1} << 30) + 64 * static_cast<std::size_t>(fs::file_size(path));
-  const std::string bytes = RunInChildProcess([&] { return MeshFileBytes(ImportWithAssimp(importer, name)); }, name,
+  const std::string bytes = RunInChildProcess([&] { return MeshFileBytes(import()); }, name,
                                               "the " + lower.substr(1) + " importer of assimp", allowance);
   return MeshFileBytesReader(bytes).Read();
+}
+
+// The mesh cache (mesh_io.h, MeshCacheDir): an entry is the parsed MeshFile
+// as MeshFileBytes, behind a header that names what it was made from and a
+// hash of the bytes that follow, both checked before the entry is trusted.
+constexpr char kMeshCacheMagic[] = "ausbau-mesh-cache 1\n";
+constexpr std::uintmax_t kMeshCacheMinBytes = std::uintmax_t{1} << 20;
+
+// What an entry is made from: the file's bytes, the extension (which picks
+// assimp's importer) and the version of this loader's output.
+std::string MeshCacheKey(const fs::path& path, const std::string& lower_extension) {
+  return HashString(HashFile(path) + "\n" + lower_extension + "\n" + kMeshCacheMagic);
+}
+
+// The entry's MeshFile, or nothing when it is missing, was made from another
+// file, or is damaged (then it is rewritten after parsing, with a note).
+std::optional<MeshFile> ReadMeshCacheEntry(const fs::path& entry, const std::string& key) {
+  std::error_code error;
+  if (!fs::is_regular_file(fs::symlink_status(entry, error))) return std::nullopt;
+  std::ifstream in(entry, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string magic = kMeshCacheMagic;
+  const std::size_t header = magic.size() + 2 * 33;  // key and payload hash, 32 hex digits and '\n' each
+  const auto damaged = [&] {
+    LogInfo("mesh cache: %s is damaged or incomplete; parsing the mesh again", entry.string().c_str());
+    return std::nullopt;
+  };
+  if (!in.good() && !in.eof()) return damaged();
+  if (bytes.size() < header || bytes.compare(0, magic.size(), magic) != 0) return damaged();
+  if (bytes.compare(magic.size(), 32, key) != 0) return std::nullopt;  // another file (a hash prefix collision)
+  const std::string_view payload = std::string_view(bytes).substr(header);
+  if (bytes.compare(magic.size() + 33, 32, HashString(payload)) != 0) return damaged();
+  try {
+    return MeshFileBytesReader(std::string(payload)).Read();
+  } catch (const std::runtime_error&) {
+    return damaged();
+  }
+}
+
+void WriteMeshCacheEntry(const fs::path& entry, const std::string& key, const MeshFile& file) {
+  const std::string payload = MeshFileBytes(file);
+  try {
+    WriteTextFileAtomically(entry, kMeshCacheMagic + key + "\n" + HashString(payload) + "\n" + payload);
+  } catch (const std::exception& e) {
+    // A cache that cannot be written costs time, never the answer.
+    LogWarn("mesh cache: not written (%s)", e.what());
+  }
+}
+
+}  // namespace
+
+std::filesystem::path MeshCacheDir() {
+  const char* env = std::getenv("AUSBAU_MESH_CACHE");
+  return env != nullptr ? fs::path(env) : fs::path();
+}
+
+MeshFile LoadMeshFile(const fs::path& path) {
+  // Missing, a folder, a FIFO or a device, absurdly large: refused before
+  // assimp opens it (a FIFO would block it forever).
+  CheckInputFile(path, kMaxMeshFileBytes, "mesh");
+  // Only formats that read one file are cached: a glTF's external buffers
+  // would have to be in the key too.
+  std::string lower = path.extension().string();
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  // Files below 1 MiB parse in milliseconds, less than an entry costs.
+  const fs::path cache = MeshCacheDir();
+  if (cache.empty() || !(lower == ".obj" || lower == ".ply" || lower == ".off" || lower == ".stl") ||
+      fs::file_size(path) < kMeshCacheMinBytes) {
+    return ParseMeshFile(path);
+  }
+  const std::string key = MeshCacheKey(path, lower);
+  const fs::path entry = cache / ("mesh-" + key + ".bin");
+  if (std::optional<MeshFile> cached = ReadMeshCacheEntry(entry, key)) return std::move(*cached);
+  MeshFile file = ParseMeshFile(path);
+  WriteMeshCacheEntry(entry, key, file);
+  return file;
 }
 
 TriangleMesh MeshFile::Merged() const {

@@ -195,6 +195,22 @@ class Reader {
           Fail(buf);
         }
       }
+      // The planner asks for a hair more than the region (scene_goal.cpp:
+      // 1e-9 of its size and place inside each face) and converts poses
+      // between conventions in doubles: a region narrower than a
+      // millionth of its distance from the origin (plus 1) may hold no
+      // pose it accepts, and would never be reached (issue 33).
+      const double scale = 1 + box.min.cwiseAbs().cwiseMax(box.max.cwiseAbs()).maxCoeff();
+      for (int a = 0; a < 3; ++a) {
+        if (box.max[a] - box.min[a] < kMinGoalRegionWidth * scale) {
+          char buf[320];
+          std::snprintf(buf, sizeof(buf),
+                        "goal.region is %.6g wide on axis %c, narrower than the planner resolves there "
+                        "(%.6g = 1e-6 x (1 + its largest |coordinate|)); make it at least that wide",
+                        box.max[a] - box.min[a], kAxis[a], kMinGoalRegionWidth * scale);
+          Fail(buf);
+        }
+      }
       goal.region = box;
     }
     scene->goal_condition = goal;
@@ -392,6 +408,28 @@ void ReadFilesV2(const Reader& r, const YAML::Node& root, const fs::path& dir, S
   SetFiles(scene);
 }
 
+// Records in scene.stored_spacing the spacing of single precision at the
+// largest coordinate of `file` as stored (before a pose places it; a
+// pose's translation is kept in double), in scene units, when it is the
+// coarsest so far. The whole file counts, not only the parts picked: its
+// coordinates went through float32 all the same, and the largest one is
+// the conservative choice.
+void NoteStoredSpacing(const MeshSource& source, const MeshFile& file, Scene& scene) {
+  double magnitude = 0;
+  for (const MeshPart& node : file.nodes) {
+    for (const Eigen::Vector3d& v : node.mesh.vertices) magnitude = std::max(magnitude, v.cwiseAbs().maxCoeff());
+  }
+  if (!(magnitude > 0) || !std::isfinite(magnitude)) return;
+  // float32 has a 24-bit significand: numbers in [2^e, 2^(e+1)) lie
+  // 2^(e-23) apart.
+  const double spacing = std::ldexp(1.0, std::ilogb(magnitude) - 23) * std::abs(source.scale);
+  if (spacing > scene.stored_spacing) {
+    scene.stored_spacing = spacing;
+    scene.stored_magnitude = magnitude;
+    scene.stored_spacing_file = source.file;
+  }
+}
+
 // Loads every file once (errors name the key: "assembly: ", "static: ",
 // "dynamic: "), resolves the parts, adds the assembly's rest to S, builds
 // S piece by piece and D, and (in /2) checks that D is not part of S.
@@ -434,6 +472,16 @@ void LoadSceneMeshes(const Reader& r, Scene& scene) {
     AppendStaticEntry(scene, static_cast<int>(i), files.Get(scene.static_sources[i].file));
   }
   scene.dynamic_mesh = SourceMesh(scene.dynamic_source, files.Get(scene.dynamic_source.file));
+  std::vector<const MeshSource*> sources = {&scene.dynamic_source};
+  for (const MeshSource& source : scene.static_sources) sources.push_back(&source);
+  for (const MeshSource* source : sources) NoteStoredSpacing(*source, files.Get(source->file), scene);
+  // What else each importer read goes into the scene's cache keys (MeshFileHash).
+  std::vector<fs::path> mesh_files = scene.static_files;
+  mesh_files.push_back(scene.dynamic_file);
+  for (const fs::path& file : mesh_files) {
+    const std::vector<std::string>& also_read = files.Get(file).also_read;
+    if (!also_read.empty()) scene.also_read[file].assign(also_read.begin(), also_read.end());
+  }
   if (scene.format_version >= 2) {
     try {
       CheckDynamicApartFromStatic(scene, files);
@@ -764,8 +812,20 @@ UpAxis SceneUpAxis(const Scene& scene) {
   return {"z", "default for OBJ/STL/STEP data"};
 }
 
+std::string MeshFileHash(const Scene& scene, const fs::path& file) {
+  const auto read = scene.also_read.find(file);
+  if (read == scene.also_read.end() || read->second.empty()) return HashFile(file);
+  Hasher hasher;
+  hasher.Add(HashFile(file));
+  for (const fs::path& other : read->second) {
+    hasher.Add(other.lexically_relative(file.parent_path()).generic_string());
+    hasher.Add(HashFile(other));
+  }
+  return hasher.HexDigest();
+}
+
 std::string DynamicContentHash(const Scene& scene) {
-  const std::string file_hash = HashFile(scene.dynamic_file);
+  const std::string file_hash = MeshFileHash(scene, scene.dynamic_file);
   const MeshSource& source = scene.dynamic_source;
   if (source.file != scene.dynamic_file || (source.picks.empty() && source.scale == 1.0)) return file_hash;
   char scale[40];

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,6 +50,11 @@ struct MeshSource {
 // A goal that is a condition on where D ends instead of a pose (`goal:
 // {clearance: c}`, `goal: {region: {min, max}}` or both, schemas/scene.md
 // "Goals"); every part given must hold. planning/scene_goal.h tests it.
+// The narrowest goal region on any axis, relative to 1 + the region's
+// largest |coordinate| (scene units): what the planner can still resolve
+// (LoadScene refuses a narrower one).
+inline constexpr double kMinGoalRegionWidth = 1e-6;
+
 struct GoalCondition {
   double clearance = 0;        // > 0: the exact distance between D and S at least this (scene units)
   std::optional<Aabb> region;  // dynamic_origin's world position (t) inside this box, D not touching S
@@ -99,10 +105,23 @@ struct Scene {
   // so an installed interference no deeper is a fit whatever its shape
   // (FitRule::tessellation_depth). Absent: unknown.
   std::optional<double> tessellation_deflection_mm;
+  // Per mesh file of the scene (the resolved path, as in static_files and
+  // dynamic_file): the other files its importer read (MeshFile::also_read,
+  // a glTF's external buffers). Files that read none are absent.
+  std::map<std::filesystem::path, std::vector<std::filesystem::path>> also_read;
   // `up_axis`: the world axis that points up, for views (the report's 3D
   // view): "x", "y", "z", "-x", "-y" or "-z"; empty where the key is absent
   // (SceneUpAxis then picks it from the mesh files).
   std::string up_axis;
+  // The coarsest spacing of the stored coordinates of any mesh file the
+  // scene loads (scene units), with that file and the largest magnitude of
+  // its coordinates (the file's units). Every mesh passes through single
+  // precision on its way in (assimp's float, binary STL's float32): far from
+  // the origin its corners are rounded to this spacing before any check
+  // sees them (CheckStoredPrecision in planning/exact_check.h).
+  double stored_spacing = 0;
+  double stored_magnitude = 0;
+  std::filesystem::path stored_spacing_file;
 };
 
 // The up axis of a view of the scene and where it came from: `up_axis` where
@@ -143,5 +162,13 @@ std::string SceneYamlText(const Scene& scene, const std::filesystem::path& path)
 // assembly file never share a cached artifact (the medial spheres hash D
 // alone). A plain D keeps the plain file hash, as before /2.
 std::string DynamicContentHash(const Scene& scene);
+
+// The content hash of one mesh file of the scene, as every cache key and
+// made-from check records it: the file's bytes, and where its importer read
+// other files (Scene::also_read: a glTF's external .bin), those too (each
+// by its name relative to the mesh file's folder and its bytes), so that an
+// edited buffer is a changed input. A file that reads no other keeps its
+// plain HashFile, so caches of OBJ and STL scenes stay valid.
+std::string MeshFileHash(const Scene& scene, const std::filesystem::path& file);
 
 }  // namespace ausbau

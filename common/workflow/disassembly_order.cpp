@@ -89,7 +89,7 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   WritePathCsv(folder / "path.csv", written);
   attempt.waypoints = written.size();
 
-  const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene, nullptr);
   if (path.success && !path.waypoints.empty()) {
     // One waypoint: the part is already clear of the rest where it is;
     // judged as staying there, as ausbau-verdict does.

@@ -49,7 +49,7 @@ std::vector<SceneFinding> CheckInstalledPose(const Scene& scene, const Installed
   std::vector<SceneFinding> findings;
   if (scene.goal) return findings;  // a motion task: the start need not be installed
   const std::string& units = scene.units.empty() ? std::string("units") : scene.units;
-  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene, nullptr);
   const auto parts = ClassifySceneParts(scene, tolerance, UnmeasuredInterference::kRigid);
   using S = SceneFinding::Severity;
 

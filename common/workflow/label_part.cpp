@@ -39,7 +39,7 @@ LabelsArtifact LabelPart(const Scene& scene, const std::string& dynamic_hash, co
 
   if (options.rule != "pbd") {
     bool assumed = false;
-    const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, &assumed);
+    const double tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene, &assumed);
     const SolidLabels solids = LabelBySolids(scene, tolerance);
     if (solids.applies) {
       LogInfo("labels by solids: %s", solids.reason.c_str());

@@ -41,11 +41,11 @@ void CheckMadeFrom(const std::string& artifact, const std::string& schema, int s
     recorded = RecordedInputs(reader.ReadStringAttribute("", "inputs"));
   }
   // (role, file) pairs as AddSceneInputs names them.
-  std::vector<std::pair<std::string, std::string>> files = {{"dynamic", scene.dynamic_file.string()}};
+  std::vector<std::pair<std::string, std::filesystem::path>> files = {{"dynamic", scene.dynamic_file}};
   if (what == MadeFrom::kMeshes) {
     const std::size_t n = scene.static_files.size();
     for (std::size_t i = 0; i < n; ++i) {
-      files.emplace_back(n == 1 ? "static" : "static[" + std::to_string(i) + "]", scene.static_files[i].string());
+      files.emplace_back(n == 1 ? "static" : "static[" + std::to_string(i) + "]", scene.static_files[i]);
     }
   }
   for (const auto& [role, file] : files) {
@@ -53,10 +53,10 @@ void CheckMadeFrom(const std::string& artifact, const std::string& schema, int s
     if (it == recorded.end()) continue;
     // D picked by name or given units (format /2) is recorded by its
     // selection's hash, not the file's.
-    const std::string hash = role == "dynamic" ? DynamicContentHash(scene) : HashFile(file);
+    const std::string hash = role == "dynamic" ? DynamicContentHash(scene) : MeshFileHash(scene, file);
     if (it->second != hash) {
       throw InputErrorAt(artifact, "was made from another " + std::string(role == "dynamic" ? "D" : "S") +
-                                       " than this scene's " + file +
+                                       " than this scene's " + file.string() +
                                        " (content hash differs: an artifact of "
                                        "another part or scene?)");
     }

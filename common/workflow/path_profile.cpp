@@ -30,7 +30,7 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
 TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, ValidityMode validity,
                                 double rigid_tolerance_mm) {
   if (validity != ValidityMode::kRigidExact) return problem.robot;
-  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene, nullptr);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));
   return ClearanceRobot(problem, parts.get());

@@ -12,6 +12,7 @@
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"
+#include "geometry/shells.h"
 #include "inistate/inistate_planner.h"
 #include "inistate/tau_estimate.h"
 #include "planning/clearance.h"
@@ -217,6 +218,48 @@ void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
   LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(report.poses_checked));
 }
 
+// --validity collision: whether the path stays out of S by the exact check
+// too; where it does not, it is no path (the artifact says success = 0 and
+// keeps it as the partial path; exit 3). FCL intersects surfaces only, and
+// the planner and the dense re-check both look at poses a step of 1% of
+// D's diagonal apart: a part thinner than that step goes through a wall of
+// S thicker than itself unseen, since at every pose looked at it is either
+// clear of the wall or wholly inside it, where no surfaces cross (a plate
+// through a 3 mm wall: 1.5 mm deep in its middle, "dense re-check
+// passed"). The exact check measures depth, convex shell by shell, by
+// conservative advancement, as the verdict does. "Deep in S" means
+// something only where D and S are solids: on a soup of open surfaces (the
+// OMPL.app scenes) a shell has no inside, and the exact check measures
+// depths that are none (117 units on alpha-1.5, whose path is free), so it
+// runs where every shell of D and S is closed with a volume.
+bool AllSolid(const TriangleMesh& mesh) {
+  const std::vector<Shell> shells = SplitIntoShells(mesh);
+  return std::all_of(shells.begin(), shells.end(), [](const Shell& s) { return s.closed && s.volume > 0; });
+}
+
+bool ThroughS(const Scene& scene, const PlanSceneOptions& options, PathArtifact* artifact) {
+  if (!AllSolid(scene.dynamic_mesh) || !AllSolid(scene.static_mesh)) {
+    LogInfo("no exact re-check: D or S is not made of closed solids (a path inside S would not be seen)");
+    return true;
+  }
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const ExactCheckReport exact = ExactCheckPath(scene, artifact->waypoints, tolerance);
+  if (exact.valid) {
+    LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s",
+            static_cast<long long>(exact.poses_checked), exact.max_rigid_depth, scene.units.c_str());
+    return true;
+  }
+  LogError(
+      "the planned path passes the dense re-check but not the exact one: %s (FCL sees surfaces only, and a part "
+      "thinner than the check's step goes through a thicker wall unseen): no valid path (try a finer --resolution, "
+      "or --validity rigid-exact)",
+      exact.reason.c_str());
+  artifact->partial_waypoints = artifact->waypoints;
+  artifact->waypoints.clear();
+  artifact->success = false;
+  return false;
+}
+
 // Volume modes: sigma_1 under the volume validity out of the fasteners'
 // reach, sigma_2 rigid (thesis 5.4.4).
 PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene, const PlanningProblem& problem,
@@ -295,7 +338,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
 // says whether the level cropped S.
 PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene, int crop_level, double time_limit_s,
                              bool* cropped) {
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene, crop_level);
   *cropped = problem.crop != nullptr;
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
@@ -375,7 +418,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
 // is shared evenly among the levels that may be tried.
 PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
   bool assumed = false;
-  RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, &assumed);
+  RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, &assumed);
   if (assumed) {
     LogWarn("scene units '%s' unknown: --rigid-tolerance %.4g taken in scene units (as mm)", scene.units.c_str(),
             options.volume.rigid_tolerance_mm);
@@ -455,6 +498,10 @@ void PlanSceneOptions::Check() const {
 
 PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   options.Check();
+  // Every mode's path ends in the exact check at the rigid tolerance: a
+  // scene whose meshes single precision rounded coarser than that is
+  // refused before any work, whatever the validity (planning/exact_check.h).
+  CheckStoredPrecision(scene, RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr));
   // A hand-written scene whose start is far off S plans a task nobody meant (scene/scene_check.h).
   const std::string far_start = FarStartWarning(scene);
   if (!far_start.empty()) LogWarn("%s: %s", scene.file.string().c_str(), far_start.c_str());
@@ -502,7 +549,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // motion, through S (the L-channel family: 5 mm deep by the external
       // oracle). Split such segments as the rigid-exact mode does, to a tenth
       // of the rigid tolerance; the motion stays the one planned.
-      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr) / 10;
+      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr) / 10;
       artifact.waypoints =
           DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point, problem.dynamic_origin, deviation);
     }
@@ -527,6 +574,10 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   artifact.stats = stats;
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
   if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
+  if (solved && options.verify && options.validity == ValidityMode::kCollision &&
+      !ThroughS(scene, options, &artifact)) {
+    return planned;
+  }
   if (!solved) {
     LogError("no path within the budget%s", volume_mode                        ? ""
                                             : status == PlanStatus::kTimeLimit ? " (time limit)"
@@ -536,7 +587,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
 }
 
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
-  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));

@@ -70,7 +70,11 @@ struct PlannedPath {
 
 // Plans; logs what it does and, where no path is found, why. Throws
 // InputError for inputs that do not fit the scene, std::runtime_error when
-// a found path fails its independent re-check (a bug).
+// a found path fails its independent re-check (a bug). Under --validity
+// collision, where D and S are closed solids, a path that passes the dense
+// re-check but not the exact check (a thin part through a thicker wall of
+// S, which surface checks a step apart do not see) is no path: success = 0,
+// the path kept as the partial one.
 PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options);
 
 // The validity this scene needs: rigid-exact, unless a shell of D other

@@ -62,7 +62,7 @@ void SetLengths(const SmoothResult& result, PathArtifact* artifact) {
 // and checked exactly as written; the input is kept when that fails.
 SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
                               const std::string& input_file, const SmoothPlannedPathOptions& options) {
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr);
   const ExactCheckReport input_check = ExactCheckPath(scene, input.waypoints, tolerance);
   if (!input_check.valid) throw InputErrorAt(input_file, "the input path fails the exact check: " + input_check.reason);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
@@ -275,7 +275,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     // metres from that origin would otherwise sweep off the smoothed motion
     // on turning segments. The volume modes keep their rows (one per
     // planned pose, with per-row volumes); simplified there.
-    const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr) / 10;
+    const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr) / 10;
     out.artifact.waypoints = DensifyForPlainInterpolation(out.artifact.waypoints, problem.reference_point,
                                                           problem.dynamic_origin, deviation);
   }

@@ -204,7 +204,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
   // interference the exact check cannot measure is left to that model.
   const UnmeasuredInterference unmeasured =
       IsVolumeValidity(path.validity) ? UnmeasuredInterference::kFastener : UnmeasuredInterference::kRigid;
-  v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene.units, nullptr);
+  v.tolerance = RigidToleranceInSceneUnits(options.rigid_tolerance_mm, scene, nullptr);
   if (path.success && !path.waypoints.empty()) {
     std::vector<Pose> written = options.csv.empty() ? path.waypoints : ReadPathCsv(options.csv);
     // One waypoint: the planner found D already in its goal (by default

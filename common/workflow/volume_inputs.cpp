@@ -57,7 +57,7 @@ std::unique_ptr<VolumeModel> LoadVolumeModel(const Scene& scene, const PlanningP
   }
   auto model = std::make_unique<VolumeModel>(problem, scene.dynamic_mesh, std::move(voxels), deformability, mode);
   if (mode == ValidityMode::kLabeledMliv) {
-    model->GuardRigidParts(problem, RigidToleranceInSceneUnits(inputs.rigid_tolerance_mm, scene.units, nullptr),
+    model->GuardRigidParts(problem, RigidToleranceInSceneUnits(inputs.rigid_tolerance_mm, scene, nullptr),
                            SceneFitRule(scene));
   }
   return model;

@@ -71,7 +71,7 @@ int BuildDistanceFields(const DistfieldBuildOptions& stage_options) {
   const fs::path cache_dir = DefaultDistanceFieldCacheDir(scene.file);
   LogInfo("scene %s: S %zu triangles, D %zu triangles, resolution %d, cache %s", scene.name.c_str(),
           problem.environment.triangles.size(), problem.robot.triangles.size(), options.field.resolution,
-          cache_dir.string().c_str());
+          cache_dir.empty() ? "none" : cache_dir.string().c_str());
   const fs::path s = MakeDistanceFieldFile(problem.environment, options.field, cache_dir, static_target, options.force,
                                            "distance field of S", scene.units, "world");
   const fs::path d = MakeDistanceFieldFile(problem.robot, options.field, cache_dir, dynamic_target, options.force,

@@ -31,6 +31,9 @@ if [ $# -ne 2 ]; then
 fi
 if ! command -v snakemake >/dev/null 2>&1; then
   echo "snakemake_batch: snakemake not installed (scripts/install-deps.sh snakemake): skipped"
+  # CI (.ci/run) requires the Snakefile to be tested: there a missing
+  # snakemake is a failure, not a skip.
+  [ "${AUSBAU_REQUIRE_SNAKEMAKE:-0}" = 1 ] && { echo "snakemake_batch: AUSBAU_REQUIRE_SNAKEMAKE=1: failing" >&2; exit 1; }
   exit 77
 fi
 BIN=$(cd "$1" && pwd) || exit 2
