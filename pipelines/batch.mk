@@ -29,9 +29,10 @@ endif
 $(foreach name,$(NAMES),$(if $(and $(call safe_var,name),$(if $(findstring /,$(name)),,yes)),,\
   $(error SCENES=$(SCENES): a scene folder name has a space or characters that would reach a shell (near '$(name)'); use letters, digits and _.+@-)))
 
-# One mesh cache for every scene (inistate.mk): the parts of an assembly
-# share S's file, which is then parsed once, not once per part and stage.
-export AUSBAU_MESH_CACHE ?= $(OUT)/.mesh-cache
+# One cache for every scene (inistate.mk): the parts of an assembly share
+# S's file, which is then parsed once, not once per part and stage.
+export AUSBAU_CACHE_DIR ?= $(abspath $(OUT))/.ausbau-cache
+export AUSBAU_MESH_CACHE ?= $(AUSBAU_CACHE_DIR)
 
 .PHONY: all $(addprefix scene-,$(NAMES))
 .DEFAULT_GOAL := all
@@ -43,7 +44,7 @@ all: $(addprefix scene-,$(NAMES))
 # The scene's folder, its log and its exit file are written by the shell
 # (a redirection follows a link): a link there is refused, not followed.
 $(addprefix scene-,$(NAMES)): scene-%:
-	@$(call refuse_links,$(OUT)/$* $(OUT)/$*/pipeline.log $(OUT)/$*/pipeline.exit)
+	@$(call refuse_links,$(OUT)/$* $(OUT)/$*/pipeline.log $(OUT)/$*/pipeline.exit $(OUT)/.ausbau-cache)
 	@mkdir -p $(OUT)/$*
 	@echo "batch: $* ..."
 	@rc=0; $(MAKE) --no-print-directory -f $(BATCH_MK_DIR)inistate.mk SCENE=$(SCENES)/$*/scene.yaml OUT=$(OUT)/$* \

@@ -68,13 +68,6 @@ VERDICT ?= $(BIN)/ausbau-verdict
 REPORT ?= $(BIN)/ausbau-report
 TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 
-# Every stage of the run reads S's meshes; a mesh file of 1 MiB or more is
-# parsed once and kept, keyed by its bytes, in this folder (scene/mesh_io.h
-# MeshCacheDir): a car body of 1.2M triangles loads in a few tenths of a
-# second instead of seconds per stage. batch.mk points every scene of an
-# assembly at one folder, so S is parsed once per assembly.
-export AUSBAU_MESH_CACHE ?= $(OUT)/.mesh-cache
-
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
 TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
@@ -151,6 +144,12 @@ TIMES := $(OUT)/times
 # beside the scene (<scene folder>/.ausbau-cache): the pipeline writes inside
 # OUT only, so it goes there, unless the user chose one (a shared cache).
 export AUSBAU_CACHE_DIR ?= $(abspath $(OUT))/.ausbau-cache
+# Every stage of the run reads S's meshes; a mesh file of 1 MiB or more is
+# parsed once and kept there too, keyed by its bytes (scene/mesh_io.h
+# MeshCacheDir): a car body of 1.2M triangles loads in a few tenths of a
+# second instead of seconds per stage. batch.mk and the Snakefile point every
+# scene of an assembly at one folder, so S is parsed once per assembly.
+export AUSBAU_MESH_CACHE ?= $(AUSBAU_CACHE_DIR)
 VOLUME_MODE := $(filter-out collision rigid-exact,$(VALIDITY))
 # rigid-exact (docs/rigid-exact.md): exact shell depths, no voxels,
 # labels, tau or distance fields.

@@ -48,8 +48,8 @@ shell_triangles=$(grep -c '^f ' "$OUT/vehicle/shell.obj")
 # for an assembly): the shell is parsed by the first part's first stage and
 # read from the cache by every other. Emptied first, so that the total
 # includes that one parse.
-rm -rf "$OUT/mesh-cache"
-export AUSBAU_MESH_CACHE="$OUT/mesh-cache"
+rm -rf "$OUT/cache"
+export AUSBAU_CACHE_DIR="$OUT/cache" AUSBAU_MESH_CACHE="$OUT/cache"
 
 rows=""
 removable=0 blocked=0 wrong=0 over=0 n=0 total_s=0 max_kb=0

@@ -3,6 +3,8 @@
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -53,10 +55,25 @@ double ExactDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3
   return depth;
 }
 
+// The triangles of `mesh` whose bounding boxes come within `reach` of `box`:
+// the only ones that can cross D (in `box`) or lie within `reach` of it.
+TriangleMesh NearTriangles(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, double reach) {
+  Eigen::AlignedBox3d grown = box;
+  grown.min().array() -= reach;
+  grown.max().array() += reach;
+  return mesh.KeepTriangles([&](std::size_t t) {
+    Eigen::AlignedBox3d triangle;
+    for (int k = 0; k < 3; ++k) triangle.extend(mesh.vertices[mesh.triangles[t][k]]);
+    return grown.intersects(triangle);
+  });
+}
+
+// `measured`: the triangles of `part_mesh` that FCL is given (all of them,
+// or those near D: NearTriangles).
 PartContact Measure(const FclModel& robot, const std::vector<Shell>& robot_shells, const fcl::Transform3d& tf,
-                    const TriangleMesh& part_mesh) {
+                    const TriangleMesh& measured, const TriangleMesh& part_mesh) {
   PartContact contact;
-  const std::shared_ptr<FclModel> part = BuildFclModel(part_mesh);
+  const std::shared_ptr<FclModel> part = BuildFclModel(measured);
   fcl::CollisionRequestd request(1000, true);  // every crossing pair (up to 1000), with depths
   fcl::CollisionResultd result;
   fcl::collide(&robot, tf, part.get(), fcl::Transform3d::Identity(), request, result);
@@ -98,9 +115,26 @@ std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Po
   tf.translation() = pose.t;
   const std::vector<TriangleMesh> parts = SplitParts(environment, part_of_triangle);
   const std::vector<Shell> robot_shells = SplitIntoShells(robot);
+  Eigen::AlignedBox3d robot_box;
+  for (const Eigen::Vector3d& v : robot.vertices) robot_box.extend(pose.q * v + pose.t);
   for (std::size_t p = 0; p < parts.size(); ++p) {
     if (parts[p].triangles.empty()) continue;
-    PartContact contact = Measure(*robot_model, robot_shells, tf, parts[p]);
+    // A car body of a million triangles would cost seconds and most of a
+    // gigabyte as one FCL model: its triangles near D give the same answer.
+    // Far triangles (box distance > reach) can neither cross D nor come
+    // within reach, so a part that crosses D or lies within reach is
+    // measured exactly from its near triangles; any other part, which only
+    // counts as the nearest where none is within reach, from all of them.
+    // (The depth where shells are convex is always taken over the whole
+    // part: its shells are split from it.)
+    const TriangleMesh near = NearTriangles(parts[p], robot_box, reach);
+    PartContact contact;
+    if (near.triangles.size() < parts[p].triangles.size() && !near.triangles.empty()) {
+      contact = Measure(*robot_model, robot_shells, tf, near, parts[p]);
+      if (!contact.intersects && contact.distance > reach) contact = Measure(*robot_model, robot_shells, tf, parts[p], parts[p]);
+    } else {
+      contact = Measure(*robot_model, robot_shells, tf, parts[p], parts[p]);
+    }
     contact.part = static_cast<int>(p);
     contact.name = p < names.size() ? names[p] : "part " + std::to_string(p);
     all.push_back(contact);

@@ -59,8 +59,9 @@ struct MeshFile {
 // that is a few hundredths of a second instead of seconds of assimp.
 MeshFile LoadMeshFile(const std::filesystem::path& path);
 
-// The mesh cache's folder: $AUSBAU_MESH_CACHE, set by the pipelines to a
-// folder inside OUT shared by every part of an assembly (pipelines/batch.mk);
+// The mesh cache's folder: $AUSBAU_MESH_CACHE, which the pipelines set to
+// their cache inside OUT (OUT/.ausbau-cache, beside the distance fields),
+// one for every part of an assembly (pipelines/batch.mk, the Snakefile);
 // files under 1 MiB are not cached (they parse faster than an entry is read);
 // empty (no cache) when unset, so a stage run by hand writes nothing beside
 // its outputs.
