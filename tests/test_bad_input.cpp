@@ -46,10 +46,7 @@ using Outcome = testing::CommandOutcome;  // stdout and stderr together
 
 // Runs `command` with bash in `dir`, the stages first on PATH.
 Outcome Shell(const fs::path& dir, const std::string& command, int timeout_s = kCaseTimeoutSeconds) {
-  const std::string script = "cd '" + dir.string() + "' && PATH='" + testing::BinDir().string() + "':\"$PATH\" " +
-                             "timeout -s KILL " + std::to_string(timeout_s) + " bash -c '" +
-                             std::regex_replace(command, std::regex("'"), "'\\''") + "' 2>&1";
-  return testing::RunShellCommand(script);
+  return testing::RunInDir(dir, command, timeout_s);
 }
 
 std::string Read(const fs::path& path) { return testing::ReadTextFile(path); }

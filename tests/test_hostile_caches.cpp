@@ -28,10 +28,7 @@ using Outcome = testing::CommandOutcome;
 // Runs `command` with bash in `dir`, the stages first on PATH, stderr into
 // the output; a hang is killed after `timeout_s`.
 Outcome Shell(const fs::path& dir, const std::string& command, int timeout_s = 60) {
-  const std::string script = "cd '" + dir.string() + "' && PATH='" + testing::BinDir().string() + "':\"$PATH\" " +
-                             "timeout -s KILL " + std::to_string(timeout_s) + " bash -c '" +
-                             std::regex_replace(command, std::regex("'"), "'\\''") + "' 2>&1";
-  return testing::RunShellCommand(script);
+  return testing::RunInDir(dir, command, timeout_s);
 }
 
 bool Has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }

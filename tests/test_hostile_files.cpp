@@ -34,14 +34,10 @@ using Outcome = testing::CommandOutcome;
 // Runs `command` with bash in `dir` (stdout and stderr together), the stages
 // first on PATH, killed after `timeout_s` (a hang fails the test, not the suite).
 Outcome Shell(const fs::path& dir, const std::string& command, int timeout_s = 120) {
-  const std::string script = "cd '" + dir.string() + "' && PATH='" + testing::BinDir().string() + "':\"$PATH\" " +
-                             "timeout -s KILL " + std::to_string(timeout_s) + " bash -c '" +
-                             std::regex_replace(command, std::regex("'"), "'\\''") + "' 2>&1";
-  return testing::RunShellCommand(script);
+  return testing::RunInDir(dir, command, timeout_s);
 }
 
-// A word for bash, whatever it holds.
-std::string Quote(const std::string& text) { return "'" + std::regex_replace(text, std::regex("'"), "'\\''") + "'"; }
+std::string Quote(const std::string& text) { return testing::ShellQuote(text); }
 
 void Write(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
 

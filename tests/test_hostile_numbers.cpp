@@ -31,10 +31,7 @@ using Outcome = testing::CommandOutcome;  // stdout and stderr together
 // Runs `command` with bash in `dir`, the stages first on PATH, killed after
 // `timeout_s` (exit 137).
 Outcome Shell(const fs::path& dir, const std::string& command, int timeout_s) {
-  const std::string script = "cd '" + dir.string() + "' && PATH='" + testing::BinDir().string() + "':\"$PATH\" " +
-                             "timeout -s KILL " + std::to_string(timeout_s) + " bash -c '" +
-                             std::regex_replace(command, std::regex("'"), "'\\''") + "' 2>&1";
-  return testing::RunShellCommand(script);
+  return testing::RunInDir(dir, command, timeout_s);
 }
 
 void Write(const fs::path& path, const std::string& text) {

@@ -169,6 +169,18 @@ CommandOutcome RunShellCommand(const std::string& command) {
   return outcome;
 }
 
+std::string ShellQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+CommandOutcome RunInDir(const std::filesystem::path& dir, const std::string& command, int timeout_s) {
+  return RunShellCommand("cd " + ShellQuote(dir.string()) + " && PATH=" + ShellQuote(BinDir().string()) +
+                         ":\"$PATH\" timeout -s KILL " + std::to_string(timeout_s) + " bash -c " +
+                         ShellQuote(command) + " 2>&1");
+}
+
 std::string ReadTextFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::stringstream text;

@@ -62,6 +62,12 @@ struct CommandOutcome {
 // Runs a shell command line; its stdout (and what it redirects there) and
 // exit status (-1 when it did not exit normally).
 CommandOutcome RunShellCommand(const std::string& command);
+// A word for bash, whatever it holds ('...', with ' written '\'').
+std::string ShellQuote(const std::string& text);
+// Runs `command` with bash in `dir`, the stages first on PATH, stdout and
+// stderr together; killed after `timeout_s` (exit 137: a hang fails the
+// test, not the suite).
+CommandOutcome RunInDir(const std::filesystem::path& dir, const std::string& command, int timeout_s);
 // Runs `ausbau-<stage> <arguments>` from BinDir(), with `environment`
 // ("NAME=value ...", may be empty) in front.
 CommandOutcome RunStageCommand(const std::string& stage, const std::string& arguments,

@@ -4,7 +4,6 @@
 #include <fcl/narrowphase/distance.h>
 
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 
@@ -55,21 +54,8 @@ double ExactDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3
   return depth;
 }
 
-// The triangles of `mesh` whose bounding boxes come within `reach` of `box`:
-// the only ones that can cross D (in `box`) or lie within `reach` of it.
-TriangleMesh NearTriangles(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, double reach) {
-  Eigen::AlignedBox3d grown = box;
-  grown.min().array() -= reach;
-  grown.max().array() += reach;
-  return mesh.KeepTriangles([&](std::size_t t) {
-    Eigen::AlignedBox3d triangle;
-    for (int k = 0; k < 3; ++k) triangle.extend(mesh.vertices[mesh.triangles[t][k]]);
-    return grown.intersects(triangle);
-  });
-}
-
 // `measured`: the triangles of `part_mesh` that FCL is given (all of them,
-// or those near D: NearTriangles).
+// or those near D: CropMesh).
 PartContact Measure(const FclModel& robot, const std::vector<Shell>& robot_shells, const fcl::Transform3d& tf,
                     const TriangleMesh& measured, const TriangleMesh& part_mesh) {
   PartContact contact;
@@ -115,8 +101,12 @@ std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Po
   tf.translation() = pose.t;
   const std::vector<TriangleMesh> parts = SplitParts(environment, part_of_triangle);
   const std::vector<Shell> robot_shells = SplitIntoShells(robot);
-  Eigen::AlignedBox3d robot_box;
-  for (const Eigen::Vector3d& v : robot.vertices) robot_box.extend(pose.q * v + pose.t);
+  // D's box grown by the reach: a triangle whose box misses it lies farther
+  // than `reach` from D.
+  Aabb near_box;
+  for (const Eigen::Vector3d& v : robot.vertices) near_box.Extend(pose.q * v + pose.t);
+  near_box.min.array() -= reach;
+  near_box.max.array() += reach;
   for (std::size_t p = 0; p < parts.size(); ++p) {
     if (parts[p].triangles.empty()) continue;
     // A car body of a million triangles would cost seconds and most of a
@@ -127,7 +117,7 @@ std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Po
     // counts as the nearest where none is within reach, from all of them.
     // (The depth where shells are convex is always taken over the whole
     // part: its shells are split from it.)
-    const TriangleMesh near = NearTriangles(parts[p], robot_box, reach);
+    const TriangleMesh near = CropMesh(parts[p], near_box);
     PartContact contact;
     if (near.triangles.size() < parts[p].triangles.size() && !near.triangles.empty()) {
       contact = Measure(*robot_model, robot_shells, tf, near, parts[p]);

@@ -76,4 +76,19 @@ struct TriangleMesh {
   }
 };
 
+// The triangles of `mesh` whose AABB overlaps `box` (touching counts), in
+// their order, vertices re-indexed to those used; with `triangle_boxes`,
+// each kept triangle's AABB appended to it. What S is cropped to around D
+// (planning/reach_crop.h) and what the contacts are measured on
+// (collision/part_contacts.h).
+inline TriangleMesh CropMesh(const TriangleMesh& mesh, const Aabb& box, std::vector<Aabb>* triangle_boxes = nullptr) {
+  return mesh.KeepTriangles([&](std::size_t t) {
+    Aabb triangle;
+    for (int i : mesh.triangles[t]) triangle.Extend(mesh.vertices[i]);
+    if (triangle.SeparatedFrom(box)) return false;
+    if (triangle_boxes) triangle_boxes->push_back(triangle);
+    return true;
+  });
+}
+
 }  // namespace ausbau

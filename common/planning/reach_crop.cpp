@@ -20,27 +20,12 @@ bool ContainsBox(const Aabb& outer, const Aabb& inner) {
   return (inner.min.array() >= outer.min.array()).all() && (inner.max.array() <= outer.max.array()).all();
 }
 
-Aabb TriangleBox(const TriangleMesh& mesh, const std::array<int, 3>& t) {
-  Aabb box;
-  for (int i : t) box.Extend(mesh.vertices[i]);
-  return box;
-}
-
 }  // namespace
 
 Aabb InstalledBox(const Scene& scene) {
   Aabb box;
   for (const auto& v : scene.dynamic_mesh.vertices) box.Extend(scene.start.Apply(v - scene.dynamic_origin));
   return box;
-}
-
-TriangleMesh CropMesh(const TriangleMesh& mesh, const Aabb& box, std::vector<Aabb>* triangle_boxes) {
-  return mesh.KeepTriangles([&](std::size_t t) {
-    const Aabb tbox = TriangleBox(mesh, mesh.triangles[t]);
-    if (!Overlap(tbox, box)) return false;
-    if (triangle_boxes) triangle_boxes->push_back(tbox);
-    return true;
-  });
 }
 
 std::optional<ReachCrop> ChooseReachCrop(const Scene& scene, int level) {

@@ -71,8 +71,4 @@ Aabb InstalledBox(const Scene& scene);
 // not cropped, or when the box at this level holds S's whole AABB.
 std::optional<ReachCrop> ChooseReachCrop(const Scene& scene, int level);
 
-// Triangles of `mesh` whose AABB overlaps `box` (order kept, vertices
-// re-indexed to those used).
-TriangleMesh CropMesh(const TriangleMesh& mesh, const Aabb& box, std::vector<Aabb>* triangle_boxes = nullptr);
-
 }  // namespace ausbau

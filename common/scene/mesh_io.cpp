@@ -30,6 +30,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -637,7 +638,7 @@ std::string MeshFileBytes(const MeshFile& file) {
 
 class MeshFileBytesReader {
  public:
-  explicit MeshFileBytesReader(const std::string& bytes) : bytes_(bytes) {}
+  explicit MeshFileBytesReader(std::string_view bytes) : bytes_(bytes) {}
 
   MeshFile Read() {
     MeshFile file;
@@ -689,7 +690,7 @@ class MeshFileBytesReader {
     Take(items.data(), items.size() * sizeof(T));
   }
 
-  const std::string& bytes_;
+  std::string_view bytes_;
   std::size_t pos_ = 0;
 };
 
@@ -773,7 +774,7 @@ std::optional<MeshFile> ReadMeshCacheEntry(const fs::path& entry, const std::str
   const std::string_view payload = std::string_view(bytes).substr(header);
   if (bytes.compare(magic.size() + 33, 32, HashString(payload)) != 0) return damaged();
   try {
-    return MeshFileBytesReader(std::string(payload)).Read();
+    return MeshFileBytesReader(payload).Read();
   } catch (const std::runtime_error&) {
     return damaged();
   }
