@@ -136,12 +136,19 @@ SNAKEMAKE_ARGS ?=
 SNAKEMAKE_OUT = $(or $(OUT),out/snakemake)
 SNAKEMAKE_VARS := SEED TIME_LIMIT TAU_TIME_LIMIT VALIDITY RIGID_TOLERANCE PLANNER COLLISION THREADS BUDGET WITH_REPORT \
   VOXELIZE_FLAGS SPHERES_FLAGS LABEL_FLAGS DISTFIELD_FLAGS TAU_FLAGS PLAN_FLAGS SMOOTH_FLAGS VERDICT_FLAGS REPORT_FLAGS
+# Snakemake runs in OUT (--directory), so its .snakemake/ state and the Slurm
+# logs stay in OUT, never in the checkout; the paths it is given are made
+# absolute from here first (a string join: abspath would split a name with
+# a space into two paths).
+from_here = $(if $(filter /%,$(1)),$(1),$(CURDIR)/$(1))
 .PHONY: snakemake
 snakemake: build
 	@test -n $(call quote,$(SCENES)) || { echo "make snakemake: SCENES=folder (with */scene.yaml) is required" >&2; exit 2; }
 	@command -v snakemake > /dev/null || { echo "make snakemake: snakemake is not installed (scripts/install-deps.sh snakemake)" >&2; exit 2; }
-	@snakemake -s pipelines/Snakefile $(if $(PROFILE),--profile $(call quote,$(PROFILE)),--cores $(call quote,$(CORES))) $(SNAKEMAKE_ARGS) \
-	  --config $(call quote,SCENES=$(SCENES)) $(call quote,OUT=$(SNAKEMAKE_OUT)) $(call quote,BIN=$(abspath $(BUILD)/bin)) \
+	@snakemake -s $(call quote,$(CURDIR)/pipelines/Snakefile) --directory $(call quote,$(call from_here,$(SNAKEMAKE_OUT))) \
+	  $(if $(PROFILE),--profile $(call quote,$(call from_here,$(PROFILE))),--cores $(call quote,$(CORES))) $(SNAKEMAKE_ARGS) \
+	  --config $(call quote,SCENES=$(call from_here,$(SCENES))) $(call quote,OUT=$(call from_here,$(SNAKEMAKE_OUT))) \
+	  $(call quote,BIN=$(abspath $(BUILD)/bin)) \
 	  $(foreach v,$(SNAKEMAKE_VARS),$(if $(filter command line,$(origin $(v))),$(call quote,$(v)=$($(v)))))
 	@if [ -f $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt) ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt); then \
 	  printf 'make snakemake: not every scene is removable (%s/verdicts.txt)\n' $(call quote,$(SNAKEMAKE_OUT)) >&2; exit 1; fi

@@ -93,6 +93,9 @@ TEST(HostileNames, ShellCodeInATopMakefileVariableNeverRuns) {
   const testing::ScopedTempDir dir("names-top");
   fs::create_directories(dir / "scenes/good");
   const testing::OutsideOut outside(dir.path(), dir / "out");
+  // Snakemake keeps its records (.snakemake/) in the folder it runs in:
+  // make snakemake runs it in OUT, never in the checkout.
+  const bool records_in_checkout = fs::exists(testing::SourceDir() / ".snakemake");
   for (const std::string target : {"batch", "step", "snakemake", "run"}) {
     const std::string variable = target == "step" ? "STEP" : target == "run" ? "SCENE" : "SCENES";
     const Outcome outcome =
@@ -117,6 +120,7 @@ TEST(HostileNames, ShellCodeInATopMakefileVariableNeverRuns) {
         << target << ":\n" << spaced.output;
   }
   EXPECT_EQ(outside.Changes(), "");
+  EXPECT_EQ(fs::exists(testing::SourceDir() / ".snakemake"), records_in_checkout);
 }
 
 // A scene folder named like a command (from a data set or a CAD export):

@@ -520,5 +520,48 @@ TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
   EXPECT_NE(report.summary.find("5 of 6 straight pulls"), std::string::npos) << report.summary;
 }
 
+TEST(WhatBlocks, ALongSlideInContactIsCutAtItsStepsNotCalledBlocked) {
+  // A bar 2 x 2 x 400 in a channel as long as it whose walls it overlaps
+  // by 0.03 (within the 0.05 tolerance), a floor 0.3 under it. Pulled up,
+  // it slides in contact by its slack (0.02) per step: after kMaxPullSteps
+  // it has moved 41 of its 400, neither out nor blocked. Sideways along the
+  // walls (y) it comes out after 6; across them (x) and down it is blocked.
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 400});
+  TriangleMesh s = MakeBox({0.97, -5, 0}, {5, 5, 400});
+  s.Append(MakeBox({-5, -5, 0}, {-0.97, 5, 400}));
+  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  scene.static_mesh = s;
+  const double tolerance = 0.05;
+  const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
+  ASSERT_EQ(report.probes.size(), 6u);
+  ASSERT_TRUE(report.parts->rigid_interference.empty());
+  int unfinished = 0, out = 0, blocked = 0;
+  for (const BlockingProbe& p : report.probes) {
+    const Eigen::Vector3d along = p.direction.cwiseAbs();
+    if (p.direction.z() > 0.99) {
+      EXPECT_TRUE(p.unfinished);
+      EXPECT_FALSE(p.separated);
+      EXPECT_EQ(p.steps, kMaxPullSteps);
+      EXPECT_NEAR(p.free_distance, (kMaxPullSteps - 1) * 0.02, 0.02);
+    } else if (along.y() > 0.99) {
+      EXPECT_TRUE(p.separated) << p.direction.transpose();
+      EXPECT_LE(p.steps, 301);  // 6 at 0.02 a step, in contact all the way
+    } else {
+      EXPECT_FALSE(p.separated || p.unfinished) << p.direction.transpose();
+      EXPECT_LT(p.free_distance, 0.3 + 2 * tolerance) << p.direction.transpose();
+    }
+    unfinished += p.unfinished;
+    out += p.separated;
+    blocked += !p.separated && !p.unfinished;
+  }
+  EXPECT_EQ(unfinished, 1);
+  EXPECT_EQ(out, 2);
+  EXPECT_EQ(blocked, 3);
+  EXPECT_NE(report.summary.find("3 of 6 straight pulls"), std::string::npos) << report.summary;
+  EXPECT_NE(report.summary.find("1 pull unfinished after 2048 steps"), std::string::npos) << report.summary;
+}
+
 }  // namespace
 }  // namespace ausbau

@@ -233,6 +233,11 @@ class RigidDepthChecker : public SlackValidity {
   ~RigidDepthChecker() override;
 
   DepthReport Measure(const Pose& pose) const;
+  // What a motion check asks, cheaper than Measure: the slack (to a step's
+  // precision) and, once one pair is deeper than it may be, that pair with
+  // a lower bound on its depth, the others not measured. Fasteners are not
+  // reported.
+  DepthReport MeasureUntilTooDeep(const Pose& pose) const { return MeasurePairs(pose, false); }
   double MinStep() const override { return min_step_; }
   bool ProvesTranslations() const override { return true; }
   double limit() const { return limit_; }

@@ -7,6 +7,7 @@
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "core/log.h"
 #include "geometry/principal_axes.h"
 #include "planning/reach_crop.h"
 #include "planning/scene_goal.h"
@@ -101,19 +102,33 @@ std::string DepthInWords(double depth, const std::string& units) {
 // bisected between the last free pose and that one, so that the distance
 // does not depend on where the steps fell) or D's box clears S's.
 // With a crop (planning/reach_crop.h), "clears" means the crop's goal, and
-// the pull stops unfinished where D would leave the crop's box.
+// the pull stops unfinished where D would leave the crop's box. `measure_depth`:
+// the depth that stopped it measured for the report (else a lower bound).
 BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const RigidDepthChecker& checker,
                    const Aabb& robot_box, const Aabb& static_box, const ReachCrop* crop, double tolerance, double reach,
-                   double largest_step) {
+                   double largest_step, bool measure_depth) {
   BlockingProbe probe;
   probe.direction = direction;
-  const auto at = [&](double distance) {
+  const auto pose_at = [&](double distance) {
     Pose pose = start;
     pose.t += distance * direction;
-    return checker.Measure(pose);
+    return pose;
+  };
+  // The steps and the bisection ask the motion check's question (is a rigid
+  // shell deeper than the tolerance, and the slack): a non-convex pair then
+  // stops its search once that is decided. Measuring every pose's depth to
+  // its digits cost seconds per pose on a large tessellated plate. Where a
+  // limited fastener answered first (the rigid shells then unmeasured),
+  // the pose is measured in full.
+  const auto at = [&](double distance) {
+    ThrowIfCancelled();
+    ++probe.steps;
+    DepthReport depth = checker.MeasureUntilTooDeep(pose_at(distance));
+    if (depth.slack < 0 && !(depth.rigid_depth > tolerance)) depth = checker.Measure(pose_at(distance));
+    return depth;
   };
   double s = 0;
-  for (int step = 0; step < 1000000 && s <= reach; ++step) {
+  for (int step = 0; step < kMaxPullSteps && s <= reach; ++step) {
     DepthReport depth = at(s);
     if (depth.rigid_depth > tolerance) {
       double free = probe.free_distance, stuck = s;
@@ -128,6 +143,8 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
         }
       }
       probe.free_distance = free;
+      // The report's number: measured once, where the pull stopped.
+      if (measure_depth) depth = checker.Measure(pose_at(stuck));
       probe.depth = depth.rigid_depth;
       probe.rigid_shell = depth.rigid_shell;
       probe.static_shell = depth.rigid_static_shell;
@@ -141,9 +158,10 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
       probe.separated = true;
       return probe;
     }
-    if (crop && !(crop->box.Contains(moved.min) && crop->box.Contains(moved.max))) return probe;
+    if (crop && !(crop->box.Contains(moved.min) && crop->box.Contains(moved.max))) break;
     s += std::min(largest_step, std::max(depth.slack, tolerance / 10));
   }
+  probe.unfinished = true;
   return probe;
 }
 
@@ -175,7 +193,13 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
     for (double sign : {1.0, -1.0}) {
       if (until_out && !report.probes.empty() && report.probes.back().separated) break;
       report.probes.push_back(Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box,
-                                   crop ? &*crop : nullptr, tolerance, reach, largest_step));
+                                   crop ? &*crop : nullptr, tolerance, reach, largest_step, !until_out));
+      const BlockingProbe& p = report.probes.back();
+      if (!until_out) {
+        LogInfo("what blocks: pull %zu of 6 %s after %s (%d depth measurements)", report.probes.size(),
+                p.separated ? "gets D out" : p.unfinished ? "unfinished" : "blocked",
+                LengthInWords(p.free_distance, scene.units).c_str(), p.steps);
+      }
     }
   }
   for (std::size_t i = 0; i < report.probes.size(); ++i) {
@@ -185,8 +209,15 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
       report.farthest = static_cast<int>(i);
     }
   }
-  int blocked = 0;
-  for (const auto& p : report.probes) blocked += !p.separated;
+  int blocked = 0, unfinished = 0;
+  for (const auto& p : report.probes) {
+    blocked += !p.separated && !p.unfinished;
+    unfinished += p.unfinished;
+  }
+  const std::string unfinished_note =
+      unfinished == 0 ? ""
+                      : Fmt(" (%d pull%s unfinished after %d steps: sliding in contact)", unfinished,
+                            unfinished == 1 ? "" : "s", kMaxPullSteps);
   if (!report.parts->rigid_interference.empty()) {
     report.summary = "rigid " + report.parts->Describe(report.parts->rigid_interference.front(), true) +
                      " already penetrates S at the installed pose";
@@ -197,7 +228,12 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
             "[%.3f, %.3f, %.3f], after %s of free travel: rigid %s of D against %s of S, %s",
             blocked, report.probes.size(), p.direction.x(), p.direction.y(), p.direction.z(),
             LengthInWords(p.free_distance, scene.units).c_str(), report.parts->Describe(p.rigid_shell, true).c_str(),
-            report.parts->Describe(p.static_shell, false).c_str(), DepthInWords(p.depth, scene.units).c_str());
+            report.parts->Describe(p.static_shell, false).c_str(), DepthInWords(p.depth, scene.units).c_str()) +
+        unfinished_note;
+  } else if (unfinished > 0) {
+    report.summary = Fmt("no straight pull along D's principal axes is blocked, %d of %zu get D out", 
+                         static_cast<int>(report.probes.size()) - unfinished, report.probes.size()) +
+                     unfinished_note;
   } else {
     report.summary =
         "every straight pull along D's principal axes gets D out; what holds it is a fastener or a "

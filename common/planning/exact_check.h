@@ -104,9 +104,21 @@ struct BlockingProbe {
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // world, unit
   double free_distance = 0;                             // how far D moved within the tolerance (scene units)
   bool separated = false;                               // the pull got D's AABB clear of S's
-  double depth = 0;                                     // the rigid penetration that stopped it
+  // Neither: the pull used its kMaxPullSteps (sliding in contact, where a
+  // conservative step is a tenth of the tolerance) or left the crop's box.
+  bool unfinished = false;
+  int steps = 0;    // depth measurements made (the work it cost)
+  double depth = 0;  // the rigid penetration that stopped it
   int rigid_shell = -1, static_shell = -1;
 };
+// The work one pull may do: a count, so the report is the same under any
+// load. A pull that slides in contact (a bolt in its bore, coincident
+// tessellated faces) may advance by only a tenth of the tolerance per step
+// (0.005 mm at the default): unbounded, such a pull measured for minutes.
+// 2,048 steps carry D at least 200 tolerances (10 mm at the default), and
+// the whole reach where nothing is within the tolerance (steps of 5% of D's
+// diagonal, which pass S's box in about 20 + 20 x S's size / D's).
+inline constexpr int kMaxPullSteps = 2048;
 struct BlockingReport {
   std::vector<BlockingProbe> probes;  // +axis 0, -axis 0, +axis 1, ... (largest spread first)
   int farthest = -1;                  // the blocked probe that got farthest (-1: none blocked)

@@ -337,15 +337,17 @@ void AddWhatBlocks(const Verdict& v, JsonWriter& json) {
     std::string probes = "[";
     for (const BlockingProbe& p : blocking->probes) {
       const auto& parts = *blocking->parts;
+      const bool blocked = !p.separated && !p.unfinished && p.rigid_shell >= 0;
       probes += std::string(probes.size() > 1 ? ", " : "") +
                 JsonWriter()
                     .Add("direction", "[" + JsonNumber(p.direction.x()) + ", " + JsonNumber(p.direction.y()) + ", " +
                                           JsonNumber(p.direction.z()) + "]")
                     .Number("free_distance", p.free_distance)
                     .Bool("gets_out", p.separated)
-                    .Number("depth", p.separated ? std::nan("") : p.depth)
-                    .String("rigid_part", p.separated ? "" : parts.Describe(p.rigid_shell, true))
-                    .String("static_part", p.separated ? "" : parts.Describe(p.static_shell, false))
+                    .Bool("unfinished", p.unfinished)
+                    .Number("depth", blocked ? p.depth : std::nan(""))
+                    .String("rigid_part", blocked ? parts.Describe(p.rigid_shell, true) : "")
+                    .String("static_part", blocked ? parts.Describe(p.static_shell, false) : "")
                     .Text();
     }
     probes += "]";
