@@ -63,7 +63,9 @@ build: configure
 # pin), then path.csv checked by an independent checker where there is one:
 # the external set's oracle.py (boxes.json scenes) or, for the clips-ds*
 # scenes (DEMO_SCENE=scenes/clips-ds1/scene.yaml: VALIDITY=auto picks labeled-mliv), the
-# generator's ground truth.
+# generator's ground truth. A link at OUT/oracle.json is refused (as the
+# pipeline refuses links at its own paths), and the file is written with
+# noclobber, so its target is never written.
 demo: build
 	@$(MAKE) --no-print-directory -f pipelines/inistate.mk $(call quote,SCENE=$(DEMO_SCENE)) $(call quote,OUT=$(DEMO_OUT)) \
 	  $(call quote,BIN=$(BUILD)/bin) $(call quote,SEED=$(SEED))
@@ -71,7 +73,10 @@ demo: build
 	  printf 'demo: against the ground truth: '; $(call quote,$(BUILD)/bin/ausbau-check-path) --scene $(call quote,$(DEMO_SCENE)) \
 	    --ground-truth $(call quote,$(dir $(DEMO_SCENE))ground_truth.yaml) --path $(call quote,$(DEMO_OUT)/path-smooth.h5) 2>/dev/null; fi
 	@if [ -f $(call quote,$(dir $(DEMO_SCENE))boxes.json) ] && [ -f $(call quote,$(ORACLE)) ] && /usr/bin/python3 -c 'import numpy' 2>/dev/null; then \
-	  if /usr/bin/python3 $(call quote,$(ORACLE)) $(call quote,$(dir $(DEMO_SCENE))) $(call quote,$(DEMO_OUT)/path.csv) > $(call quote,$(DEMO_OUT)/oracle.json); then \
+	  if [ -L $(call quote,$(DEMO_OUT)/oracle.json) ]; then \
+	    printf 'demo: %s/oracle.json is a symbolic link; the demo writes only its own files inside OUT\n' $(call quote,$(DEMO_OUT)) >&2; exit 2; fi; \
+	  rm -f $(call quote,$(DEMO_OUT)/oracle.json); \
+	  if (set -C; /usr/bin/python3 $(call quote,$(ORACLE)) $(call quote,$(dir $(DEMO_SCENE))) $(call quote,$(DEMO_OUT)/path.csv) > $(call quote,$(DEMO_OUT)/oracle.json)); then \
 	    printf 'demo: %s: path.csv valid\n' $(call quote,$(ORACLE)); \
 	  else printf 'demo: %s: path.csv INVALID (%s/oracle.json)\n' $(call quote,$(ORACLE)) $(call quote,$(DEMO_OUT)); exit 1; fi; fi
 	@printf 'demo: verdict %s/verdict.json (printed above); path %s/path.csv (smoothed, x,y,z,qw,qx,qy,qz)\n' \

@@ -245,6 +245,27 @@ TEST(HostileLinks, OwnPathsUnderOutThatAreLinksAreRefused) {
   }
 }
 
+// make demo writes the oracle's answer, oracle.json, by shell redirection:
+// a link there is refused, its target never written.
+TEST(HostileLinks, DemoRefusesALinkedOracleAnswer) {
+  const fs::path oracle = testing::SourceDir() / "../shared/benchmarks/inistate-external/oracle.py";
+  if (!fs::exists(oracle) || std::system("/usr/bin/python3 -c 'import numpy' 2>/dev/null") != 0) {
+    GTEST_SKIP() << "no oracle (" << oracle << ") or no numpy";
+  }
+  const testing::ScopedTempDir dir("links-demo");
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  Write(dir / "victim.txt", "the user's\n");
+  fs::create_symlink(dir / "victim.txt", out / "oracle.json");
+  const testing::OutsideOut outside(dir.path(), out);
+  const Outcome outcome = Shell(dir.path(), TopMake("demo DEMO_OUT=" + Quote(out.string())));
+  EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
+  EXPECT_NE(outcome.output.find("oracle.json is a symbolic link"), std::string::npos) << outcome.output;
+  EXPECT_EQ(outside.Changes(), "");
+  EXPECT_TRUE(fs::is_symlink(out / "oracle.json"));
+  EXPECT_TRUE(fs::exists(out / "verdict.json")) << "the demo itself ran";
+}
+
 // make batch writes each scene's pipeline.log and pipeline.exit by shell
 // redirection, which follows a link: a link there (or as the scene's
 // folder) is refused before the scene's pipeline starts.
