@@ -147,7 +147,7 @@ TEST_F(AssemblyInput, DynamicByNameOrIndexAndSTheRest) {
     EXPECT_EQ(scene.dynamic_file, dir_ / "parts.obj");
     ASSERT_EQ(scene.static_mesh.triangles.size(), 24u);
     ExpectBox(scene.static_mesh, {0, 0, 0}, {10, 10, 6});
-    EXPECT_EQ(scene.static_part_names, (std::vector<std::string>{"parts.obj:base", "parts.obj:cap"}));
+    EXPECT_EQ(scene.static_part_names, (std::vector<std::string>{"base", "cap"}));  // the product tree's
     ASSERT_EQ(scene.static_part_of_triangle.size(), 24u);
     for (int t = 0; t < 24; ++t) EXPECT_EQ(scene.static_part_of_triangle[t], t < 12 ? 0 : 1);
     EXPECT_EQ(scene.static_part_entry, (std::vector<int>{0, 0}));
@@ -163,7 +163,7 @@ TEST_F(AssemblyInput, AssemblyWithoutAndExtraStatics) {
                       "dynamic: {part: post}\n"));
   // static[0] = unit.obj, then the rest (the base only).
   ASSERT_EQ(scene.static_files.size(), 2u);
-  EXPECT_EQ(scene.static_part_names, (std::vector<std::string>{"unit.obj", "parts.obj:base"}));
+  EXPECT_EQ(scene.static_part_names, (std::vector<std::string>{"unit.obj", "base"}));
   EXPECT_EQ(scene.static_mesh.triangles.size(), 24u);
   ExpectBox(scene.static_mesh, {0, 0, 0}, {10, 10, 1});
   // Everything left out: S would be empty.

@@ -116,9 +116,13 @@ void AppendStaticEntry(Scene& scene, int entry, const MeshFile& file) {
     }
     return;
   }
+  // The assembly's rest is named as the product tree names its parts
+  // ("PLATE", not "assembly.obj:PLATE": the names an engineer knows, in the
+  // verdict and the report); parts picked from other files keep their file.
   for (int part : source.parts) {
     append(file.Part(part).mesh);
-    add_piece(source.written + ":" + PartLabel(file, part), file.Part(part).mesh);
+    add_piece(source.rest_of_assembly ? PartLabel(file, part) : source.written + ":" + PartLabel(file, part),
+              file.Part(part).mesh);
   }
 }
 
