@@ -3,7 +3,7 @@
 #               the InIState pipeline on a shipped clip scene: is the part
 #               removable, along which path (prints the verdict)
 #   make test   the same set-up, then the whole test suite
-# And for your own scenes (README "Running the InIState pipeline"):
+# And for your own scenes (docs/pipelines.md "Running the InIState pipeline"):
 #   make run SCENE=path/to/scene.yaml OUT=dir     one scene (pipelines/inistate.mk)
 #   make batch SCENES=dir OUT=dir [-j N]          every dir/*/scene.yaml, then a table
 #   make snakemake SCENES=dir OUT=dir [CORES=N | PROFILE=pipelines/slurm]
@@ -96,7 +96,7 @@ demo-rigid: build
 # be given on the command line. OUT defaults to out/run/<scene folder>.
 # GNU make exits 2 for any failed recipe, so `make run` exits 0 removable
 # and 2 otherwise, and says which; for scripts, build/bin/ausbau-run
-# SCENE OUT exits 3 for not removable and 2 for bad input (README "Exit codes").
+# SCENE OUT exits 3 for not removable and 2 for bad input (README "What the verdict means", exit codes).
 run: build
 	@test -n $(call quote,$(SCENE)) || { echo "make run: SCENE=path/to/scene.yaml is required" >&2; exit 2; }
 	@$(call quote,$(BUILD)/bin/ausbau-run) $(call quote,$(SCENE)) $(call quote,$(or $(OUT),out/run/$(notdir $(patsubst %/,%,$(dir $(SCENE)))))) \
@@ -158,6 +158,14 @@ snakemake: build
 	@if [ -f $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt) ] && ! grep -Eq '^batch: ([0-9]+) of \1 scenes removable' $(call quote,$(SNAKEMAKE_OUT)/verdicts.txt); then \
 	  printf 'make snakemake: not every scene is removable (%s/verdicts.txt)\n' $(call quote,$(SNAKEMAKE_OUT)) >&2; exit 1; fi
 
+# The C++ style (.clang-format, clang-format 14) on every tracked source but
+# the few listed in scripts/format-pending.txt; fails on a file that differs.
+# Part of .ci/run, before `make test`.
+.PHONY: format-check
+format-check:
+	@scripts/install-deps.sh format || echo "format-check: clang-format-14 could not be installed" >&2
+	@scripts/format-check.sh
+
 test: build deps-browser deps-snakemake
 	@cd $(call quote,$(BUILD)) && ctest --output-on-failure -j $(call quote,$(JOBS))
 
@@ -166,7 +174,7 @@ test: build deps-browser deps-snakemake
 # release build); any finding fails the test. Builds only the target
 # ausbau_unit_tests: the unit tests and the stages they run (no benchmarks,
 # no end-to-end tests); flag_table (every executable's --help) is left to
-# `make test`. Part of .ci/run; times in README "Testing".
+# `make test`. Part of .ci/run; times in docs/testing.md.
 SANITIZE_BUILD ?= build-sanitize
 .PHONY: test-sanitize
 test-sanitize: deps
@@ -350,7 +358,7 @@ BENCH_EXTERNAL_OUT ?= out/bench-external
 bench-external: build
 	@scripts/external-bench.sh $(call quote,$(BUILD)/bin) $(call quote,$(BENCH_EXTERNAL_OUT))
 
-# libFuzzer harnesses of every file reader (README.md, section Fuzzing): builds them with
+# libFuzzer harnesses of every file reader (docs/fuzzing.md): builds them with
 # clang, ASan and UBSan in FUZZ_BUILD (needs clang and libFuzzer:
 # `scripts/install-deps.sh fuzz`), runs each for FUZZ_SECONDS, then prints
 # per harness the executions and the findings (crash files under

@@ -1,6 +1,6 @@
 // ausbau-bench: Ausbau's planners side by side with OMPL's RRT-Connect on
 // the OMPL.app scenes, in one process, on the same collision checker; and
-// (--study) the RRTC parameter study of thesis 3.3.1. See README.md,
+// (--study) the RRTC parameter study of thesis 3.3.1. See docs/benchmarks.md,
 // section "Benchmarks".
 #include <algorithm>
 #include <chrono>

@@ -12,6 +12,10 @@ install(PROGRAMS ${CMAKE_SOURCE_DIR}/scripts/timed.sh ${CMAKE_SOURCE_DIR}/script
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ausbau/scenes)
 install(DIRECTORY ${CMAKE_SOURCE_DIR}/schemas/ DESTINATION ${CMAKE_INSTALL_DOCDIR}/schemas)
 install(FILES ${CMAKE_SOURCE_DIR}/README.md ${CMAKE_SOURCE_DIR}/ARCHITECTURE.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+# docs/*.md beside them, as docs/, so the README's links hold in the
+# installed tree too (the result files under docs/results/ stay in the repo).
+file(GLOB ausbau_docs ${CMAKE_SOURCE_DIR}/docs/*.md)
+install(FILES ${ausbau_docs} DESTINATION ${CMAKE_INSTALL_DOCDIR}/docs)
 # Each stage's README as share/doc/ausbau/stages/<stage>.md.
 file(GLOB ausbau_stage_readmes RELATIVE ${CMAKE_SOURCE_DIR}/stages ${CMAKE_SOURCE_DIR}/stages/*/README.md)
 foreach(readme IN LISTS ausbau_stage_readmes)

@@ -1,4 +1,4 @@
-// Helpers shared by the libFuzzer harnesses (see README.md, section Fuzzing).
+// Helpers shared by the libFuzzer harnesses (see docs/fuzzing.md).
 //
 // A harness writes its input to a file and calls one of our readers. The
 // documented outcome of bad input is an InputError (core/error.h), which the

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The README's flag table, from the executables themselves.
+# The flag table (docs/flags.md, moved there from the README), from the executables themselves.
 #
-#   scripts/flag-table.sh BIN_DIR README.md            check (exit 1 on a difference)
-#   scripts/flag-table.sh BIN_DIR README.md --update   rewrite the table in README.md
+#   scripts/flag-table.sh BIN_DIR docs/flags.md            check (exit 1 on a difference)
+#   scripts/flag-table.sh BIN_DIR docs/flags.md --update   rewrite the table in that file
 #
 # Every long flag of every ausbau-* executable (from its --help) gets one row
 # between the markers <!-- flags:begin --> and <!-- flags:end -->: the flag,
-# its one meaning (hand-written in README.md, kept on update; "?" for a new
+# its one meaning (hand-written in docs/flags.md, kept on update; "?" for a new
 # flag) and the executables that have it ("all" where every one has it).
 # One row per flag is the rule "one meaning per flag": an executable whose
 # flag means something else must use another name.
@@ -38,7 +38,7 @@ for exe in "$bin"/ausbau-*; do
 done
 count=${#executables[@]}
 
-# The meanings kept from the README's current table: "| `--flag` | meaning | where |".
+# The meanings kept from the file's current table: "| `--flag` | meaning | where |".
 sed -n '/<!-- flags:begin -->/,/<!-- flags:end -->/p' "$readme" |
   sed -nE 's/^\| `(--[a-z0-9-]+)` \| (.*) \| [^|]* \|$/\1\t\2/p' > "$work/meanings"
 
@@ -70,7 +70,7 @@ if [ "$mode" = --update ]; then
   exit 0
 fi
 if ! diff -u "$work/current" "$work/table" > "$work/diff"; then
-  echo "flag-table: the README's flag table differs from the executables' --help:"
+  echo "flag-table: the flag table in $readme differs from the executables' --help:"
   cat "$work/diff"
   echo "(run scripts/flag-table.sh $bin $readme --update, then write the meaning of any new flag instead of '?')"
   exit 1

@@ -8,6 +8,8 @@
 #                                   the report's browser test: `make test`)
 #   scripts/install-deps.sh fuzz    those plus clang and libFuzzer (the
 #                                   harnesses in fuzz/: `make fuzz`)
+#   scripts/install-deps.sh format  those plus clang-format 14 (the style
+#                                   check: `make format-check`, .ci/run)
 #   scripts/install-deps.sh snakemake  those plus Snakemake 7 (batches
 #                                   locally or on Slurm: pipelines/Snakefile,
 #                                   `make snakemake`; about 80 Python
@@ -30,8 +32,9 @@ case "${1:-}" in
   bench) packages+=(libompl-dev) ;;
   browser) packages+=(chromium) ;;
   fuzz) packages+=(clang libfuzzer-14-dev libclang-rt-14-dev libomp-14-dev) ;;
+  format) packages+=(clang-format-14) ;;
   snakemake) packages+=(snakemake) ;;
-  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench', 'browser', 'fuzz' or 'snakemake')" >&2; exit 2 ;;
+  *) echo "install-deps: error: unknown argument '$1' (expected nothing, 'bench', 'browser', 'format', 'fuzz' or 'snakemake')" >&2; exit 2 ;;
 esac
 
 missing=()

@@ -3,7 +3,7 @@
 # 1.2M triangles with PARTS fastened brackets (ausbau-scene-gen --family
 # vehicle; every fifth riveted, i.e. blocked), then every part's InIState
 # pipeline (pipelines/inistate.mk, VALIDITY=auto) with a time budget, one part
-# after the other. S is cropped to each part's reach (README: "Cropping S to
+# after the other. S is cropped to each part's reach (docs/scenes.md: "Cropping S to
 # D's reach").
 #
 #   scripts/vehicle-bench.sh BIN OUT [PARTS] [RUN] [BUDGET] [TIME_LIMIT] [MAX_CROP_LEVEL]
