@@ -95,7 +95,8 @@ bool CutShort(const std::string& verdict) {
 }
 
 // Idle, then beside five busy loops (two cores: the pipeline gets about two
-// sevenths of them), into fresh folders; the same path and verdict.
+// sevenths of them; measured 5x slower), into fresh folders; the same path
+// and verdict.
 void ExpectSameAnswerUnderLoad(const fs::path& scene, const std::string& name, const std::string& flags) {
   const testing::ScopedTempDir dir("load-" + name);
   const PipelineRun idle = RunPipeline(scene, dir / "idle", flags);
