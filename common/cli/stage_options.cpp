@@ -117,7 +117,7 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
               "last level has no cap. Work, not seconds, so the answer is the same at any load (default: four "
               "restart rounds, about what a share of 60 s over 3-5 levels did on a 2-core machine)",
               CacheKey::kYes)
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+      ->check(Within(1, 1e6));
   stage.Option("--rigid-planner", &plan->rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
                CacheKey::kYes);
   stage.Option("--distfield", &plan->distfield,
@@ -164,7 +164,7 @@ void AddTauEstimateOptions(StageDefinition& stage, TauEstimateOptions* estimate)
               "not seconds, so that tau is the same at any load (default 40000, 20 reference seconds: the clip "
               "scenes' successful rounds need up to 25000; a failed one takes 15-25 s on one core here)",
               CacheKey::kYes)
-      ->check(CLI::Range(std::int64_t{1}, std::int64_t{1} << 40));
+      ->check(Within(1, 1e12));
   stage.Option("--planner", &estimate->planner.planner, "local planner of sigma_1 (est, rrt, cr-rrtc, ...)",
                CacheKey::kYes);
   stage.Option("--initial-speed", &estimate->initial_speed, "s_init, nodes per reference second", CacheKey::kYes);
