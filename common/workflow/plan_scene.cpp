@@ -187,6 +187,14 @@ PlanResult PlanKeepingClearance(
     LogInfo("clearance: planned keeping at least %.4g %s from S (--clearance %.4g)", floor, units.c_str(), clearance);
     return with_pulls(kept);
   }
+  if (kept.status == PlanStatus::kTimeLimit) {
+    // The clock, not the 2048 iterations, ended the first try: falling back
+    // would give another path than the one an idle machine finds, so the
+    // run is cut short (stopped_by_budget) instead.
+    LogInfo("clearance: the time limit ended the first try (keeping %.4g %s) before its %lld iterations", floor,
+            units.c_str(), static_cast<long long>(first.max_iterations));
+    return with_pulls(kept);
+  }
   LogInfo("clearance: no path keeping %.4g %s from S within %lld iterations; planning without it", floor, units.c_str(),
           static_cast<long long>(first.max_iterations));
   // The plan as asked gets its whole time limit: the first try, bounded by
