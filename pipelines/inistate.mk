@@ -70,7 +70,7 @@ TIMED ?= $(INISTATE_MK_DIR)../scripts/timed.sh
 
 SEED ?= 1
 TIME_LIMIT ?= 60          # ausbau-plan, seconds (sigma_1 and sigma_2 each)
-TAU_TIME_LIMIT ?= 10      # ausbau-tau-estimate, seconds per planning round
+TAU_TIME_LIMIT ?= 60      # ausbau-tau-estimate, seconds per planning round: a safety net (its --round-checks count the work)
 VALIDITY ?= auto          # auto | rigid-exact | shrink | iv | mliv | labeled-mliv | labeled-mliv-unguarded (or collision: rigid only)
 RIGID_TOLERANCE ?= 0.05   # mm (converted by the scene's units): how deep D's rigid part may touch into S
 CLEARANCE ?= -1           # mm (converted by the scene's units): distance from S that plan and smooth keep where the path allows; -1: 0.5 mm; 0: none

@@ -137,6 +137,32 @@ TEST(Planner, RestartsSolveAndAnIterationCapIsOneRound) {
   EXPECT_EQ(capped.stats.iterations, 3);
 }
 
+// Issue 30: a work budget over all restart rounds (the rigid-exact crop
+// levels): the rounds stop when they have used it together, with
+// kIterationLimit, the last round capped to the rest; deterministic.
+TEST(Planner, ATotalIterationBudgetEndsTheRestartsExactly) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 9;
+  options.time_limit_s = 600;  // the safety net: never reached here
+  options.max_total_iterations = 5000;  // one round of 4096, then 904
+  const PlanResult capped = PlanWithRestarts(f.problem, f.checker, options);
+  if (capped.solved()) {
+    EXPECT_LE(capped.stats.iterations, 5000);
+  } else {
+    EXPECT_EQ(capped.status, PlanStatus::kIterationLimit);
+    EXPECT_EQ(capped.stats.iterations, 5000);
+  }
+  const PlanResult again = PlanWithRestarts(f.problem, f.checker, options);
+  EXPECT_EQ(again.status, capped.status);
+  EXPECT_EQ(again.stats.iterations, capped.stats.iterations);
+  // A tiny budget that no round solves in.
+  options.max_total_iterations = 2;
+  const PlanResult tiny = PlanWithRestarts(f.problem, f.checker, options);
+  EXPECT_EQ(tiny.status, PlanStatus::kIterationLimit);
+  EXPECT_EQ(tiny.stats.iterations, 2);
+}
+
 // A raised cancel flag stops every planner at its next iteration (the tau
 // estimate cancels speculative rounds this way).
 TEST(Planner, CancelFlagStopsThePlanner) {
@@ -275,6 +301,37 @@ TEST(Smoother, ShortensAndStaysValid) {
   const SmoothResult again = SmoothPath(f.problem, f.checker, plan.path, smooth);
   ASSERT_EQ(again.path.size(), result.path.size());
   for (std::size_t i = 0; i < result.path.size(); ++i) EXPECT_EQ(again.path[i].t, result.path[i].t);
+}
+
+// Issue 30: the smoother's time limit is a safety net. Not reached, it
+// changes nothing (the work is counted: no share of the time decides how
+// many shortcuts run); reached, the result is marked cut short and is still
+// a valid path from the start.
+TEST(Smoother, TheTimeLimitIsOnlyASafetyNetAndSaysWhenItFires) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 3;
+  const PlanResult plan = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(plan.solved());
+  SmoothOptions smooth;
+  smooth.seed = 3;
+  smooth.time_limit_s = 600;
+  const SmoothResult loose = SmoothPath(f.problem, f.checker, plan.path, smooth);
+  EXPECT_FALSE(loose.cut_short);
+  smooth.time_limit_s = 60;
+  const SmoothResult tighter = SmoothPath(f.problem, f.checker, plan.path, smooth);
+  EXPECT_FALSE(tighter.cut_short);
+  EXPECT_EQ(tighter.attempts, loose.attempts);
+  ASSERT_EQ(tighter.path.size(), loose.path.size());
+  for (std::size_t i = 0; i < loose.path.size(); ++i) {
+    EXPECT_EQ(tighter.path[i].t, loose.path[i].t);
+    EXPECT_EQ(tighter.path[i].q.coeffs(), loose.path[i].q.coeffs());
+  }
+  smooth.time_limit_s = 1e-9;  // fires at once
+  const SmoothResult cut = SmoothPath(f.problem, f.checker, plan.path, smooth);
+  EXPECT_TRUE(cut.cut_short);
+  EXPECT_TRUE(cut.path.front().t.isApprox(plan.path.front().t));
+  ExpectValidPath(f, cut.path);
 }
 
 TEST(Smoother, WithWaypointAtInsertsAPoseInsideASegmentOnly) {

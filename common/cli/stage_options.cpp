@@ -40,8 +40,14 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
                "gaussian/bridge deviation as a fraction of D's diagonal; 0 = automatic (0.25)", CacheKey::kYes);
   stage.Threads(&planner->threads);
   stage.Seed(&planner->seed);
-  stage.Option("--time-limit", &planner->time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
-  stage.Option("--max-iterations", &planner->max_iterations, "0 = unlimited", CacheKey::kYes);
+  stage
+      .Option("--time-limit", &planner->time_limit_s,
+              "seconds: a safety net (the work is counted: restarts after 4096, 8192, ... iterations, crop levels "
+              "by --crop-level-iterations); a search it stops is marked cut short (stopped_by_budget: the verdict "
+              "says not-removable (budget))",
+              CacheKey::kYes)
+      ->check(TimeLimit());
+  stage.Option("--max-iterations", &planner->max_iterations, "one run of at most this many iterations, no restarts; 0 = unlimited", CacheKey::kYes);
   stage.Option("--u", &planner->u, "rrtc: metric weight of translation, (0, 1)", CacheKey::kYes);
   stage.Option("--range-max", &planner->range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
   stage.Option("--resolution", &planner->resolution, "edge check step as a fraction of D's AABB diagonal",
@@ -105,6 +111,13 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
               "(README: cropping S to D's reach); -1: until it holds all of S",
               CacheKey::kYes)
       ->check(CLI::Range(-1, 1000));
+  stage
+      .Option("--crop-level-iterations", &plan->crop_level_iterations,
+              "rigid-exact: planner iterations (restarts together) a crop level gets before the crop grows; the "
+              "last level has no cap. Work, not seconds, so the answer is the same at any load (default: four "
+              "restart rounds, about what a share of 60 s over 3-5 levels did on a 2-core machine)",
+              CacheKey::kYes)
+      ->check(Within(1, 1e6));
   stage.Option("--rigid-planner", &plan->rigid_planner, "planner of sigma_2 (volume modes), collision-checked",
                CacheKey::kYes);
   stage.Option("--distfield", &plan->distfield,
@@ -125,7 +138,13 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
 void AddSmoothOptions(StageDefinition& stage, SmoothOptions* smooth) {
   stage.Seed(&smooth->seed);
   stage.Option("--attempts", &smooth->attempts, "shortcut attempts, 0 = automatic", CacheKey::kYes);
-  stage.Option("--time-limit", &smooth->time_limit_s, "seconds", CacheKey::kYes)->check(TimeLimit());
+  stage
+      .Option("--time-limit", &smooth->time_limit_s,
+              "seconds: a safety net (the work is counted: --attempts shortcuts, a quarter of them partial, 20000 "
+              "iterations for the translation-only alternative); smoothing it stops keeps the valid path so far and "
+              "is marked cut short (smoothing_cut_short in the verdict)",
+              CacheKey::kYes)
+      ->check(TimeLimit());
   stage.Option("--resolution", &smooth->resolution, "edge check step as a fraction of D's AABB diagonal",
                CacheKey::kYes);
   AddClearanceOption(stage, &smooth->clearance);
@@ -133,8 +152,19 @@ void AddSmoothOptions(StageDefinition& stage, SmoothOptions* smooth) {
 
 void AddTauEstimateOptions(StageDefinition& stage, TauEstimateOptions* estimate) {
   stage.Seed(&estimate->planner.seed);
-  stage.Option("--time-limit", &estimate->planner.time_limit_s, "seconds per planning round", CacheKey::kYes)
+  stage
+      .Option("--time-limit", &estimate->planner.time_limit_s,
+              "seconds per planning round: a safety net only (a round it stops makes the estimate cut short, which "
+              "the verdict records); --round-checks sets the work",
+              CacheKey::kYes)
       ->check(TimeLimit());
+  stage
+      .Option("--round-checks", &estimate->round_checks,
+              "validity checks per planning round: a round that has not found sigma_1 after them has failed. Work, "
+              "not seconds, so that tau is the same at any load (default 40000, 20 reference seconds: the clip "
+              "scenes' successful rounds need up to 25000; a failed one takes 15-25 s on one core here)",
+              CacheKey::kYes)
+      ->check(Within(1, 1e12));
   stage.Option("--planner", &estimate->planner.planner, "local planner of sigma_1 (est, rrt, cr-rrtc, ...)",
                CacheKey::kYes);
   stage.Option("--initial-speed", &estimate->initial_speed, "s_init, nodes per reference second", CacheKey::kYes);

@@ -30,6 +30,7 @@ void TauEstimateOptions::Check() const {
     throw OptionError(&bisection_steps, "bisection_steps", "must lie in [0, 30]");
   if (!(max_tau >= 0) || !std::isfinite(max_tau)) throw OptionError(&max_tau, "max_tau", "must be >= 0");
   if (threads < 0) throw OptionError(&threads, "threads", "must be >= 0");
+  if (round_checks < 1) throw OptionError(&round_checks, "round_checks", "must be >= 1");
   planner.Check();
 }
 
@@ -214,6 +215,7 @@ void TauSearch::PlanRound(Round* round, const std::atomic<bool>* cancel) const {
   const VolumeValidity validity(volume_, measure_, round->tau);
   PlannerOptions planner = LocalPlannerOptions(problem_, psi_, options_.planner);
   planner.time_limit_s = LimitByDeadline(planner.time_limit_s, options_.deadline, 0.5, nullptr);
+  planner.max_checks = options_.round_checks;  // the round's work budget
   planner.cancel = cancel;
   planner.progress = nullptr;  // rounds run on two threads; each logs its line instead
   round->result = Plan(problem_, validity, planner);
@@ -239,6 +241,11 @@ bool TauSearch::Accept(Round& round) {
   planning.solved = round.result.solved();
   planning.seconds = round.seconds;
   estimate_.trace.push_back(planning);
+  if (round.result.status == PlanStatus::kTimeLimit) {
+    estimate_.cut_short = true;
+    Say("round " + std::to_string(round.index + 1) + " was cut short by its time limit (a safety net): the estimate "
+        "is not the deterministic one");
+  }
   estimate_.rounds = round.index + 1;
   estimate_.tau = round.tau;
   Say("round " + std::to_string(round.index + 1) + ": tau " + std::to_string(round.tau) + " (target " +
@@ -311,6 +318,7 @@ TauEstimate TauSearch::Run() {
     if (Accept(current) || last) break;
     if (SecondsLeft(options_.deadline) <= 0) {
       Say("time budget used up: no more rounds");
+      estimate_.cut_short = true;
       break;
     }
     if (lanes == 1) {  // search the next round now
@@ -352,6 +360,7 @@ void WriteTauArtifact(const std::filesystem::path& file, const TauArtifact& tau,
   w.WriteInts("rounds", {e.rounds}, {});
   w.WriteInts("solved", {e.solved ? 1 : 0}, {});
   w.WriteDoubles("seconds", {e.seconds}, {});
+  if (e.cut_short) w.WriteInts("cut_short", {1}, {});  // optional: absent = the deterministic estimate
   w.SetAttribute("", "validity", ValidityModeName(tau.validity));
   w.SetAttribute("", "units", tau.units);
   const std::size_t n = e.trace.size();
@@ -416,6 +425,7 @@ TauArtifact ReadTauArtifact(const std::filesystem::path& file) {
   }
   e.rounds = static_cast<int>(round_count);
   e.solved = int_scalar("solved") != 0;
+  e.cut_short = r.Has("cut_short") && int_scalar("cut_short") != 0;
   if (r.Has("sigma_1")) {
     e.local_path = ReadPoseRows(r, "sigma_1");
     e.local_seed = static_cast<std::uint64_t>(r.ReadIntAttribute("sigma_1", "seed"));

@@ -24,8 +24,8 @@
 // bisection against the one before (the speed grows with tau).
 //
 // Two lanes: a round's tau depends only on the probes and on the rounds
-// before it having failed, and a failed round costs its whole time limit on
-// one core (the local planner is sequential). So while one lane plans round
+// before it having failed, and a failed round costs its whole iteration
+// budget on one core (the local planner is sequential). So while one lane plans round
 // r, the other searches round r + 1's tau as if r had failed and plans it;
 // when r succeeds, the other lane is cancelled (PlannerOptions::cancel) and
 // its probes and round are left out of the trace. The result is the
@@ -48,6 +48,7 @@
 namespace ausbau {
 
 inline constexpr double kChecksPerReferenceSecond = 2000.0;
+inline constexpr std::int64_t kDefaultTauRoundChecks = 40000;
 
 struct TauEstimateOptions {
   double initial_speed = 4.0;         // s_init, nodes per reference second
@@ -56,16 +57,30 @@ struct TauEstimateOptions {
   std::int64_t probe_attempts = 300;  // expansion attempts per probe
   int bisection_steps = 4;
   double max_tau = 0;      // 0 = D's whole volume (IV of all of D)
-  PlannerOptions planner;  // local planner (est), seed, time limit per planning round
-  int threads = 0;         // parallel probes; 0 = all cores
+  // Local planner (est) and seed. A planning round ends when sigma_1 is
+  // found or after round_checks validity checks (work, counted as the
+  // probes' speed is, so that which round succeeds, hence tau and the path,
+  // is the same at any load); planner.time_limit_s is only a safety net per
+  // round (--time-limit): a round it stops, or a round the deadline keeps
+  // from starting, makes the estimate cut_short.
+  PlannerOptions planner;
+  // 40000 checks, 20 reference seconds (kChecksPerReferenceSecond): the
+  // clip scenes' successful rounds need 170-25000 checks (clips-ds5 seed 3:
+  // 24501, which its old 10 s of wall time allowed on an idle machine); a
+  // failed round costs 15-25 s at the 1600-2500 checks a second one core
+  // does here. Checks, not iterations: an EST iteration costs 1 to 14
+  // checks from scene to scene, a check about the same everywhere.
+  std::int64_t round_checks = kDefaultTauRoundChecks;
+  int threads = 0;  // parallel probes; 0 = all cores
   // The run's time budget (planning/planner.h: SecondsLeft; 0: none): each
   // planning round gets at most what is left, and no round starts after it.
   double deadline = 0;
-  // 10 s per round: successful rounds on the clip scenes take 0.1-5 s;
-  // five rounds then stay within the 60 s a scene may take end to end.
+  // 60 s per round: a safety net well above the 0.1-25 s a round of
+  // round_checks takes here, so that it fires only on a machine several
+  // times slower (then the estimate says it was cut short).
   TauEstimateOptions() {
     planner.planner = "est";
-    planner.time_limit_s = 10.0;
+    planner.time_limit_s = 60.0;
   }
   void Check() const;  // throws InputError
 };
@@ -93,6 +108,9 @@ struct TauEstimate {
   std::vector<Pose> local_path;  // sigma_1 of the successful round (planning convention)
   std::uint64_t local_seed = 0;  // the planner seed that round used
   std::string local_planner;     // and its planner
+  // The clock (a round's --time-limit or the run's deadline) stopped a
+  // round or kept one from starting: not the deterministic estimate.
+  bool cut_short = false;
 };
 
 // `problem` must carry the goal test of sigma_1 (ClearOfFasteners);

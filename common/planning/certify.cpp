@@ -34,6 +34,8 @@ CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& va
     if (!repair.solved()) {
       LogWarn("segment %zu of the path fails the fine re-check and could not be re-planned", i);
       report.certified = false;
+      report.stopped_by_time_limit =
+          repair.status == PlanStatus::kTimeLimit || std::chrono::steady_clock::now() >= deadline;
       return report;
     }
     certified.insert(certified.end(), repair.path.begin() + 1, repair.path.end());

@@ -20,6 +20,9 @@ namespace ausbau {
 struct CertifyReport {
   bool certified = true;
   int repaired_segments = 0;
+  // Not certified because the clock (the deadline, or a repair's time
+  // limit: safety nets) stopped it, not for want of a repair.
+  bool stopped_by_time_limit = false;
 };
 
 // `path` is replaced by the certified (possibly repaired) path. `options`

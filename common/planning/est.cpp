@@ -94,7 +94,7 @@ PlanResult RunEst(const PlanningProblem& problem, const MotionChecker& motion, c
   const double r1 = given.r1 > 0 ? given.r1 : automatic.r1;
   const double r2 = given.r2 > 0 ? given.r2 : automatic.r2;
   const StatsScope scope(motion.validity());
-  const Budget budget(options, scope.begin());
+  const Budget budget(options, scope);
   Random random(options.seed);
   PoseTree tree(problem.metric);
   std::vector<int> neighbours;  // per node, itself included

@@ -114,6 +114,7 @@ void WritePathArtifact(const std::filesystem::path& file, const PathArtifact& pa
   // Only where there is something to say, so that solved runs' files stay as they were.
   if (!path.partial_waypoints.empty()) WritePoseRows(writer, "partial/waypoints", path.partial_waypoints);
   if (path.stopped_by_budget) writer.WriteInts("stats/stopped_by_budget", {1}, {});
+  if (path.smoothing_cut_short) writer.WriteInts("stats/smoothing_cut_short", {1}, {});
   writer.WriteDoubles("stats/clearance", {path.clearance}, {});
   writer.SetAttribute("", "planner", path.planner);
   writer.SetAttribute("", "scene", path.scene);
@@ -188,6 +189,8 @@ PathArtifact ReadPathArtifact(const std::filesystem::path& file) {
   }
   path.stopped_by_budget =
       reader.Has("stats/stopped_by_budget") && ReadIntScalar(reader, "stats/stopped_by_budget") != 0;
+  path.smoothing_cut_short =
+      reader.Has("stats/smoothing_cut_short") && ReadIntScalar(reader, "stats/smoothing_cut_short") != 0;
   // Absent in artifacts written before they were recorded.
   path.clearance = reader.Has("stats/clearance") ? ReadScalar(reader, "stats/clearance") : std::nan("");
   if (!std::isnan(path.clearance) && !(std::isfinite(path.clearance) && path.clearance >= 0)) {

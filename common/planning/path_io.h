@@ -51,11 +51,17 @@ struct PathArtifact {
 
   // An unsolved run (success = false): the best partial path (scene
   // convention; from the start to the planner's node with the most progress,
-  // planning/planner.h: PartialProgress), and whether the time budget
-  // (--budget / --deadline) ended the search. Optional datasets `partial/`
-  // and `stats/stopped_by_budget`; absent in older files.
+  // planning/planner.h: PartialProgress), and whether a clock (the time
+  // limit, a safety net, or the budget: --budget / --deadline) ended the
+  // search. Optional datasets `partial/` and `stats/stopped_by_budget`;
+  // absent in older files.
   std::vector<Pose> partial_waypoints;
   bool stopped_by_budget = false;
+  // A smoothed path (ausbau-smooth): the smoothing's time limit (a safety
+  // net) or the budget stopped it before its counted work was done. The
+  // path is valid (every change is checked) but not the deterministic one.
+  // Optional dataset `stats/smoothing_cut_short`.
+  bool smoothing_cut_short = false;
 };
 
 // The one pose convention of every file Ausbau writes (path.h5, path.csv,

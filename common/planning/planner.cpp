@@ -96,6 +96,9 @@ void PlannerOptions::Check() const {
     throw OptionError(&time_limit_s, "time_limit", "must be a positive number of seconds");
   }
   if (max_iterations < 0) throw OptionError(&max_iterations, "max_iterations", "must be >= 0");
+  if (max_checks < 0) throw OptionError(&max_checks, "max_checks", "must be >= 0");
+  if (max_total_iterations < 0)
+    throw OptionError(&max_total_iterations, "max_total_iterations", "must be >= 0");
   if (!(u > 0 && u < 1)) throw OptionError(&u, "u", "must lie in (0, 1)");
   if (!(range_max > 0 && range_max <= 1)) throw OptionError(&range_max, "range_max", "must lie in (0, 1]");
   if (!(est_range >= 0 && est_range <= 1))
@@ -155,8 +158,11 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   result.stats.invalid_checks += validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   if (!report.certified) {
+    // Uncertified: cut short when the clock stopped the repair (the time
+    // limit, a safety net), else a search that found nothing certifiable
+    // within its work (the repair's iterations): the next restart tries.
     result.path.clear();
-    result.status = PlanStatus::kTimeLimit;
+    result.status = report.stopped_by_time_limit ? PlanStatus::kTimeLimit : PlanStatus::kIterationLimit;
   }
   return result;
 }
@@ -260,6 +266,9 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
     }
     if (result.solved()) break;
   }
+  // Pulls stopped by the clock (the safety net) are no answer: the run was
+  // cut short (kTimeLimit), which the path artifact records.
+  if (!result.solved() && std::chrono::steady_clock::now() >= deadline) result.status = PlanStatus::kTimeLimit;
   result.stats.nodes = result.solved() ? 2 : 0;
   result.stats.collision_checks = validity.checks() - checks;
   result.stats.invalid_checks = validity.invalid_checks() - invalid;
@@ -279,10 +288,22 @@ PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& 
   for (int round = 0;; ++round, budget *= 2) {
     const double left =
         options.time_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-    if (left <= 0) break;
+    if (left <= 0) {
+      result.status = PlanStatus::kTimeLimit;  // the safety net: cut short
+      break;
+    }
+    std::int64_t round_budget = budget;
+    if (options.max_total_iterations > 0) {
+      const std::int64_t rest = options.max_total_iterations - total.iterations;
+      if (rest <= 0) {
+        result.status = PlanStatus::kIterationLimit;  // the work budget is used up
+        break;
+      }
+      round_budget = std::min(round_budget, rest);
+    }
     PlannerOptions round_options = options;
     round_options.seed = options.seed + static_cast<std::uint64_t>(round);
-    round_options.max_iterations = budget;
+    round_options.max_iterations = round_budget;
     round_options.time_limit_s = left;  // the whole run's limit, a safety net
     result = Plan(problem, validity, round_options);
     ThrowIfCancelled();  // a cancelled round is no answer (core/cancel.h)

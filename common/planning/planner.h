@@ -21,8 +21,20 @@ struct PlannerOptions {
   double sampler_sigma = 0.0;
   int threads = 0;  // prm edge verification; 0 = all cores
   std::uint64_t seed = 1;
-  double time_limit_s = 60.0;       // wall-clock budget
+  // Wall-clock safety net: a run it stops is cut short (kTimeLimit), which
+  // the artifacts and the verdict record; the answer is set by the work
+  // budgets below (and the seed), never by it.
+  double time_limit_s = 60.0;
   std::int64_t max_iterations = 0;  // 0 = unlimited (tests use it for exact budgets)
+  // PlanWithRestarts: all rounds together at most this many iterations (a
+  // work budget: the rigid-exact crop levels, plan_scene.h); 0 = unlimited.
+  std::int64_t max_total_iterations = 0;
+  // At most this many validity checks (the work a planner does, counted on
+  // its validity: the tau estimate's rounds, tau_estimate.h), checked once
+  // per iteration, so a run may overshoot by one iteration's checks; status
+  // kIterationLimit. Sequential planners only (PRM's threads share the
+  // count); 0 = unlimited.
+  std::int64_t max_checks = 0;
   double u = 0.583;                 // rrtc: metric weight (Def-RRTC default)
   double range_max = 0.417;         // rrtc: maximal edge range (Def-RRTC default)
   // Edge resolution: between two checked poses no vertex of D moves more
@@ -101,7 +113,9 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 // The schedule counts iterations, not seconds, so the result depends on the
 // seed only, not on the machine or its load (unless the time limit ends
 // the run). With options.max_iterations set, one round (the iteration cap is
-// the budget). Statistics are summed over the rounds.
+// the budget); with options.max_total_iterations, the rounds stop when they
+// have used that many together (the last round capped to the rest), with
+// kIterationLimit. Statistics are summed over the rounds.
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);

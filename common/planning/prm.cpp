@@ -84,7 +84,7 @@ std::vector<int> ShortestPath(const Roadmap& roadmap, int from, const std::funct
 PrmResult RunPrm(const PlanningProblem& problem, const MotionChecker& motion, const std::vector<PrmQuery>& queries,
                  const PrmSettings& settings, const PlannerOptions& options) {
   const StatsScope scope(motion.validity());
-  const Budget budget(options, scope.begin());
+  const Budget budget(options, scope);
   Random random(options.seed);
   Sampler sampler(problem, motion, ParseSamplerKind(options.sampler), options.sampler_sigma);
   Roadmap roadmap(problem.metric);

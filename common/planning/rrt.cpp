@@ -6,7 +6,7 @@ namespace ausbau {
 
 PlanResult RunRrt(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options) {
   const StatsScope scope(motion.validity());
-  const Budget budget(options, scope.begin());
+  const Budget budget(options, scope);
   Random random(options.seed);
   Sampler sampler(problem, motion, ParseSamplerKind(options.sampler), options.sampler_sigma);
   PoseTree tree(problem.metric);

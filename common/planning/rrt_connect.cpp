@@ -26,7 +26,7 @@ class RrtConnect {
 
   PlanResult Run() {
     const StatsScope scope(motion_.validity());
-    const Budget budget(options_, scope.begin());
+    const Budget budget(options_, scope);
     PlanResult result;
     start_tree_.Add(problem_.start, -1);
     if (problem_.goal) {

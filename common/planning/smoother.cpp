@@ -263,15 +263,15 @@ void DropNeedlessWaypoints(const MotionChecker& motion, const ReplacementGuard* 
   path->swap(kept);
 }
 
-// Steps 1-4 on one path, by `deadline`. The full shortcuts get at most half
-// of the time left: where the time limit (a safety valve) is hit on a slow
-// or loaded machine, the retreat and the partial shortcuts, which take out
-// the largest detours and the needless turning, still run.
+// Steps 1-4 on one path. The work is counted (`attempts` full shortcuts, a
+// quarter of them partial ones); `deadline` is only the safety net: past it
+// the steps stop and the path is kept as it is (the caller marks the result
+// cut short). No step gets a share of the time: a share ends work earlier
+// on a slower or busier machine, and the path would depend on the load.
 void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                 int attempts, Random& random, Clock::time_point deadline, const ProgressCallback& progress,
                 SmoothResult* result) {
   const auto out_of_time = [&] { return Clock::now() >= deadline; };
-  const Clock::time_point shortcuts_end = Clock::now() + (deadline - Clock::now()) / 2;
   std::vector<Pose>& path = result->path;
   const int partial_attempts = std::max(20, attempts / 4);
   // Each attempt: the progress, and the place to stop when cancelled.
@@ -280,7 +280,7 @@ void SmoothOnce(const PlanningProblem& problem, const MotionChecker& motion, con
     if (progress) progress(result->attempts, attempts + partial_attempts);
     ++result->attempts;
   };
-  for (int attempt = 0; attempt < attempts && path.size() >= 3 && Clock::now() < shortcuts_end; ++attempt) {
+  for (int attempt = 0; attempt < attempts && path.size() >= 3 && !out_of_time(); ++attempt) {
     next_attempt();
     if (FullShortcut(problem, motion, guard, random, &path)) ++result->shortcuts;
   }
@@ -324,7 +324,9 @@ std::optional<SmoothResult> TranslationOnly(const PlanningProblem& problem, cons
   planner.planner = "rrtc";
   planner.seed = options.seed;
   planner.max_iterations = 20000;
-  planner.time_limit_s = std::max(0.1, options.time_limit_s / 4);
+  // The smoothing's own safety net, what is left of it (no share of it: the
+  // iterations are the budget).
+  planner.time_limit_s = std::max(0.01, std::chrono::duration<double>(deadline - Clock::now()).count());
   planner.resolution = options.resolution;
   planner.progress = options.progress;
   PlanResult planned;
@@ -428,10 +430,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   Random random(options.seed);
   const int attempts =
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
-  // A disassembly keeps 40% of the time for the translation-only
-  // alternative (step 5), should the limit be hit.
-  const Clock::time_point first_deadline = EndIsFree(problem) ? start + (deadline - start) * 3 / 5 : deadline;
-  SmoothOnce(problem, motion, guard, attempts, random, first_deadline, options.progress, &result);
+  SmoothOnce(problem, motion, guard, attempts, random, deadline, options.progress, &result);
   LogDebug("shortcuts: %d kept of %d attempts", result.shortcuts, result.attempts);
   result.after = MeasurePath(problem, result.path);
   const bool turns = result.after.rotation > 1e-9;
@@ -456,6 +455,16 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
       result.retreat_from = straight->retreat_from;
       result.translation_only = true;
     }
+  }
+  // Every clock check above is "now >= deadline" against this one deadline,
+  // so a check that fired implies this (which may, rarely, also mark a run
+  // that finished its work just as the limit passed: cut short, never the
+  // other way round).
+  result.cut_short = Clock::now() >= deadline;
+  if (result.cut_short) {
+    LogWarn("smoothing was cut short by its time limit of %.1f s (a safety net): the path is valid but not the "
+            "deterministic one (a slower or busier machine)",
+            options.time_limit_s);
   }
   return result;
 }

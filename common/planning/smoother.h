@@ -33,9 +33,12 @@ class ReplacementGuard;
 struct SmoothOptions {
   std::uint64_t seed = 1;
   int attempts = 0;  // 0 = automatic: 100 + 10 per waypoint, at most 2000
-  // A safety valve: the work is bounded by `attempts` (and the translation-
-  // only alternative by its iterations), so the result is the same on any
-  // machine unless this is hit (the OMPL Apartment scene takes about 12 s).
+  // A safety net only: the work is bounded by `attempts` (full shortcuts,
+  // then a quarter of them partial ones) and the translation-only
+  // alternative by its 20000 iterations, so the result is the same on any
+  // machine unless this fires (the OMPL Apartment scene takes about 12 s,
+  // the demo 10 s). Past it every motion counts as blocked and the rest is
+  // kept as it is: a valid, less smooth path, marked SmoothResult::cut_short.
   double time_limit_s = 60.0;
   double resolution = 0.01;  // as PlannerOptions::resolution
   // --clearance: the distance from S to keep where the geometry allows, in
@@ -71,6 +74,10 @@ struct SmoothResult {
   int partial_shortcuts = 0;      // of them: partial ones (one degree of freedom)
   int retreat_from = -1;          // waypoint the straight retreat leaves from; -1 = none
   bool translation_only = false;  // the path is the translation-only alternative (step 5)
+  // The time limit (a safety net) fired: some of the work was not done, so
+  // the path (still valid: every change is checked) is not the
+  // deterministic one. The smoothed artifact and the verdict record it.
+  bool cut_short = false;
 };
 
 // With `guard` (planning/replacement_guard.h), every change (shortcut,

@@ -89,6 +89,7 @@ class StatsScope {
     stats->time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin_).count();
   }
   std::chrono::steady_clock::time_point begin() const { return begin_; }
+  std::int64_t checks() const { return validity_.checks() - checks_; }  // so far
 
  private:
   const PoseValidity& validity_;
@@ -96,22 +97,26 @@ class StatsScope {
   std::chrono::steady_clock::time_point begin_;
 };
 
-// The planner loop's stop rule: iteration budget first (deterministic), then
-// a cancellation (PlannerOptions::cancel, or the process-wide one of
-// core/cancel.h), then the wall clock. It also reports progress
+// The planner loop's stop rule: the work budgets first (iterations, checks:
+// deterministic), then a cancellation (PlannerOptions::cancel, or the
+// process-wide one of core/cancel.h), then the wall clock (the safety net:
+// kTimeLimit, a run cut short). It also reports progress
 // (PlannerOptions::progress), which never changes whether it continues.
 class Budget {
  public:
-  Budget(const PlannerOptions& options, std::chrono::steady_clock::time_point begin)
+  Budget(const PlannerOptions& options, const StatsScope& scope)
       : max_iterations_(options.max_iterations),
+        max_checks_(options.max_checks),
+        scope_(scope),
         cancel_(options.cancel),
         progress_(options.progress),
-        deadline_(begin + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(options.time_limit_s))),
-        next_report_(begin) {}
+        deadline_(scope.begin() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                      std::chrono::duration<double>(options.time_limit_s))),
+        next_report_(scope.begin()) {}
   // Returns false and sets *status when the budget is spent.
   bool Continue(std::int64_t iteration, PlanStatus* status) const {
-    if (max_iterations_ > 0 && iteration >= max_iterations_) {
+    if ((max_iterations_ > 0 && iteration >= max_iterations_) ||
+        (max_checks_ > 0 && scope_.checks() >= max_checks_)) {
       *status = PlanStatus::kIterationLimit;
       return false;
     }
@@ -132,7 +137,8 @@ class Budget {
   }
 
  private:
-  std::int64_t max_iterations_;
+  std::int64_t max_iterations_, max_checks_;
+  const StatsScope& scope_;
   const std::atomic<bool>* cancel_;
   const ProgressCallback& progress_;
   std::chrono::steady_clock::time_point deadline_;

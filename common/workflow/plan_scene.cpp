@@ -1,6 +1,7 @@
 #include "workflow/plan_scene.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -84,11 +85,15 @@ PlannerOptions WithinDeadline(PlannerOptions planner, double deadline, bool* bou
 
 // An unsolved run: its best partial path (scene convention) and whether the
 // budget ended it.
-void FillPartial(const PlanningProblem& problem, const PlanResult& result, bool budget_bound, PathArtifact* artifact) {
+void FillPartial(const PlanningProblem& problem, const PlanResult& result, PathArtifact* artifact) {
   if (result.solved()) return;
   for (const Pose& pose : result.partial) artifact->partial_waypoints.push_back(problem.PlanningToScene(pose));
   AlignQuaternionSigns(&artifact->partial_waypoints);
-  artifact->stopped_by_budget = budget_bound && result.status == PlanStatus::kTimeLimit;
+  // Any clock (--time-limit, the safety net, or the --budget / --deadline
+  // of the run) that ends the search makes the result one cut short, not
+  // the deterministic answer: the verdict says "not-removable (budget)" and
+  // the next run plans again (stages/plan/main.cpp: CutShort).
+  artifact->stopped_by_budget = result.status == PlanStatus::kTimeLimit;
 }
 
 void LogResult(const char* what, const PlanStats& stats, bool solved) {
@@ -182,6 +187,14 @@ PlanResult PlanKeepingClearance(
     LogInfo("clearance: planned keeping at least %.4g %s from S (--clearance %.4g)", floor, units.c_str(), clearance);
     return with_pulls(kept);
   }
+  if (kept.status == PlanStatus::kTimeLimit) {
+    // The clock, not the 2048 iterations, ended the first try: falling back
+    // would give another path than the one an idle machine finds, so the
+    // run is cut short (stopped_by_budget) instead.
+    LogInfo("clearance: the time limit ended the first try (keeping %.4g %s) before its %lld iterations", floor,
+            units.c_str(), static_cast<long long>(first.max_iterations));
+    return with_pulls(kept);
+  }
   LogInfo("clearance: no path keeping %.4g %s from S within %lld iterations; planning without it", floor, units.c_str(),
           static_cast<long long>(first.max_iterations));
   // The plan as asked gets its whole time limit: the first try, bounded by
@@ -263,7 +276,7 @@ bool ThroughS(const Scene& scene, const PlanSceneOptions& options, PathArtifact*
 // Volume modes: sigma_1 under the volume validity out of the fasteners'
 // reach, sigma_2 rigid (thesis 5.4.4).
 PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene, const PlanningProblem& problem,
-                            const PoseValidity& rigid_checker, PlanStats* stats, bool* solved) {
+                            const PoseValidity& rigid_checker, PlanStats* stats, PlanStatus* status) {
   const ValidityMode mode = options.validity;
   const std::unique_ptr<VolumeModel> model = LoadVolumeModel(scene, problem, mode, options.volume);
   double tau = options.tau, psi = options.psi > 0 ? MillimetresInSceneUnits(options.psi, scene.units) : options.psi;
@@ -306,16 +319,18 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   inistate.rigid.planner = options.rigid_planner;
   inistate.psi = psi;
   // The estimate's successful round planned sigma_1 already; with the same
-  // tau, psi, planner and seed (and no iteration cap, which that round did
-  // not have), planning it again would repeat that work (PlanInIState
-  // re-checks the path and plans anew if it does not hold).
+  // tau, psi, planner and seed (and no iteration cap: the round's cap on
+  // checks only ended it no earlier than it found the path, so the same
+  // search without one finds the same path), planning it again would repeat
+  // that work (PlanInIState re-checks the path and plans anew if it does
+  // not hold).
   if (estimate.solved && estimate.tau == tau && estimate.psi == psi && estimate.local_seed == inistate.local.seed &&
       estimate.local_planner == inistate.local.planner && inistate.local.max_iterations == 0) {
     inistate.known_local_path = estimate.local_path;
   }
   const InIStateResult result = PlanInIState(problem, volume_validity, rigid_checker, fcl, inistate);
   *stats = result.Stats();
-  *solved = result.solved();
+  *status = result.status;
 
   PathArtifact artifact;
   artifact.planner = inistate.local.planner + "+" + inistate.rigid.planner;
@@ -334,10 +349,12 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
 // densified file passes the full tolerance), its fasteners free
 // (collision/rigid_depth.h). A collision-free start is the same problem
 // without fasteners: plain rigid planning with a tolerance.
-// One crop level (planning/reach_crop.h) with `time_limit_s`; *cropped
-// says whether the level cropped S.
+// One crop level (planning/reach_crop.h) with `time_limit_s` (the safety
+// net: what is left of the stage's) and at most `work_iterations` planner
+// iterations over its restarts (0: unlimited); *cropped says whether the
+// level cropped S.
 PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene, int crop_level, double time_limit_s,
-                             bool* cropped) {
+                             std::int64_t work_iterations, bool* cropped) {
   const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene, crop_level);
   *cropped = problem.crop != nullptr;
@@ -373,6 +390,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   CheckEndpoints(problem, checker, scene.file.string());
   PlannerOptions planner = ResolvedPlanner(options, false);
   planner.time_limit_s = time_limit_s;
+  planner.max_total_iterations = work_iterations;
   bool budget_bound = false;
   planner = WithinDeadline(planner, options.deadline, &budget_bound);
   LogInfo("planning with %s, seeds from %llu (restarts after 4096, 8192, ... iterations), time limit %.1f s (%s start)",
@@ -388,7 +406,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   artifact.stats = result.stats;
   artifact.success = result.solved();
   LogResult("planning", result.stats, result.solved());
-  FillPartial(problem, result, budget_bound, &artifact);
+  FillPartial(problem, result, &artifact);
   if (result.solved()) {
     FillPath(problem, result.path, &artifact);
     artifact.waypoints = DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point,
@@ -405,17 +423,22 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   }
   planned.status = result.status;
   if (!result.solved()) {
-    LogError("no path within the budget (%s)", artifact.stopped_by_budget                ? "time budget used up"
-                                               : result.status == PlanStatus::kTimeLimit ? "time limit"
-                                                                                         : "iteration limit");
+    LogError("no path within the budget (%s)", result.status != PlanStatus::kTimeLimit ? "iteration limit"
+                                               : budget_bound                            ? "time budget used up"
+                                                                                         : "time limit");
   }
   return planned;
 }
 
 // Rigid-exact planning within D's reach, grown as needed: crop level 0,
 // then each level doubles the margin (planning/reach_crop.h) while no path
-// is found, up to the uncropped scene or --max-crop-level. The time limit
-// is shared evenly among the levels that may be tried.
+// is found, up to the uncropped scene or --max-crop-level. A level that
+// crops gets options.crop_level_iterations planner iterations (its
+// restarts together), the last level (the uncropped scene, or the level
+// --max-crop-level allows) no cap: counted in work, not in a share of the
+// time limit, so which level answers does not depend on the machine's load.
+// The time limit is the whole stage's safety net: every level gets what is
+// left of it, and when it fires the path artifact says so (stopped_by_budget).
 PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {
   bool assumed = false;
   RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, &assumed);
@@ -427,12 +450,16 @@ PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) 
   while (ChooseReachCrop(scene, levels - 1) && (options.max_crop_level < 0 || levels - 1 < options.max_crop_level)) {
     ++levels;
   }
-  const double share = options.planner.time_limit_s / levels;
+  const auto begin = std::chrono::steady_clock::now();
   for (int level = 0;; ++level) {
+    const bool last = level + 1 >= levels;
+    const double left =
+        options.planner.time_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
     bool cropped = false;
-    PlannedPath planned = PlanRigidExactAt(options, scene, level, share, &cropped);
+    PlannedPath planned = PlanRigidExactAt(options, scene, level, std::max(0.1, left),
+                                           last ? 0 : options.crop_level_iterations, &cropped);
     if (planned.artifact.success || !cropped || planned.artifact.planner == "none") return planned;
-    if (planned.artifact.stopped_by_budget) return planned;  // the time budget is used up: no larger crop
+    if (planned.artifact.stopped_by_budget) return planned;  // the clock ended it (cut short): no larger crop
     if (options.max_crop_level >= 0 && level >= options.max_crop_level) {
       LogError("no path within D's reach up to crop level %d (--max-crop-level)", level);
       return planned;
@@ -490,6 +517,7 @@ void PlanSceneOptions::Check() const {
   if (!(tau < 0 || std::isfinite(tau))) throw InputError("--tau: must be a finite number");
   if (!(psi >= 0) || !std::isfinite(psi)) throw InputError("--psi: must be >= 0");
   if (max_crop_level < -1) throw InputError("--max-crop-level: must be >= -1");
+  if (crop_level_iterations < 1) throw InputError("--crop-level-iterations: must be >= 1");
   ResolvedPlanner(*this, volume_mode).Check();
   PlannerOptions rigid = planner;
   rigid.planner = rigid_planner;
@@ -527,8 +555,10 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     // sigma_2 keep none yet).
     PlanSceneOptions within = options;
     within.planner = WithinDeadline(options.planner, options.deadline, &budget_bound);
-    artifact = PlanVolumeMode(within, scene, problem, checker, &stats, &solved);
-    artifact.stopped_by_budget = !solved && budget_bound;
+    artifact = PlanVolumeMode(within, scene, problem, checker, &stats, &status);
+    solved = status == PlanStatus::kSolved;
+    // The clock (time limit or budget) ended sigma_1's or sigma_2's search: cut short.
+    artifact.stopped_by_budget = !solved && status == PlanStatus::kTimeLimit;
   } else {
     CheckEndpoints(problem, checker, scene.file.string());
     const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
@@ -553,7 +583,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       artifact.waypoints =
           DensifyForPlainInterpolation(artifact.waypoints, problem.reference_point, problem.dynamic_origin, deviation);
     }
-    FillPartial(problem, result, budget_bound, &artifact);
+    FillPartial(problem, result, &artifact);
   }
   ThrowIfCancelled();  // the planners stopped early: no answer (core/cancel.h)
   planned.status = status;

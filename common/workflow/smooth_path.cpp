@@ -85,6 +85,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
     out.result.after = out.result.before;
   }
   SetLengths(out.result, &out.artifact);
+  out.artifact.smoothing_cut_short = out.result.cut_short;
   WarnBelowClearance(scene, *guard, out.result.path, 0);
   const SmoothResult& r = out.result;
   LogInfo(
@@ -224,6 +225,7 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
   result.after = MeasurePath(problem, result.path);
   result.shortcuts = first.shortcuts + second.shortcuts;
   result.attempts = first.attempts + second.attempts;
+  result.cut_short = second.cut_short;  // sigma_1's volume smoothing counts work only
   return inter_index;
 }
 
@@ -298,6 +300,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     DescribeWaypoints(*out.model, checker, result.path, &a);
   }
   SetLengths(result, &out.artifact);
+  out.artifact.smoothing_cut_short = result.cut_short;
   LogInfo(
       "length %.4f -> %.4f (normalized), translation %.4g -> %.4g, rotation %.3f -> %.3f rad; "
       "%zu -> %zu waypoints, %d shortcuts in %d attempts",

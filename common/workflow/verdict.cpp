@@ -372,6 +372,13 @@ std::string VerdictJson(const Verdict& v) {
   json.Bool("removable", removable).String("status", removable ? "removable" : "not-removable");
   // Only where it holds (the recorded verdicts of other runs stay the same).
   if (removable && v.already_in_goal) json.Bool("already_in_goal", true);
+  // Where a clock (a time limit, a safety net, or the budget) cut a stage
+  // short, the result is not the deterministic one; said only then, so that
+  // verdicts of runs that did all their counted work stay as they were. A
+  // removable path whose smoothing was cut short is still exactly checked:
+  // removable, less smooth than it would be.
+  if (v.path.smoothing_cut_short) json.Bool("smoothing_cut_short", true);
+  if (v.tau && v.tau->estimate.cut_short) json.Bool("tau_estimate_cut_short", true);
   AddWhyNotRemovable(v, json);
   json.String("validity", ValidityModeName(path.validity)).Number("tau", v.tau_value).Number("psi", v.psi_value);
   AddTauEstimate(v, json);
@@ -435,7 +442,13 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
   const auto& max = v.max_volume;
   const char* units = v.units.c_str();
   std::fprintf(out, "%s: %s%s\n", v.scene_name.c_str(), v.removable ? "REMOVABLE" : "NOT REMOVABLE",
-               v.stopped_by_budget ? " (budget: the time budget ended the search)" : "");
+               v.stopped_by_budget ? " (budget: a time limit or the time budget ended the search)" : "");
+  if (v.path.smoothing_cut_short || (v.tau && v.tau->estimate.cut_short)) {
+    std::fprintf(out, "  cut short by the clock (a safety net): %s%s%s; a re-run on an idle machine may differ\n",
+                 v.tau && v.tau->estimate.cut_short ? "the tau estimate" : "",
+                 v.path.smoothing_cut_short && v.tau && v.tau->estimate.cut_short ? ", " : "",
+                 v.path.smoothing_cut_short ? "smoothing" : "");
+  }
   if (max) {
     std::fprintf(out, "  max %s: %.6g %s^3 at waypoint %d of %zu", ValidityModeName(path.validity).c_str(), max->value,
                  units, max->index, path.waypoints.size());

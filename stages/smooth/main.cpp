@@ -81,7 +81,15 @@ int Reuse(const StageRun& run, const SmoothStageOptions& options) {
   return kExitOk;
 }
 
+// A smoothing its time limit (a safety net) or budget cut short is not the
+// deterministic answer: smoothed again rather than reused.
+bool CutShort(const StageRun& run, const SmoothStageOptions&) {
+  if (!ReadPathArtifact(run.output).smoothing_cut_short) return false;
+  LogInfo("%s was cut short by its time limit: smoothing again", run.output.c_str());
+  return true;
+}
+
 }  // namespace
 }  // namespace ausbau
 
-AUSBAU_STAGE_MAIN(kSmoothStage, DeclareSmooth, Smooth, Reuse)
+AUSBAU_STAGE_MAIN(kSmoothStage, DeclareSmooth, Smooth, Reuse, CutShort)

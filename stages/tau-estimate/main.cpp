@@ -41,9 +41,10 @@ int EstimateTauStage(const StageRun& run, const TauStageOptions& options) {
   if (!options.csv.empty()) WriteTauTraceCsv(options.csv, artifact.estimate);
   const TauEstimate& e = artifact.estimate;
   const char* units = run.scene.units.c_str();
-  LogInfo("tau %.6g %s^3 (start volume %.6g), psi %.6g %s, %d planning round(s), %zu probes, %.2f s%s; written to %s",
+  LogInfo("tau %.6g %s^3 (start volume %.6g), psi %.6g %s, %d planning round(s), %zu probes, %.2f s%s%s; written to %s",
           e.tau, units, e.tau_lowest, e.psi, units, e.rounds, e.trace.size(), e.seconds,
-          e.solved ? "" : " (no round found sigma_1: tau is the last tried)", run.output.c_str());
+          e.solved ? "" : " (no round found sigma_1: tau is the last tried)",
+          e.cut_short ? " (cut short by the clock: not the deterministic estimate)" : "", run.output.c_str());
   return e.solved ? kExitOk : kExitNoPath;
 }
 
@@ -53,7 +54,15 @@ int ReuseTau(const StageRun& run, const TauStageOptions& options) {
   return cached.estimate.solved ? kExitOk : kExitNoPath;
 }
 
+// An estimate a clock cut short (a round's --time-limit, a safety net, or
+// the budget) is not the deterministic one: estimated again, not reused.
+bool CutShort(const StageRun& run, const TauStageOptions&) {
+  if (!ReadTauArtifact(run.output).estimate.cut_short) return false;
+  LogInfo("%s was cut short by the clock: estimating again", run.output.c_str());
+  return true;
+}
+
 }  // namespace
 }  // namespace ausbau
 
-AUSBAU_STAGE_MAIN(kTauEstimateStage, DeclareTau, EstimateTauStage, ReuseTau)
+AUSBAU_STAGE_MAIN(kTauEstimateStage, DeclareTau, EstimateTauStage, ReuseTau, CutShort)
