@@ -51,4 +51,4 @@ if [ "$failed" -ne 0 ]; then
   echo "format-check: failed: run clang-format-14 -i on the files above (.clang-format)" >&2
   exit 1
 fi
-echo "format-check: $checked files formatted ($(wc -l <<<"$pending") pending in scripts/format-pending.txt)"
+echo "format-check: $checked files formatted ($(grep -c . <<<"$pending" || true) pending in scripts/format-pending.txt)"

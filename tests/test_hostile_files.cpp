@@ -113,11 +113,12 @@ TEST(HostileNames, ShellCodeInATopMakefileVariableNeverRuns) {
   // OUT with a space: refused as one value, never split into ./o and ./ut
   // (make batch, and make run through ausbau-run).
   for (const std::string& target : {"batch SCENES=" + Quote((dir / "scenes").string()),
-                                   "run SCENE=" + Quote((dir / "scenes/good/scene.yaml").string())}) {
+                                    "run SCENE=" + Quote((dir / "scenes/good/scene.yaml").string())}) {
     const Outcome spaced = Shell(dir.path(), TopMake(target + " OUT=" + Quote((dir / "o ut").string())));
     EXPECT_EQ(spaced.exit_code, 2) << target << ":\n" << spaced.output;
     EXPECT_NE(spaced.output.find("OUT=" + (dir / "o ut").string() + ": only letters"), std::string::npos)
-        << target << ":\n" << spaced.output;
+        << target << ":\n"
+        << spaced.output;
   }
   EXPECT_EQ(outside.Changes(), "");
   EXPECT_EQ(fs::exists(testing::SourceDir() / ".snakemake"), records_in_checkout);
@@ -287,10 +288,10 @@ TEST(HostileLinks, BatchRefusesLinksWhereItWritesItsLogs) {
       fs::create_symlink(dir / "victim.txt", out / "scene" / name);
     }
     const testing::OutsideOut outside(dir.path(), out);
-    const Outcome outcome = Shell(dir.path(), "make --no-print-directory -f " +
-                                                  Quote((testing::SourceDir() / "pipelines/batch.mk").string()) +
-                                                  " SCENES=scenes OUT=out VALIDITY=rigid-exact WITH_REPORT=0 BIN=" +
-                                                  Quote(testing::BinDir().string()));
+    const Outcome outcome =
+        Shell(dir.path(),
+              "make --no-print-directory -f " + Quote((testing::SourceDir() / "pipelines/batch.mk").string()) +
+                  " SCENES=scenes OUT=out VALIDITY=rigid-exact WITH_REPORT=0 BIN=" + Quote(testing::BinDir().string()));
     EXPECT_EQ(outcome.exit_code, 2) << outcome.output;
     EXPECT_NE(outcome.output.find("pipeline: out/scene" + (name.empty() ? "" : "/" + name) +
                                   " is a symbolic link; the pipeline writes only its own files inside OUT"),

@@ -144,7 +144,7 @@ TEST(Planner, ATotalIterationBudgetEndsTheRestartsExactly) {
   Fixture f("rod-in-cage");
   PlannerOptions options;
   options.seed = 9;
-  options.time_limit_s = 600;  // the safety net: never reached here
+  options.time_limit_s = 600;           // the safety net: never reached here
   options.max_total_iterations = 5000;  // one round of 4096, then 904
   const PlanResult capped = PlanWithRestarts(f.problem, f.checker, options);
   if (capped.solved()) {

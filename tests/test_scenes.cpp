@@ -177,8 +177,8 @@ std::string ShellQuote(const std::string& text) {
 
 CommandOutcome RunInDir(const std::filesystem::path& dir, const std::string& command, int timeout_s) {
   return RunShellCommand("cd " + ShellQuote(dir.string()) + " && PATH=" + ShellQuote(BinDir().string()) +
-                         ":\"$PATH\" timeout -s KILL " + std::to_string(timeout_s) + " bash -c " +
-                         ShellQuote(command) + " 2>&1");
+                         ":\"$PATH\" timeout -s KILL " + std::to_string(timeout_s) + " bash -c " + ShellQuote(command) +
+                         " 2>&1");
 }
 
 std::string ReadTextFile(const std::filesystem::path& path) {

@@ -47,7 +47,8 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
               "says not-removable (budget))",
               CacheKey::kYes)
       ->check(TimeLimit());
-  stage.Option("--max-iterations", &planner->max_iterations, "one run of at most this many iterations, no restarts; 0 = unlimited", CacheKey::kYes);
+  stage.Option("--max-iterations", &planner->max_iterations,
+               "one run of at most this many iterations, no restarts; 0 = unlimited", CacheKey::kYes);
   stage.Option("--u", &planner->u, "rrtc: metric weight of translation, (0, 1)", CacheKey::kYes);
   stage.Option("--range-max", &planner->range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
   stage.Option("--resolution", &planner->resolution, "edge check step as a fraction of D's AABB diagonal",

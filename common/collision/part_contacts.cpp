@@ -121,7 +121,8 @@ std::vector<PartContact> MeasurePartContacts(const TriangleMesh& robot, const Po
     PartContact contact;
     if (near.triangles.size() < parts[p].triangles.size() && !near.triangles.empty()) {
       contact = Measure(*robot_model, robot_shells, tf, near, parts[p]);
-      if (!contact.intersects && contact.distance > reach) contact = Measure(*robot_model, robot_shells, tf, parts[p], parts[p]);
+      if (!contact.intersects && contact.distance > reach)
+        contact = Measure(*robot_model, robot_shells, tf, parts[p], parts[p]);
     } else {
       contact = Measure(*robot_model, robot_shells, tf, parts[p], parts[p]);
     }

@@ -243,7 +243,8 @@ bool TauSearch::Accept(Round& round) {
   estimate_.trace.push_back(planning);
   if (round.result.status == PlanStatus::kTimeLimit) {
     estimate_.cut_short = true;
-    Say("round " + std::to_string(round.index + 1) + " was cut short by its time limit (a safety net): the estimate "
+    Say("round " + std::to_string(round.index + 1) +
+        " was cut short by its time limit (a safety net): the estimate "
         "is not the deterministic one");
   }
   estimate_.rounds = round.index + 1;

@@ -56,7 +56,7 @@ struct TauEstimateOptions {
   int max_rounds = 5;                 // planning rounds
   std::int64_t probe_attempts = 300;  // expansion attempts per probe
   int bisection_steps = 4;
-  double max_tau = 0;      // 0 = D's whole volume (IV of all of D)
+  double max_tau = 0;  // 0 = D's whole volume (IV of all of D)
   // Local planner (est) and seed. A planning round ends when sigma_1 is
   // found or after round_checks validity checks (work, counted as the
   // probes' speed is, so that which round succeeds, hence tau and the path,

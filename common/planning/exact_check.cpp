@@ -197,7 +197,9 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
       const BlockingProbe& p = report.probes.back();
       if (!until_out) {
         LogInfo("what blocks: pull %zu of 6 %s after %s (%d depth measurements)", report.probes.size(),
-                p.separated ? "gets D out" : p.unfinished ? "unfinished" : "blocked",
+                p.separated    ? "gets D out"
+                : p.unfinished ? "unfinished"
+                               : "blocked",
                 LengthInWords(p.free_distance, scene.units).c_str(), p.steps);
       }
     }
@@ -214,10 +216,10 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
     blocked += !p.separated && !p.unfinished;
     unfinished += p.unfinished;
   }
-  const std::string unfinished_note =
-      unfinished == 0 ? ""
-                      : Fmt(" (%d pull%s unfinished after %d steps: sliding in contact)", unfinished,
-                            unfinished == 1 ? "" : "s", kMaxPullSteps);
+  const std::string unfinished_note = unfinished == 0
+                                          ? ""
+                                          : Fmt(" (%d pull%s unfinished after %d steps: sliding in contact)",
+                                                unfinished, unfinished == 1 ? "" : "s", kMaxPullSteps);
   if (!report.parts->rigid_interference.empty()) {
     report.summary = "rigid " + report.parts->Describe(report.parts->rigid_interference.front(), true) +
                      " already penetrates S at the installed pose";
@@ -231,7 +233,7 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
             report.parts->Describe(p.static_shell, false).c_str(), DepthInWords(p.depth, scene.units).c_str()) +
         unfinished_note;
   } else if (unfinished > 0) {
-    report.summary = Fmt("no straight pull along D's principal axes is blocked, %d of %zu get D out", 
+    report.summary = Fmt("no straight pull along D's principal axes is blocked, %d of %zu get D out",
                          static_cast<int>(report.probes.size()) - unfinished, report.probes.size()) +
                      unfinished_note;
   } else {

@@ -97,8 +97,7 @@ void PlannerOptions::Check() const {
   }
   if (max_iterations < 0) throw OptionError(&max_iterations, "max_iterations", "must be >= 0");
   if (max_checks < 0) throw OptionError(&max_checks, "max_checks", "must be >= 0");
-  if (max_total_iterations < 0)
-    throw OptionError(&max_total_iterations, "max_total_iterations", "must be >= 0");
+  if (max_total_iterations < 0) throw OptionError(&max_total_iterations, "max_total_iterations", "must be >= 0");
   if (!(u > 0 && u < 1)) throw OptionError(&u, "u", "must lie in (0, 1)");
   if (!(range_max > 0 && range_max <= 1)) throw OptionError(&range_max, "range_max", "must lie in (0, 1]");
   if (!(est_range >= 0 && est_range <= 1))

@@ -35,8 +35,8 @@ struct PlannerOptions {
   // kIterationLimit. Sequential planners only (PRM's threads share the
   // count); 0 = unlimited.
   std::int64_t max_checks = 0;
-  double u = 0.583;                 // rrtc: metric weight (Def-RRTC default)
-  double range_max = 0.417;         // rrtc: maximal edge range (Def-RRTC default)
+  double u = 0.583;          // rrtc: metric weight (Def-RRTC default)
+  double range_max = 0.417;  // rrtc: maximal edge range (Def-RRTC default)
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;

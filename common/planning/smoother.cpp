@@ -462,9 +462,10 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   // other way round).
   result.cut_short = Clock::now() >= deadline;
   if (result.cut_short) {
-    LogWarn("smoothing was cut short by its time limit of %.1f s (a safety net): the path is valid but not the "
-            "deterministic one (a slower or busier machine)",
-            options.time_limit_s);
+    LogWarn(
+        "smoothing was cut short by its time limit of %.1f s (a safety net): the path is valid but not the "
+        "deterministic one (a slower or busier machine)",
+        options.time_limit_s);
   }
   return result;
 }

@@ -115,8 +115,7 @@ class Budget {
         next_report_(scope.begin()) {}
   // Returns false and sets *status when the budget is spent.
   bool Continue(std::int64_t iteration, PlanStatus* status) const {
-    if ((max_iterations_ > 0 && iteration >= max_iterations_) ||
-        (max_checks_ > 0 && scope_.checks() >= max_checks_)) {
+    if ((max_iterations_ > 0 && iteration >= max_iterations_) || (max_checks_ > 0 && scope_.checks() >= max_checks_)) {
       *status = PlanStatus::kIterationLimit;
       return false;
     }

@@ -98,12 +98,12 @@ std::vector<SceneFinding> CheckInstalledPose(const Scene& scene, const Installed
                       "interference",
                       tolerance, units.c_str())));
     } else if (gap < step) {
-      findings.push_back(Finding(
-          S::kWarning, "fit-finer-than-step",
-          Fmt("D is %.3g %s from S at the installed pose, a fit finer than the planner's check step of %.3g %s "
-              "(%.2g of D's diagonal): sampling rarely finds such a passage; straight pulls along D's axes are "
-              "tried first, and every path is checked exactly (rigid-exact) whatever the step",
-              gap, units.c_str(), step, units.c_str(), options.resolution)));
+      findings.push_back(
+          Finding(S::kWarning, "fit-finer-than-step",
+                  Fmt("D is %.3g %s from S at the installed pose, a fit finer than the planner's check step of %.3g %s "
+                      "(%.2g of D's diagonal): sampling rarely finds such a passage; straight pulls along D's axes are "
+                      "tried first, and every path is checked exactly (rigid-exact) whatever the step",
+                      gap, units.c_str(), step, units.c_str(), options.resolution)));
     }
   }
   return findings;

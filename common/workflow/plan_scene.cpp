@@ -424,8 +424,8 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   planned.status = result.status;
   if (!result.solved()) {
     LogError("no path within the budget (%s)", result.status != PlanStatus::kTimeLimit ? "iteration limit"
-                                               : budget_bound                            ? "time budget used up"
-                                                                                         : "time limit");
+                                               : budget_bound                          ? "time budget used up"
+                                                                                       : "time limit");
   }
   return planned;
 }
