@@ -61,6 +61,9 @@ export AUSBAU_CACHE_DIR="$OUT/cache" AUSBAU_MESH_CACHE="$OUT/cache"
 
 rows=""
 removable=0 blocked=0 wrong=0 over=0 n=0 total_s=0 max_kb=0
+machine_line() {
+  echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(awk '/MemTotal/ { printf "%.0f GB", $2 / 1048576 }' /proc/meminfo); load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+}
 # One row per part: the verdict in RUN_DIR/verdict.json against the expected one.
 judge_part() {  # part kind run_dir seconds cpu kb
   local part=$1 kind=$2 run=$3 seconds=$4 cpu=$5 kb=$6 verdict expected within
@@ -108,7 +111,7 @@ if [ "${RUNNER:-make}" = snakemake ]; then
     judge_part "$part" "$kind" "$OUT/snakemake/$part" "$seconds" "-" "-"
   done < "$OUT/parts.txt"
   {
-    echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(awk '/MemTotal/ { printf "%.0f GB", $2 / 1048576 }' /proc/meminfo); load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+    machine_line
     echo
     echo "Vehicle: shell $shell_triangles triangles, $PARTS parts (every fifth riveted), generated in $gen_s s; $n parts run through pipelines/Snakefile on $CORES cores (THREADS=1); budget $BUDGET s per part, --time-limit $TIME_LIMIT, --max-crop-level $MAX_CROP_LEVEL"
     echo
@@ -142,7 +145,7 @@ while read -r scene kind; do
 done < "$OUT/parts.txt"
 
 {
-  echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(awk '/MemTotal/ { printf "%.0f GB", $2 / 1048576 }' /proc/meminfo); load average at the end: $(cut -d' ' -f1-3 /proc/loadavg)"
+  machine_line
   echo
   echo "Vehicle: shell $shell_triangles triangles, $PARTS parts (every fifth riveted), generated in $gen_s s; $n parts run; budget $BUDGET s per part, --time-limit $TIME_LIMIT, --max-crop-level $MAX_CROP_LEVEL"
   echo

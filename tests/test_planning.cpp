@@ -34,6 +34,13 @@ struct Fixture {
   FclCollisionChecker checker;
 };
 
+// One planner run with the default options and `seed`.
+PlanResult PlanWithSeed(const Fixture& f, std::uint64_t seed) {
+  PlannerOptions options;
+  options.seed = seed;
+  return Plan(f.problem, f.checker, options);
+}
+
 // Four times finer than the acceptance criterion (1% of D's diagonal).
 constexpr double kDenseStep = 0.0025;
 
@@ -283,9 +290,7 @@ TEST(NearestNeighbors, EqualsBruteForceUnderRandomWeights) {
 
 TEST(Smoother, ShortensAndStaysValid) {
   Fixture f("rod-in-cage");
-  PlannerOptions options;
-  options.seed = 3;
-  const PlanResult plan = Plan(f.problem, f.checker, options);
+  const PlanResult plan = PlanWithSeed(f, 3);
   ASSERT_TRUE(plan.solved());
   SmoothOptions smooth;
   smooth.seed = 3;
@@ -309,9 +314,7 @@ TEST(Smoother, ShortensAndStaysValid) {
 // a valid path from the start.
 TEST(Smoother, TheTimeLimitIsOnlyASafetyNetAndSaysWhenItFires) {
   Fixture f("rod-in-cage");
-  PlannerOptions options;
-  options.seed = 3;
-  const PlanResult plan = Plan(f.problem, f.checker, options);
+  const PlanResult plan = PlanWithSeed(f, 3);
   ASSERT_TRUE(plan.solved());
   SmoothOptions smooth;
   smooth.seed = 3;
