@@ -9,16 +9,9 @@
 
 BATCH_MK_DIR := $(dir $(lastword $(MAKEFILE_LIST)))
 
-ifndef SCENES
-$(error SCENES=folder/with/one/sub-folder/per/scene is required)
-endif
-ifndef OUT
-$(error OUT=output/folder is required)
-endif
-
 include $(BATCH_MK_DIR)safe-names.mk
-$(call require_safe,SCENES)
-$(call require_safe,OUT)
+$(call require_given,SCENES,folder/with/one/sub-folder/per/scene)
+$(call require_given,OUT,output/folder)
 SCENE_FILES := $(sort $(wildcard $(SCENES)/*/scene.yaml))
 NAMES := $(patsubst $(SCENES)/%/scene.yaml,%,$(SCENE_FILES))
 ifeq ($(strip $(NAMES)),)

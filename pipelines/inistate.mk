@@ -89,17 +89,7 @@ SMOOTH_FLAGS ?=
 VERDICT_FLAGS ?=
 REPORT_FLAGS ?=
 
-ifndef SCENE
-$(error SCENE=path/to/scene.yaml is required)
-endif
-ifndef OUT
-$(error OUT=output/folder is required)
-endif
-include $(dir $(lastword $(MAKEFILE_LIST)))safe-names.mk
-$(call require_safe,SCENE)
-$(call require_safe,OUT)
-
-include $(dir $(lastword $(MAKEFILE_LIST)))out-lock.mk
+include $(dir $(lastword $(MAKEFILE_LIST)))scene-pipeline.mk
 ifeq ($(OUT_LOCKED),yes)
 
 # Make's `?=` keeps the spaces before a comment: strip them.

@@ -1,5 +1,5 @@
-# One pipeline at a time per OUT (included by inistate.mk and plan.mk after
-# their OUT check). Two runs on one OUT interleave their stages: the first
+# One pipeline at a time per OUT (included by scene-pipeline.mk, the head of
+# inistate.mk and plan.mk). Two runs on one OUT interleave their stages: the first
 # printed a verdict for files the second had replaced. So the whole run holds
 # an exclusive lock on OUT/.ausbau-lock (flock, util-linux): make re-runs
 # itself under the lock, and a second run on the same OUT stops at once with

@@ -18,6 +18,10 @@ unsafe_rest = $(if $(2),$(call unsafe_rest,$(subst $(firstword $(2)),,$(1)),$(wo
 # "yes" when the variable named $(1) holds one safe word.
 safe_var = $(and $($(1)),$(if $(word 2,$($(1))),,$(if $(call unsafe_rest,$(subst $(SAFE_NAME_COMMA),?,$($(1))),$(SAFE_NAME_CHARS)),,yes)))
 require_safe = $(if $(call safe_var,$(1)),,$(error $(1)=$($(1)): only letters, digits and _./+@- are supported (the name reaches a shell)))
+# A variable a pipeline cannot run without (SCENE, OUT, ...): stops the run
+# when it is empty, saying what it should hold, and checks it as above.
+#   $(call require_given,OUT,output/folder)
+require_given = $(if $($(1)),,$(error $(1)=$(2) is required))$(call require_safe,$(1))
 
 # Shell code for a recipe: stops it (exit 2, one line) when one of the
 # pipeline's own paths under OUT, $(1) (already checked safe names), is a

@@ -14,16 +14,9 @@
 STEP_MK_DIR := $(dir $(lastword $(MAKEFILE_LIST)))
 BIN ?= build/bin
 
-ifndef STEP
-$(error STEP=assembly.step is required)
-endif
-ifndef OUT
-$(error OUT=output/folder is required)
-endif
-
 include $(STEP_MK_DIR)safe-names.mk
-$(call require_safe,STEP)
-$(call require_safe,OUT)
+$(call require_given,STEP,assembly.step)
+$(call require_given,OUT,output/folder)
 $(call require_safe,BIN)
 ifdef DYNAMIC
 $(call require_safe,DYNAMIC)
