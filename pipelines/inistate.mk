@@ -12,10 +12,11 @@
 #   medial-spheres -> pbd-label ----------> tau-estimate -> plan -> smooth -> verdict [-> report]
 #   distfield-build ---------------------------------------/
 #
-# Outputs in OUT: voxels.h5, spheres.h5, labels.h5, distfield-static.h5,
-# distfield-dynamic.h5, tau.h5, tau-trace.csv, path.h5 (planned),
-# path-smooth.h5 + path-smooth.csv (smoothed), path.csv (the final path: a
-# copy of path-smooth.csv), profile.csv, verdict.json, report.html,
+# Outputs in OUT: the files of the manifest pipelines/run-files.txt (voxels.h5,
+# spheres.h5, labels.h5, distfield-static.h5, distfield-dynamic.h5, tau.h5,
+# tau-trace.csv, path.h5 (planned), path-smooth.h5 + path-smooth.csv
+# (smoothed), path.csv (the final path: a copy of path-smooth.csv),
+# profile.csv, verdict.json, report.html; RUN_PATH etc. below name them),
 # times/<stage>.seconds (wall time of each stage in this run), and
 # .ausbau-cache/ (the distance fields' cache, unless AUSBAU_CACHE_DIR names
 # another). Nothing is written outside OUT.
@@ -147,38 +148,38 @@ EXACT_MODE := $(filter rigid-exact,$(VALIDITY))
 
 # Stages that only sigma_1's volume validity needs, and FARR's fields.
 GEOMETRY_STAGES := $(if $(VOLUME_MODE),voxelize medial-spheres pbd-label) $(if $(EXACT_MODE),,$(if $(filter farr,$(COLLISION)),distfield-build))
-VOLUME_INPUTS := --voxels $(OUT)/voxels.h5 --labels $(OUT)/labels.h5
-PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(OUT)/tau.h5 $(VOLUME_INPUTS))$(if $(EXACT_MODE),--validity rigid-exact) --rigid-tolerance $(RIGID_TOLERANCE)
+VOLUME_INPUTS := --voxels $(RUN_VOXELS) --labels $(RUN_LABELS)
+PLAN_VOLUME := $(if $(VOLUME_MODE),--validity $(VALIDITY) --tau-file $(RUN_TAU) $(VOLUME_INPUTS))$(if $(EXACT_MODE),--validity rigid-exact) --rigid-tolerance $(RIGID_TOLERANCE)
 COMMA := ,
-PLAN_COLLISION := $(if $(EXACT_MODE),,--collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(OUT)/distfield-static.h5$(COMMA)$(OUT)/distfield-dynamic.h5))
+PLAN_COLLISION := $(if $(EXACT_MODE),,--collision $(COLLISION) $(if $(filter farr,$(COLLISION)),--distfield $(RUN_DISTFIELD_STATIC)$(COMMA)$(RUN_DISTFIELD_DYNAMIC)))
 
 .PHONY: all start voxelize medial-spheres pbd-label distfield-build tau-estimate plan smooth verdict report
 .DELETE_ON_ERROR:
 .DEFAULT_GOAL := all
 
 all: verdict $(if $(filter 1,$(WITH_REPORT)),report)
-	@grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' $(OUT)/verdict.json || \
-	  { echo "inistate: $(SCENE): not removable (see $(OUT)/verdict.json)" >&2; exit 3; }
+	@grep -Eq '"removable"[[:space:]]*:[[:space:]]*true' $(RUN_VERDICT) || \
+	  { echo "inistate: $(SCENE): not removable (see $(RUN_VERDICT))" >&2; exit 3; }
 
 # This run's timings only (stale ones would be summed by the verdict), and
 # no verdict of an earlier run when this one fails before its verdict. The
 # pipeline's own paths that recipes (not stages) write or delete must not be
 # symbolic links: they would lead the rm and the writes outside OUT.
 start:
-	@$(call refuse_links,$(TIMES) $(OUT)/.path.csv.tmp $(OUT)/path.csv $(OUT)/.ausbau-cache)
+	@$(call refuse_links,$(TIMES) $(RUN_PATH_CSV_TMP) $(RUN_PATH_CSV) $(OUT)/.ausbau-cache)
 	@mkdir -p $(TIMES)
-	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path $(OUT)/verdict.json
+	@rm -f $(TIMES)/*.seconds $(TIMES)/no-path $(RUN_VERDICT)
 
 voxelize: start
-	$(TIMED) voxelize $(TIMES) $(VOXELIZE) --scene $(SCENE) --threads $(THREADS) -o $(OUT)/voxels.h5 $(VOXELIZE_FLAGS)
+	$(TIMED) voxelize $(TIMES) $(VOXELIZE) --scene $(SCENE) --threads $(THREADS) -o $(RUN_VOXELS) $(VOXELIZE_FLAGS)
 
 medial-spheres: start
 	$(TIMED) medial-spheres $(TIMES) $(MEDIAL_SPHERES) --scene $(SCENE) --threads $(THREADS) \
-	  -o $(OUT)/spheres.h5 $(SPHERES_FLAGS)
+	  -o $(RUN_SPHERES) $(SPHERES_FLAGS)
 
 pbd-label: medial-spheres
-	$(TIMED) pbd-label $(TIMES) $(PBD_LABEL) --scene $(SCENE) --spheres $(OUT)/spheres.h5 --threads $(THREADS) \
-	  --rigid-tolerance $(RIGID_TOLERANCE) -o $(OUT)/labels.h5 $(LABEL_FLAGS)
+	$(TIMED) pbd-label $(TIMES) $(PBD_LABEL) --scene $(SCENE) --spheres $(RUN_SPHERES) --threads $(THREADS) \
+	  --rigid-tolerance $(RIGID_TOLERANCE) -o $(RUN_LABELS) $(LABEL_FLAGS)
 
 distfield-build: start
 	$(TIMED) distfield-build $(TIMES) $(DISTFIELD_BUILD) --scene $(SCENE) --threads $(THREADS) \
@@ -188,14 +189,14 @@ distfield-build: start
 # tried; the planner gets its chance with it.
 TAU_CMD = $(TAU_ESTIMATE) --scene $(SCENE) --validity $(VALIDITY) $(VOLUME_INPUTS) --rigid-tolerance $(RIGID_TOLERANCE) --seed $(SEED) \
   --time-limit $(TAU_TIME_LIMIT) --threads $(THREADS) $(if $(BUDGET),--deadline $(TAU_DEADLINE)) \
-  -o $(OUT)/tau.h5 --csv $(OUT)/tau-trace.csv $(TAU_FLAGS)
+  -o $(RUN_TAU) --csv $(RUN_TAU_TRACE) $(TAU_FLAGS)
 tau-estimate: start $(if $(VOLUME_MODE),voxelize pbd-label)
 ifneq ($(VOLUME_MODE),)
 	@echo '$(TAU_CMD)'; rc=0; $(TIMED) tau-estimate $(TIMES) $(TAU_CMD) || rc=$$?; \
 	if [ $$rc -eq 3 ]; then echo "inistate: tau-estimate found no sigma_1; planning with its last tau" >&2; \
 	elif [ $$rc -ne 0 ]; then exit $$rc; fi
 else
-	@rm -f $(OUT)/tau.h5 $(OUT)/tau-trace.csv
+	@rm -f $(RUN_TAU) $(RUN_TAU_TRACE)
 endif
 
 # Exit 3 (no path within the budget) writes path.h5 with success = 0: then
@@ -203,35 +204,35 @@ endif
 # (times/no-path marks it) and the verdict reads path.h5.
 PLAN_CMD = $(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) \
   --threads $(THREADS) --clearance $(CLEARANCE) $(PLAN_COLLISION) $(PLAN_VOLUME) $(if $(BUDGET),--deadline $(PLAN_DEADLINE)) \
-  -o $(OUT)/path.h5 $(PLAN_FLAGS)
+  -o $(RUN_PATH) $(PLAN_FLAGS)
 plan: tau-estimate $(filter distfield-build,$(GEOMETRY_STAGES))
 	@echo '$(PLAN_CMD)'; rc=0; $(TIMED) plan $(TIMES) $(PLAN_CMD) || rc=$$?; \
 	if [ $$rc -eq 3 ]; then \
 	  echo "inistate: no path found; the verdict will say not removable" >&2; touch $(TIMES)/no-path; \
-	  rm -f $(OUT)/path.csv $(OUT)/path-smooth.h5 $(OUT)/path-smooth.csv $(OUT)/profile.csv; \
+	  rm -f $(RUN_PATH_CSV) $(RUN_PATH_SMOOTH) $(RUN_PATH_SMOOTH_CSV) $(RUN_PROFILE); \
 	elif [ $$rc -ne 0 ]; then exit $$rc; fi
 
-SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
-  --rigid-tolerance $(RIGID_TOLERANCE) --clearance $(CLEARANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(OUT)/profile.csv \
-  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+SMOOTH_CMD = $(SMOOTH) --scene $(SCENE) --path $(RUN_PATH) --seed $(SEED) $(if $(VOLUME_MODE),$(VOLUME_INPUTS)) \
+  --rigid-tolerance $(RIGID_TOLERANCE) --clearance $(CLEARANCE) $(if $(BUDGET),--deadline $(SMOOTH_DEADLINE)) --profile $(RUN_PROFILE) \
+  -o $(RUN_PATH_SMOOTH) --csv $(RUN_PATH_SMOOTH_CSV) $(SMOOTH_FLAGS)
 # (mv -T: a link put at path.csv during the run, to a folder too, is
 # replaced, never moved into; `start` refused one before.)
 smooth: plan
 	@if [ -f $(TIMES)/no-path ]; then echo "inistate: smooth skipped (no path)"; exit 0; fi; \
 	echo '$(SMOOTH_CMD)'; $(TIMED) smooth $(TIMES) $(SMOOTH_CMD) && \
-	rm -f $(OUT)/.path.csv.tmp && cp $(OUT)/path-smooth.csv $(OUT)/.path.csv.tmp && mv -fT $(OUT)/.path.csv.tmp $(OUT)/path.csv
+	rm -f $(RUN_PATH_CSV_TMP) && cp $(RUN_PATH_SMOOTH_CSV) $(RUN_PATH_CSV_TMP) && mv -fT $(RUN_PATH_CSV_TMP) $(RUN_PATH_CSV)
 
 # Exit 3 (not removable) still writes verdict.json; `all` fails afterwards,
 # so that the report is written for a failed scene too.
-VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau-file $(OUT)/tau.h5) --times $(TIMES) \
-  $(if $(BUDGET),--budget $(BUDGET)) --rigid-tolerance $(RIGID_TOLERANCE) -o $(OUT)/verdict.json $(VERDICT_FLAGS)
+VERDICT_ARGS = --scene $(SCENE) $(if $(VOLUME_MODE),--tau-file $(RUN_TAU)) --times $(TIMES) \
+  $(if $(BUDGET),--budget $(BUDGET)) --rigid-tolerance $(RIGID_TOLERANCE) -o $(RUN_VERDICT) $(VERDICT_FLAGS)
 verdict: smooth
-	@if [ -f $(TIMES)/no-path ]; then set -- --path $(OUT)/path.h5; \
-	else set -- --path $(OUT)/path-smooth.h5 --csv-name $(OUT)/path.csv; fi; \
+	@if [ -f $(TIMES)/no-path ]; then set -- --path $(RUN_PATH); \
+	else set -- --path $(RUN_PATH_SMOOTH) --csv-name $(RUN_PATH_CSV); fi; \
 	echo "$(VERDICT) $$* $(VERDICT_ARGS)"; rc=0; $(VERDICT) "$$@" $(VERDICT_ARGS) || rc=$$?; \
 	if [ $$rc -ne 0 ] && [ $$rc -ne 3 ]; then exit $$rc; fi
 
 report: verdict
-	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html $(REPORT_FLAGS)
+	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(RUN_REPORT) $(REPORT_FLAGS)
 
 endif  # OUT_LOCKED (out-lock.mk)

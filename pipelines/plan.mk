@@ -30,14 +30,14 @@ all: smooth report
 plan:
 	@mkdir -p $(OUT)
 	$(PLAN) --scene $(SCENE) --planner $(PLANNER) --seed $(SEED) --time-limit $(TIME_LIMIT) --clearance $(CLEARANCE) \
-	  -o $(OUT)/path.h5 --csv $(OUT)/path.csv $(PLAN_FLAGS)
+	  -o $(RUN_PATH) --csv $(RUN_PATH_CSV) $(PLAN_FLAGS)
 
 smooth: plan
-	$(SMOOTH) --scene $(SCENE) --path $(OUT)/path.h5 --seed $(SEED) --clearance $(CLEARANCE) \
-	  -o $(OUT)/path-smooth.h5 --csv $(OUT)/path-smooth.csv $(SMOOTH_FLAGS)
+	$(SMOOTH) --scene $(SCENE) --path $(RUN_PATH) --seed $(SEED) --clearance $(CLEARANCE) \
+	  -o $(RUN_PATH_SMOOTH) --csv $(RUN_PATH_SMOOTH_CSV) $(SMOOTH_FLAGS)
 
 report: smooth
-	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(OUT)/report.html
+	$(REPORT) --scene $(SCENE) --run-dir $(OUT) -o $(RUN_REPORT)
 
 # Generated once: an existing scene (the demo's of an earlier run, or a
 # user's) is kept, never replaced (ausbau-scene-gen refuses that too).

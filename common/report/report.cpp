@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "artifact/artifact.h"
+#include "artifact/run_files.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
@@ -143,16 +144,16 @@ ReportFiles FindReportFiles(const ReportOptions& options, ReportSummary* summary
         absent += std::string(absent.empty() ? "" : ", ") + name;
       }
     };
-    pick("path.h5", &path_file, !options.path.empty());
-    pick("path-smooth.h5", &smoothed_file, !options.smoothed.empty());
-    pick("labels.h5", &labels_file, false);
-    pick("spheres.h5", &spheres_file, false);
-    pick("verdict.json", &verdict_file, false);
-    pick("profile.csv", &files.profile_file, false);
-    if (IsOwnRegularFile(options.run_dir / "path.csv")) {
-      files.path_csv = options.run_dir / "path.csv";
+    pick(kRunFilePath, &path_file, !options.path.empty());
+    pick(kRunFilePathSmooth, &smoothed_file, !options.smoothed.empty());
+    pick(kRunFileLabels, &labels_file, false);
+    pick(kRunFileSpheres, &spheres_file, false);
+    pick(kRunFileVerdict, &verdict_file, false);
+    pick(kRunFileProfile, &files.profile_file, false);
+    if (IsOwnRegularFile(options.run_dir / kRunFilePathCsv)) {
+      files.path_csv = options.run_dir / kRunFilePathCsv;
     } else {
-      linked(options.run_dir / "path.csv");
+      linked(options.run_dir / kRunFilePathCsv);
     }
     if (!absent.empty()) summary->notes.push_back("not in " + options.run_dir.string() + ": " + absent);
   }
@@ -192,11 +193,11 @@ std::string LabelsJson(const fs::path& labels_file, const Scene& scene, BufferSt
                     ",\"min\":" + JsonNumber(lo) + ",\"max\":" + JsonNumber(hi) +
                     ",\"values\":" + store.Add(Float32Bytes(values.data), "f32", values.data.size()) + "}";
       summary->used.push_back("labels: " + labels_file.string());
-      artifacts.emplace_back("labels.h5", "used: D coloured by deformability");
+      artifacts.emplace_back(kRunFileLabels, "used: D coloured by deformability");
     } catch (const InputError& e) {
       LogWarn("labels ignored: %s", e.what());
       summary->notes.push_back(std::string("labels ignored: ") + e.what());
-      artifacts.emplace_back("labels.h5", "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
+      artifacts.emplace_back(kRunFileLabels, "<span class=\"note\">ignored: " + HtmlEscape(e.what()) + "</span>");
     }
   }
   return labels_json;
@@ -428,7 +429,7 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
 
   BufferStore store;
   const std::string labels_json = LabelsJson(files.labels_file, scene, &store, summary, &artifacts);
-  if (!files.spheres_file.empty()) artifacts.emplace_back("spheres.h5", "present (not shown by this version)");
+  if (!files.spheres_file.empty()) artifacts.emplace_back(kRunFileSpheres, "present (not shown by this version)");
   std::optional<JsonValue> verdict;
   std::string verdict_problem;
   const std::string json_files = JsonFilesJson(files, summary, &artifacts, &verdict, &verdict_problem);

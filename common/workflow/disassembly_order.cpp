@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "artifact/run_files.h"
 #include "core/error.h"
 #include "core/json_writer.h"
 #include "core/log.h"
@@ -84,9 +85,9 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
   Provenance provenance;
   provenance.producer = "ausbau-order";
   provenance.producer_version = AUSBAU_VERSION;
-  WritePathArtifact(folder / "path.h5", path, provenance);
+  WritePathArtifact(folder / kRunFilePath, path, provenance);
   const std::vector<Pose>& written = path.success ? path.waypoints : path.partial_waypoints;
-  WritePathCsv(folder / "path.csv", written);
+  WritePathCsv(folder / kRunFilePathCsv, written);
   attempt.waypoints = written.size();
 
   const double tolerance = RigidToleranceInSceneUnits(plan.volume.rigid_tolerance_mm, scene, nullptr);

@@ -4,6 +4,7 @@
 // workflow/part_spheres.h; see README.md beside this file.
 #include <string>
 
+#include "artifact/run_files.h"
 #include "cli/stage_options.h"
 #include "workflow/part_spheres.h"
 
@@ -14,7 +15,7 @@ constexpr StageSpec kMedialSpheresStage{
     "ausbau-medial-spheres",
     "Computes one medial-axis sphere per vertex of the part D (deformability labeling, phase I).",
     SceneHash::kDynamicMesh,
-    {"spheres.h5", kSpheresSchema, kSpheresSchemaVersion},
+    {kRunFileSpheres, kSpheresSchema, kSpheresSchemaVersion},
     {"D and options", "compute again"}};
 
 struct SpheresStageOptions {

@@ -5,6 +5,7 @@
 // check's rule. The work is workflow/label_part.h; see README.md.
 #include <string>
 
+#include "artifact/run_files.h"
 #include "cli/stage_options.h"
 #include "labeling/pbd_label.h"
 #include "workflow/label_part.h"
@@ -16,7 +17,7 @@ constexpr StageSpec kPbdLabelStage{
     "ausbau-pbd-label",
     "Labels each vertex of the part D with a deformability in [0, 1] by position based dynamics (phase II).",
     SceneHash::kWholeScene,
-    {"labels.h5", kLabelsSchema, kLabelsSchemaVersion},
+    {kRunFileLabels, kLabelsSchema, kLabelsSchemaVersion},
     {"D, spheres and options", "label again"}};
 
 struct LabelStageOptions {

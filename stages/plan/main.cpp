@@ -3,6 +3,7 @@
 // workflow/plan_scene.h; see README.md beside this file.
 #include <cstdio>
 
+#include "artifact/run_files.h"
 #include "cli/stage_options.h"
 #include "core/log.h"
 #include "planning/path_io.h"
@@ -14,7 +15,7 @@ namespace {
 constexpr StageSpec kPlanStage{"ausbau-plan",
                                "Plans a collision-free motion of the part D out of (or through) its surroundings S.",
                                SceneHash::kWholeScene,
-                               {"path.h5", kPathSchema, kPathSchemaVersion},
+                               {kRunFilePath, kPathSchema, kPathSchemaVersion},
                                {"inputs and options", "plan again"}};
 
 struct PlanStageOptions {

@@ -3,6 +3,7 @@
 // work is workflow/smooth_path.h; see README.md beside this file.
 #include <filesystem>
 
+#include "artifact/run_files.h"
 #include "cli/stage_options.h"
 #include "core/log.h"
 #include "planning/path_io.h"
@@ -16,7 +17,7 @@ constexpr StageSpec kSmoothStage{
     "ausbau-smooth",
     "Shortens a planned path by shortcuts that keep it valid (collision-free, or within its InIState volume).",
     SceneHash::kWholeScene,
-    {"path-smooth.h5", kPathSchema, kPathSchemaVersion},
+    {kRunFilePathSmooth, kPathSchema, kPathSchemaVersion},
     {"inputs and options", "smooth again"}};
 
 struct SmoothStageOptions {

@@ -1,6 +1,7 @@
 // ausbau-tau-estimate: the threshold tau of InIState planning (thesis
 // 5.4.5) and psi (5.4.4) for one scene, from its voxels and labels. The
 // work is workflow/scene_tau.h; see README.md beside this file.
+#include "artifact/run_files.h"
 #include "cli/stage_options.h"
 #include "core/log.h"
 #include "workflow/scene_tau.h"
@@ -12,7 +13,7 @@ constexpr StageSpec kTauEstimateStage{
     "ausbau-tau-estimate",
     "Estimates the intersection-volume threshold tau (and psi) for planning out of an invalid initial state.",
     SceneHash::kWholeScene,
-    {"tau.h5", kTauSchema, kTauSchemaVersion},
+    {kRunFileTau, kTauSchema, kTauSchemaVersion},
     {"inputs and options", "estimate again"}};
 
 struct TauStageOptions {

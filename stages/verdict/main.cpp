@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "artifact/run_files.h"
 #include "cli/stage.h"
 #include "core/atomic_file.h"
 #include "workflow/verdict.h"
@@ -20,7 +21,7 @@ constexpr StageSpec kVerdictStage{"ausbau-verdict",
                                   {}};
 
 struct VerdictStageOptions {
-  std::string output = "verdict.json";
+  std::string output = kRunFileVerdict;
   VerdictInputs inputs;
 };
 

@@ -3,6 +3,7 @@
 // 5.4 (common/inistate/). See README.md beside this file.
 #include <omp.h>
 
+#include "artifact/run_files.h"
 #include "cli/stage.h"
 #include "core/log.h"
 #include "inistate/voxel_grid.h"
@@ -16,7 +17,7 @@ constexpr StageSpec kVoxelizeStage{
     "ausbau-voxelize",
     "Voxelizes S (world grid) and D (in its mesh frame) for intersection volumes (IV, MLIV).",
     SceneHash::kWholeScene,
-    {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion},
+    {kRunFileVoxels, kVoxelsSchema, kVoxelsSchemaVersion},
     {"inputs and options", "compute again"}};
 
 struct VoxelizeStageOptions {
