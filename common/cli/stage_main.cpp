@@ -275,18 +275,9 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
 }
 
 void AddSceneInputs(const Scene& scene, Provenance* provenance) {
-  provenance->inputs.emplace_back("scene", HashFile(scene.file));
-  // Roles must be unique (ArtifactWriter refuses duplicates). One static file
-  // keeps the role "static", so caches written before lists of static files
-  // stay valid; several are "static[0]", "static[1]", ... (as scene.yaml's
-  // errors name them), one role per file so that a change to any of them
-  // changes the provenance hash.
-  const std::size_t static_count = scene.static_files.size();
-  for (std::size_t i = 0; i < static_count; ++i) {
-    const std::string role = static_count == 1 ? "static" : "static[" + std::to_string(i) + "]";
-    provenance->inputs.emplace_back(role, MeshFileHash(scene, scene.static_files[i]));
+  for (const SceneInput& input : SceneInputFiles(scene)) {
+    provenance->inputs.emplace_back(input.role, SceneInputHash(scene, input));
   }
-  provenance->inputs.emplace_back("dynamic", DynamicContentHash(scene));
 }
 
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded) {

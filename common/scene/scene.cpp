@@ -836,4 +836,23 @@ std::string DynamicContentHash(const Scene& scene) {
   return HashString(selection);
 }
 
+std::vector<SceneInput> SceneInputFiles(const Scene& scene, SceneInputs which) {
+  std::vector<SceneInput> inputs;
+  if (which == SceneInputs::kAll) {
+    inputs.push_back({"scene", scene.file});
+    const std::size_t count = scene.static_files.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      inputs.push_back({count == 1 ? "static" : "static[" + std::to_string(i) + "]", scene.static_files[i]});
+    }
+  }
+  inputs.push_back({"dynamic", scene.dynamic_file});
+  return inputs;
+}
+
+std::string SceneInputHash(const Scene& scene, const SceneInput& input) {
+  if (input.role == "scene") return HashFile(input.file);
+  if (input.role == "dynamic") return DynamicContentHash(scene);
+  return MeshFileHash(scene, input.file);
+}
+
 }  // namespace ausbau

@@ -171,4 +171,21 @@ std::string DynamicContentHash(const Scene& scene);
 // plain HashFile, so caches of OBJ and STL scenes stay valid.
 std::string MeshFileHash(const Scene& scene, const std::filesystem::path& file);
 
+// The scene's inputs as every artifact's provenance records them, one
+// definition for the writer (cli/stage_main.h AddSceneInputs) and the check
+// (workflow/made_from.h CheckMadeFrom): the role "scene" (scene.yaml),
+// "static" for a single static file or "static[0]", "static[1]", ... for
+// several (one role per file, so that a change to any of them changes the
+// provenance; the single "static" keeps caches written before lists of
+// static files valid), and "dynamic" (D: DynamicContentHash).
+struct SceneInput {
+  std::string role;
+  std::filesystem::path file;
+};
+enum class SceneInputs { kAll, kDynamicOnly };
+std::vector<SceneInput> SceneInputFiles(const Scene& scene, SceneInputs which = SceneInputs::kAll);
+// Its content hash as recorded: HashFile of scene.yaml, MeshFileHash of a
+// static file, DynamicContentHash of D.
+std::string SceneInputHash(const Scene& scene, const SceneInput& input);
+
 }  // namespace ausbau

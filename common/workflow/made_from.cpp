@@ -40,20 +40,15 @@ void CheckMadeFrom(const std::string& artifact, const std::string& schema, int s
     const ArtifactReader reader(artifact, schema, schema_version);
     recorded = RecordedInputs(reader.ReadStringAttribute("", "inputs"));
   }
-  // (role, file) pairs as AddSceneInputs names them.
-  std::vector<std::pair<std::string, std::filesystem::path>> files = {{"dynamic", scene.dynamic_file}};
-  if (what == MadeFrom::kMeshes) {
-    const std::size_t n = scene.static_files.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      files.emplace_back(n == 1 ? "static" : "static[" + std::to_string(i) + "]", scene.static_files[i]);
-    }
-  }
-  for (const auto& [role, file] : files) {
-    const auto it = recorded.find(role);
+  // Roles and hashes as AddSceneInputs records them (scene/scene.h).
+  const SceneInputs which = what == MadeFrom::kMeshes ? SceneInputs::kAll : SceneInputs::kDynamicOnly;
+  for (const SceneInput& input : SceneInputFiles(scene, which)) {
+    if (input.role == "scene") continue;  // scene.yaml itself: an edit that keeps the meshes is no other scene
+    const auto it = recorded.find(input.role);
     if (it == recorded.end()) continue;
-    // D picked by name or given units (format /2) is recorded by its
-    // selection's hash, not the file's.
-    const std::string hash = role == "dynamic" ? DynamicContentHash(scene) : MeshFileHash(scene, file);
+    const std::string& role = input.role;
+    const std::filesystem::path& file = input.file;
+    const std::string hash = SceneInputHash(scene, input);
     if (it->second != hash) {
       throw InputErrorAt(artifact, "was made from another " + std::string(role == "dynamic" ? "D" : "S") +
                                        " than this scene's " + file.string() +

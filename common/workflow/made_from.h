@@ -1,7 +1,7 @@
 // Which scene an artifact was made from. Every artifact records the content
 // hash of each input it was made from (artifact/artifact.h: the root
 // attribute "inputs", role -> hash; the scene's roles "scene", "static" or
-// "static[i]", "dynamic": cli/stage_main.h AddSceneInputs). A consumer that
+// "static[i]", "dynamic": scene/scene.h SceneInputFiles). A consumer that
 // reads an artifact beside a scene checks those hashes against the scene's
 // files, so that labels of another part with the same vertex count, or a
 // path of another scene, are refused instead of silently used.
