@@ -32,13 +32,13 @@
 #include "core/error.h"
 #include "parse_args.h"
 
+#include "collision/scene_parts.h"
 #include "fixtures/clip_scenes.h"
 #include "fixtures/roc.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
-#include "planning/exact_check.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 

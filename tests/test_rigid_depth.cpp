@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "fixtures/box_scenes.h"
 #include "geometry/primitives.h"
 #include "geometry/shells.h"

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/json_writer.h"
 #include "core/log.h"
