@@ -6,7 +6,7 @@
 // With --family: the generated clip scenes (fixtures/clip_scenes.h) instead,
 // labelled once per --max-load-cases budget with --threads, printing the time
 // and the ROC AUC of clip vertices against rigid ones (over the exposed
-// vertices, as tests/test_labeling.cpp measures it, and over all).
+// vertices, as tests/labeling/test_labeling.cpp measures it, and over all).
 //
 //   build/bin/ausbau-label-bench [--mesh FILE] [--panel-cells N] [--threads N] [--skip-single]
 //   build/bin/ausbau-label-bench --family clips-ds1 [--family ...|all] [--triangles N]
@@ -32,13 +32,13 @@
 #include "core/error.h"
 #include "parse_args.h"
 
+#include "collision/scene_parts.h"
 #include "fixtures/clip_scenes.h"
 #include "fixtures/roc.h"
 #include "labeling/medial_spheres.h"
 #include "labeling/mesh_topology.h"
 #include "labeling/pbd_label.h"
 #include "labeling/solid_labels.h"
-#include "planning/exact_check.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
 

@@ -23,7 +23,7 @@ endif()
 # `fixtures` sits beside the production layers (linked by tests, benchmarks
 # and ausbau-scene-gen only), so it is last. A layer not listed here (a new
 # folder) is an error: put it in its place in the order.
-set(AUSBAU_LAYER_ORDER core geometry scene cad artifact collision planning inistate labeling report
+set(AUSBAU_LAYER_ORDER core geometry scene cad artifact collision labeling planning inistate report
                        workflow cli fixtures)
 if(DEFINED LAYER_ORDER)  # the test of this script gives its own
   set(AUSBAU_LAYER_ORDER ${LAYER_ORDER})

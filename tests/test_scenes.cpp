@@ -13,8 +13,6 @@
 #include <string>
 #include <vector>
 
-#include "fixtures/generators.h"
-
 namespace ausbau::testing {
 
 namespace {
@@ -137,10 +135,6 @@ std::string OutsideOut::Changes() const {
     if (before_.count(name) == 0) changes += "created: " + name + " (" + what + ")\n";
   }
   return changes;
-}
-
-std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_t seed) {
-  return GenerateScene(family, seed, MakeTempDir(family));
 }
 
 std::filesystem::path SourceDir() {

@@ -1,4 +1,7 @@
-// Helpers for tests: fresh temporary folders and generated scenes.
+// Helpers for tests: fresh temporary folders, running the stages, reading
+// files back. No layer of common/ (the library ausbau_test_support links
+// none), so that a test of core/ stays a test of core/ only; a generated
+// scene is in generated_scene.h (links the fixtures).
 #pragma once
 
 #include <filesystem>
@@ -45,10 +48,6 @@ class OutsideOut {
   std::filesystem::path around_, out_;
   std::map<std::string, std::string> before_;
 };
-
-// Generates `family` (see fixtures/generators.h) into a fresh folder and
-// returns the scene.yaml path.
-std::filesystem::path MakeGeneratedScene(const std::string& family, std::uint64_t seed = 1);
 
 // The repository root (AUSBAU_SOURCE_DIR, set by CTest) and the stage
 // executables' folder (AUSBAU_BIN_DIR).

@@ -24,8 +24,8 @@
 //      cell keeping the closer of its own and its predecessor's point); then
 //      each far cell takes the closest point on the triangle it received and
 //      on the triangles of its six face neighbours. Approximate: the stored
-//      point always lies on the surface, and is near-nearest (test_farr
-//      measures the error against brute force).
+//      point always lies on the surface, and is near-nearest
+//      (tests/collision/test_farr.cpp measures the error against brute force).
 //   4. Inside/outside: six axis-parallel rays from every cell centre (+-x,
 //      +-y, +-z), counted for all cells at once per grid line (scanline
 //      crossings with the top-left rule of rasterization on canonically

@@ -41,7 +41,7 @@
 //   * A box with one face missing: the winding number is >= 0.5 on the box's
 //     side of the missing face's plane (5/6 at the centre, 1/2 on the plane
 //     inside the opening), so the box is filled as if closed; outside that
-//     plane it drops below 0.5 (tested in tests/test_inistate_volume.cpp).
+//     plane it drops below 0.5 (tested in tests/inistate/test_intersection_volume.cpp).
 //   * Open components oriented inwards and not fixed by the centroid
 //     heuristic come out inverted (their inside empty, parts of the outside
 //     near them inside).

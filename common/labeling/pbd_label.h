@@ -36,7 +36,7 @@
 // area h^2 at the thinnest place (diameter 2 r_min) moves lambda h in one
 // step, h the mean edge length of the scaled mesh, lambda = 0.1:
 //   rho = dt^2 kappa / (2 lambda h^3).
-// On the box with a thin tongue (tests/test_labeling.cpp) the labels separate
+// On the box with a thin tongue (tests/labeling/test_labeling.cpp) the labels separate
 // the tongue for rho from 10 to 10^5 at two resolutions (ROC AUC >= 0.998);
 // rho = 1 gives 0.85-1.0 (and "self" 0.27-0.85). `density` > 0 sets rho
 // directly.

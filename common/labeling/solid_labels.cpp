@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "core/format.h"
-#include "planning/exact_check.h"
 
 namespace ausbau {
 

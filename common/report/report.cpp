@@ -8,11 +8,11 @@
 
 #include "artifact/artifact.h"
 #include "artifact/run_files.h"
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
 #include "labeling/pbd_label.h"
-#include "planning/exact_check.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
 #include "report/json_read.h"

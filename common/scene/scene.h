@@ -118,7 +118,7 @@ struct Scene {
   // its coordinates (the file's units). Every mesh passes through single
   // precision on its way in (assimp's float, binary STL's float32): far from
   // the origin its corners are rounded to this spacing before any check
-  // sees them (CheckStoredPrecision in planning/exact_check.h).
+  // sees them (CheckStoredPrecision in collision/scene_parts.h).
   double stored_spacing = 0;
   double stored_magnitude = 0;
   std::filesystem::path stored_spacing_file;

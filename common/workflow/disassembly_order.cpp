@@ -8,6 +8,7 @@
 #include <set>
 
 #include "artifact/run_files.h"
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/json_writer.h"
 #include "core/log.h"

@@ -6,8 +6,8 @@
 
 #include "collision/fcl_checker.h"
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "core/format.h"
-#include "planning/exact_check.h"
 
 namespace ausbau {
 namespace {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <optional>
 
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "labeling/solid_labels.h"
-#include "planning/exact_check.h"
 
 namespace ausbau {
 

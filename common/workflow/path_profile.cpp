@@ -6,8 +6,8 @@
 #include <string>
 
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "core/atomic_file.h"
-#include "planning/exact_check.h"
 #include "planning/path_io.h"
 
 namespace ausbau {

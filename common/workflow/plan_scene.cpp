@@ -10,6 +10,7 @@
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "core/cancel.h"
 #include "core/error.h"
 #include "core/log.h"

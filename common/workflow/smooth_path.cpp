@@ -4,6 +4,7 @@
 
 #include "collision/fcl_checker.h"
 #include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/log.h"
 #include "inistate/volume_smoother.h"

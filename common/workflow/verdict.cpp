@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/json_writer.h"

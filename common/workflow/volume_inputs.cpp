@@ -3,11 +3,11 @@
 #include <cmath>
 
 #include "collision/fcl_checker.h"
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "core/log.h"
 #include "labeling/pbd_label.h"
-#include "planning/exact_check.h"
 #include "scene/scene.h"
 #include "workflow/made_from.h"
 

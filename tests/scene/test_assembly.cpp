@@ -14,7 +14,6 @@
 #include <utility>
 #include <vector>
 
-#include "cli/stage_main.h"
 #include "core/error.h"
 #include "core/hash.h"
 #include "geometry/primitives.h"

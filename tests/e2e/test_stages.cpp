@@ -14,6 +14,7 @@
 #include "core/hash.h"
 #include "fixtures/box_scenes.h"
 #include "fixtures/scene_families.h"
+#include "generated_scene.h"
 #include "geometry/primitives.h"
 #include "inistate/tau_estimate.h"
 #include "inistate/voxel_grid.h"

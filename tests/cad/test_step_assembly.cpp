@@ -1,5 +1,5 @@
 // STEP assemblies (issue 31 item 1): a product tree written by OpenCASCADE
-// here (tests/step_fixture.h: a plate with a bore, a pin in it, a
+// here (tests/cad/step_fixture.h: a plate with a bore, a pin in it, a
 // sub-assembly of two studs placed twice), read back by ReadStepAssembly:
 // names, paths, placements, units (mm and inch), closed meshes within the
 // chord error; ausbau-assembly end to end (scenes, assembly.json, --dynamic,

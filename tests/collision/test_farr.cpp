@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/random.h"
 #include "fixtures/flange.h"
+#include "generated_scene.h"
 #include "geometry/closest_point.h"
 #include "geometry/primitives.h"
 #include "planning/planner.h"

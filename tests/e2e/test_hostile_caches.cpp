@@ -2,7 +2,7 @@
 // wrong. Each test is an end-to-end run of the real executables on a tiny
 // scene written here (boxes), asserting the exit code and the message; the
 // artifact cases of the same issue (links in an HDF5 artifact, a goal
-// region too small to reach) are in tests/test_bad_input.cpp's table.
+// region too small to reach) are in tests/e2e/test_bad_input.cpp's table.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/stat.h>

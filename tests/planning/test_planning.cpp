@@ -7,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/cancel.h"
 #include "core/error.h"
+#include "generated_scene.h"
 #include "planning/dense_check.h"
 #include "planning/nearest_neighbors.h"
 #include "planning/planner.h"

@@ -9,6 +9,7 @@
 
 #include "artifact/artifact.h"
 #include "collision/fcl_checker.h"
+#include "generated_scene.h"
 #include "geometry/primitives.h"
 #include "planning/clearance.h"
 #include "planning/path_io.h"

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "collision/scene_parts.h"
 #include "core/error.h"
 #include "geometry/primitives.h"
 #include "planning/exact_check.h"

@@ -1,0 +1,164 @@
+// planning/exact_check.h: the exact check of a path as a file states it
+// (plain interpolation, the installed pose, the goal), densifying for plain
+// interpolation, and the straight pulls of what blocks D, on hand-checkable
+// boxes. (Moved from the rigid-depth test: they need the planning layer.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "collision/rigid_depth.h"
+#include "collision/scene_parts.h"
+#include "geometry/primitives.h"
+#include "planning/exact_check.h"
+#include "scene/scene.h"
+#include "test_poses.h"
+
+namespace ausbau {
+namespace {
+
+using testing::PoseAt;
+
+// A rigid key (a bar) hanging from a panel into a slot in a 2 mm plate.
+struct KeyScene {
+  TriangleMesh robot, environment;
+  KeyScene() {
+    robot = MakeBox({-50, -50, 5}, {50, 50, 8});        // panel, above the plate
+    robot.Append(MakeBox({-2, -10, -10}, {2, 10, 5}));  // key through a slot, 0.5 mm each side in x
+    environment = MakeBox({-100, -100, -2}, {-2.5, 100, 0});
+    environment.Append(MakeBox({2.5, -100, -2}, {100, 100, 0}));
+    environment.Append(MakeBox({-2.5, -100, -2}, {2.5, -11, 0}));
+    environment.Append(MakeBox({-2.5, 11, -2}, {2.5, 100, 0}));
+  }
+};
+
+TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
+  const KeyScene key;
+  Scene scene;
+  scene.dynamic_mesh = key.robot;
+  scene.static_mesh = key.environment;
+  scene.units = "mm";
+  // Straight up and out: valid.
+  std::vector<Pose> up = {Pose{}, PoseAt(0, 0, 40)};
+  const ExactCheckReport ok = ExactCheckPath(scene, up, 0.05);
+  EXPECT_TRUE(ok.valid) << ok.reason;
+  EXPECT_TRUE(ok.ends_separated);
+  EXPECT_LT(ok.max_rigid_depth, 0.05);
+  // Sideways through the plate, then up: refused, with the depth and where.
+  std::vector<Pose> cut = {Pose{}, PoseAt(40, 0, 0), PoseAt(40, 0, 40)};
+  const ExactCheckReport bad = ExactCheckPath(scene, cut, 0.05);
+  EXPECT_FALSE(bad.valid);
+  EXPECT_GT(bad.max_rigid_depth, 1.0);
+  EXPECT_EQ(bad.first_bad_segment, 0);
+  EXPECT_EQ(bad.rigid_shell, 1);  // the key
+  EXPECT_NE(bad.reason.find("penetrates"), std::string::npos);
+  // Not ending separated.
+  std::vector<Pose> short_path = {Pose{}, PoseAt(0, 0, 3)};
+  EXPECT_FALSE(ExactCheckPath(scene, short_path, 0.05).valid);
+}
+
+TEST(ExactCheck, DensifyKeepsPlainInterpolationNearThePlannersOne) {
+  // D metres from its mesh origin, turned 2 degrees about its own centre.
+  const Eigen::Vector3d reference(3000, 0, 0), origin(0, 0, 0);
+  Pose a, b;  // scene convention: x = R x + t, D's centre at 3000
+  b.q = Eigen::Quaterniond(Eigen::AngleAxisd(2 * M_PI / 180, Eigen::Vector3d::UnitY()));
+  b.t = reference - b.q * reference;  // turn about D's centre
+  const auto dense = DensifyForPlainInterpolation({a, b}, reference, origin, 0.005);
+  ASSERT_GT(dense.size(), 2u);
+  // Plain interpolation of each piece keeps D's centre within 0.005 of where it stays.
+  for (std::size_t i = 0; i + 1 < dense.size(); ++i) {
+    const Pose mid = Interpolate(dense[i], dense[i + 1], 0.5);
+    EXPECT_LT((mid.Apply(reference) - reference).norm(), 0.005 + 1e-9);
+  }
+  // Without densifying, the centre dips ~0.46 mm mid-way.
+  EXPECT_GT((Interpolate(a, b, 0.5).Apply(reference) - reference).norm(), 0.4);
+  EXPECT_NEAR(RigidToleranceInSceneUnits(0.05, "m", nullptr), 5e-5, 1e-15);
+  bool assumed = false;
+  EXPECT_NEAR(RigidToleranceInSceneUnits(0.05, "", &assumed), 0.05, 1e-15);
+  EXPECT_TRUE(assumed);
+}
+
+TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
+  // A rigid peg 2 x 1 x 10 in a pocket: walls 0.5 from it in x and y, a
+  // floor 0.3 under it, open above. Pulls along its axes (z, x, y, both
+  // ways): up gets out; down stops at the floor, sideways at the walls,
+  // each after the clearance plus the tolerance (within a tolerance).
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -0.5, 0}, {1, 0.5, 10});
+  TriangleMesh s = MakeBox({1.5, -5, 0}, {5, 5, 8});
+  s.Append(MakeBox({-5, -5, 0}, {-1.5, 5, 8}));
+  s.Append(MakeBox({-1.5, 1.0, 0}, {1.5, 5, 8}));
+  s.Append(MakeBox({-1.5, -5, 0}, {1.5, -1.0, 8}));
+  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  scene.static_mesh = s;
+  const double tolerance = 0.05;
+  const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
+  ASSERT_EQ(report.probes.size(), 6u);
+  const double expected_clearance[3] = {0.3, 0.5, 0.5};  // along -z (the floor), x, y
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = 0; side < 2; ++side) {
+      const BlockingProbe& p = report.probes[2 * axis + side];
+      const Eigen::Vector3d along = p.direction.cwiseAbs();
+      const int dominant = axis == 0 ? 2 : axis - 1;  // z, then x, then y
+      ASSERT_NEAR(along[dominant], 1.0, 1e-9) << "probe " << 2 * axis + side << ": " << p.direction.transpose();
+      if (axis == 0 && p.direction.z() > 0) {
+        EXPECT_TRUE(p.separated);
+        continue;
+      }
+      EXPECT_FALSE(p.separated) << p.direction.transpose();
+      EXPECT_NEAR(p.free_distance, expected_clearance[axis] + tolerance, tolerance) << p.direction.transpose();
+      EXPECT_GT(p.depth, tolerance);
+      EXPECT_GE(p.rigid_shell, 0);
+      EXPECT_GE(p.static_shell, 0);
+    }
+  }
+  ASSERT_GE(report.farthest, 0);
+  EXPECT_NEAR(report.probes[report.farthest].free_distance, 0.5 + tolerance, tolerance);
+  EXPECT_NE(report.summary.find("5 of 6 straight pulls"), std::string::npos) << report.summary;
+}
+
+TEST(WhatBlocks, ALongSlideInContactIsCutAtItsStepsNotCalledBlocked) {
+  // A bar 2 x 2 x 400 in a channel as long as it whose walls it overlaps
+  // by 0.03 (within the 0.05 tolerance), a floor 0.3 under it. Pulled up,
+  // it slides in contact by its slack (0.02) per step: after kMaxPullSteps
+  // it has moved 41 of its 400, neither out nor blocked. Sideways along the
+  // walls (y) it comes out after 6; across them (x) and down it is blocked.
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 400});
+  TriangleMesh s = MakeBox({0.97, -5, 0}, {5, 5, 400});
+  s.Append(MakeBox({-5, -5, 0}, {-0.97, 5, 400}));
+  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  scene.static_mesh = s;
+  const double tolerance = 0.05;
+  const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
+  ASSERT_EQ(report.probes.size(), 6u);
+  ASSERT_TRUE(report.parts->rigid_interference.empty());
+  int unfinished = 0, out = 0, blocked = 0;
+  for (const BlockingProbe& p : report.probes) {
+    const Eigen::Vector3d along = p.direction.cwiseAbs();
+    if (p.direction.z() > 0.99) {
+      EXPECT_TRUE(p.unfinished);
+      EXPECT_FALSE(p.separated);
+      EXPECT_EQ(p.steps, kMaxPullSteps);
+      EXPECT_NEAR(p.free_distance, (kMaxPullSteps - 1) * 0.02, 0.02);
+    } else if (along.y() > 0.99) {
+      EXPECT_TRUE(p.separated) << p.direction.transpose();
+      EXPECT_LE(p.steps, 301);  // 6 at 0.02 a step, in contact all the way
+    } else {
+      EXPECT_FALSE(p.separated || p.unfinished) << p.direction.transpose();
+      EXPECT_LT(p.free_distance, 0.3 + 2 * tolerance) << p.direction.transpose();
+    }
+    unfinished += p.unfinished;
+    out += p.separated;
+    blocked += !p.separated && !p.unfinished;
+  }
+  EXPECT_EQ(unfinished, 1);
+  EXPECT_EQ(out, 2);
+  EXPECT_EQ(blocked, 3);
+  EXPECT_NE(report.summary.find("3 of 6 straight pulls"), std::string::npos) << report.summary;
+  EXPECT_NE(report.summary.find("1 pull unfinished after 2048 steps"), std::string::npos) << report.summary;
+}
+
+}  // namespace
+}  // namespace ausbau
