@@ -32,6 +32,7 @@ StageDefinition::StageDefinition(const StageSpec& spec)
     output_schema_version_ = spec.output.schema_version;
     app_.add_option("-o,--output", output_, "output artifact (HDF5, schema " + output_schema_ + ")")
         ->capture_default_str();
+    outputs_.push_back({"--output", &output_, false});
     app_.add_flag("--force", force_, "compute even when the output is up to date");
     not_in_cache_key_.insert("output");
     not_in_cache_key_.insert("force");
@@ -49,7 +50,7 @@ CLI::Option* StageDefinition::InputFile(const std::string& flags, std::string* p
                                         const std::string& help) {
   CLI::Option* option = app_.add_option(flags, *path, help);
   not_in_cache_key_.insert(option->get_single_name());  // its content is hashed instead
-  inputs_.push_back({path, role, "", 0});
+  inputs_.push_back({"--" + option->get_single_name(), path, role, "", 0});
   NameField(path, option);
   return option;
 }
@@ -62,9 +63,46 @@ CLI::Option* StageDefinition::InputArtifact(const std::string& flags, std::strin
   return option;
 }
 
+void StageDefinition::InputPaths(const std::string& flag, std::function<std::vector<std::string>()> files) {
+  input_paths_.emplace_back(flag, std::move(files));
+}
+
 CLI::Option* StageDefinition::ExtraOutput(const std::string& flags, std::string* path, const std::string& help) {
-  extra_outputs_.push_back(path);
-  return Option(flags, path, help, CacheKey::kNo);
+  CLI::Option* option = Option(flags, path, help, CacheKey::kNo);
+  outputs_.push_back({"--" + option->get_single_name(), path, false});
+  return option;
+}
+
+CLI::Option* StageDefinition::OutputFolder(const std::string& flags, std::string* path, const std::string& help) {
+  CLI::Option* option = Option(flags, path, help, CacheKey::kNo);
+  outputs_.push_back({"--" + option->get_single_name(), path, true});
+  return option;
+}
+
+void StageDefinition::CheckOutputs(const std::vector<std::pair<std::string, std::string>>& more_inputs) const {
+  std::vector<std::pair<std::string, std::string>> outputs, inputs;  // (flag or what, file)
+  for (const OutputSpec& output : outputs_) {
+    if (output.path->empty()) continue;  // not written
+    // A folder is no file an input could be, but must not be a file either.
+    if (output.folder) {
+      RefuseFileAsOutputFolder(output.flag, *output.path);
+    } else {
+      outputs.emplace_back(output.flag, *output.path);
+    }
+  }
+  if (!scene_path_.empty()) inputs.emplace_back("--scene", scene_path_);
+  for (const InputFileSpec& input : inputs_) {
+    if (!input.path->empty()) inputs.emplace_back(input.flag, *input.path);
+  }
+  for (const auto& [flag, files] : input_paths_) {
+    for (const std::string& file : files()) inputs.emplace_back(flag, file);
+  }
+  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+  RefuseOverwritingInputs(outputs, inputs);
+}
+
+void StageRun::RefuseOutputsOver(const std::vector<std::pair<std::string, std::string>>& inputs) const {
+  stage.CheckOutputs(inputs);
 }
 
 void StageDefinition::Query(const std::string& flags, const std::string& help,
@@ -123,7 +161,7 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
     provenance.inputs.emplace_back("dynamic", DynamicContentHash(scene));
   }
   for (const InputFileSpec& input : inputs_) {
-    if (input.path->empty()) continue;
+    if (input.path->empty() || input.role.empty()) continue;
     std::error_code error;
     if (!std::filesystem::exists(*input.path, error)) throw InputErrorAt(*input.path, "file not found");
     if (!std::filesystem::is_regular_file(*input.path, error)) throw InputErrorAt(*input.path, "not a regular file");
@@ -156,19 +194,21 @@ int StageDefinition::PrintValidation(const Provenance& provenance) const {
 int StageDefinition::RunParsed(const StageWork& work) {
   // (--threads 0 keeps the default ParseStageArguments clamped to the cores.)
   if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
+  // The outputs against the declared inputs before the scene is read, then
+  // also against the mesh files scene.yaml names (--csv onto D's mesh had
+  // overwritten it), before any work.
+  CheckOutputs({});
   const struct Scene scene = LoadScene(scene_path_);
   {
-    // The outputs against the mesh files scene.yaml names (--csv onto D's
-    // mesh had overwritten it), before any work.
     std::vector<std::pair<std::string, std::string>> meshes;
     for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
       meshes.emplace_back("scene's static[" + std::to_string(i) + "] mesh", scene.static_files[i].string());
     }
     meshes.emplace_back("scene's dynamic mesh", scene.dynamic_file.string());
-    CheckOutputPaths(app_, meshes);
+    CheckOutputs(meshes);
   }
   const Provenance provenance = MakeProvenance(scene);
-  const StageRun run{scene, scene_path_, output_, provenance};
+  const StageRun run{scene, scene_path_, output_, provenance, *this};
   if (validate_) return PrintValidation(provenance);
   if (query_) return answer_query_(run);
   if (has_output_ && !force_ &&

@@ -78,13 +78,20 @@ struct StageSpec {
 
 // What the runner hands to the stage's work: the loaded scene (and the file
 // it came from), the output file and the provenance to record in it.
+class StageDefinition;
+
 struct StageRun {
   const Scene& scene;
   const std::string& scene_file;
   const std::string& output;
   const Provenance& provenance;
+  const StageDefinition& stage;
   // D's mesh content hash as the provenance records it ("" without a scene).
   std::string DynamicMeshHash() const;
+  // Refuses (InputError, before the work writes anything) an output of the
+  // stage that is one of these inputs (what, file): inputs that only the
+  // work finds (ausbau-scene-import: the meshes its .cfg names).
+  void RefuseOutputsOver(const std::vector<std::pair<std::string, std::string>>& inputs) const;
 };
 
 // What a stage does with a run (StageDefinition::Run); each returns the exit
@@ -105,11 +112,27 @@ class StageDefinition {
  public:
   explicit StageDefinition(const StageSpec& spec);
 
+  // The files a stage reads and writes are declared as such (not as plain
+  // options), so that the runner knows them: before any work it refuses an
+  // output that would replace an input (also by another spelling or a link),
+  // two outputs that name the same file, and an output that exists and is
+  // not a regular file (core/atomic_file.h: CheckOutputTarget). The scene's
+  // files (--scene and the meshes it names) are inputs too.
+  //
   // A further file the stage writes besides its artifact (--csv, --ply, a
   // profile): never part of the cache key; empty = not written.
   CLI::Option* ExtraOutput(const std::string& flags, std::string* path, const std::string& help);
-  // An input file, hashed into the provenance under `role` where given.
+  // A folder the stage writes into (ausbau-scene-gen -o): never part of the
+  // cache key; refused where it names a file.
+  CLI::Option* OutputFolder(const std::string& flags, std::string* path, const std::string& help);
+  // An input file, hashed by content into the provenance under `role`; an
+  // empty role: not hashed, only kept from being overwritten (a file the
+  // work reads and records itself: ausbau-verdict --csv-name).
   CLI::Option* InputFile(const std::string& flags, std::string* path, const std::string& role, const std::string& help);
+  // Input files that an option declared otherwise names (two in one value:
+  // --distfield S.h5,D.h5), for the overwrite check only; `files` runs after
+  // parsing. Hash them with AddInputs where they are part of the provenance.
+  void InputPaths(const std::string& flag, std::function<std::vector<std::string>()> files);
   // An input artifact: its schema is checked (also by --validate), and its
   // recorded provenance hash goes into this stage's provenance under `role`
   // (so that an identical recomputation upstream does not invalidate this).
@@ -166,12 +189,22 @@ class StageDefinition {
   // The provenance text of the options (for tests and --validate).
   std::string OptionsText() const;
 
+  // The overwrite check above, of the declared outputs against the declared
+  // inputs and `more_inputs` (what, file). Throws InputError.
+  void CheckOutputs(const std::vector<std::pair<std::string, std::string>>& more_inputs) const;
+
  private:
   struct InputFileSpec {
+    std::string flag;  // "--path"
     std::string* path;
-    std::string role;
+    std::string role;    // empty: not hashed
     std::string schema;  // empty: hashed by content
     int schema_version = 0;
+  };
+  struct OutputSpec {
+    std::string flag;  // "--csv"
+    std::string* path;
+    bool folder = false;
   };
   int RunParsed(const StageWork& work);
   // --validate: prints the resolved options, the inputs and whether the
@@ -196,10 +229,11 @@ class StageDefinition {
   SceneHash scene_hash_ = SceneHash::kWholeScene;
   bool has_output_ = false;  // the stage writes an artifact
   std::string output_;
-  std::vector<std::string*> extra_outputs_;
+  std::vector<OutputSpec> outputs_;  // -o (where the stage writes an artifact) first
   std::string output_schema_;
   int output_schema_version_ = 0;
   std::vector<InputFileSpec> inputs_;
+  std::vector<std::pair<std::string, std::function<std::vector<std::string>()>>> input_paths_;  // InputPaths
   std::vector<std::function<void(Provenance*)>> add_inputs_;
   std::set<std::string> not_in_cache_key_;
   std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"

@@ -123,12 +123,7 @@ void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::stri
     // A folder output (ausbau-scene-gen -o, "output folder") is no file,
     // but must not be one either.
     if (output && option->get_description().find("folder") != std::string::npos) {
-      for (const std::string& value : PathsOf(option)) {
-        std::error_code error;
-        if (std::filesystem::exists(value, error) && !std::filesystem::is_directory(value, error)) {
-          throw InputErrorAt(value, "--" + name + " names an output folder, but this is a file");
-        }
-      }
+      for (const std::string& value : PathsOf(option)) RefuseFileAsOutputFolder("--" + name, value);
       continue;
     }
     for (const std::string& value : PathsOf(option)) {
@@ -146,6 +141,18 @@ void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::stri
     }
   }
   inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+  RefuseOverwritingInputs(outputs, inputs);
+}
+
+void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder) {
+  std::error_code error;
+  if (!folder.empty() && std::filesystem::exists(folder, error) && !std::filesystem::is_directory(folder, error)) {
+    throw InputErrorAt(folder, flag + " names an output folder, but this is a file");
+  }
+}
+
+void RefuseOverwritingInputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                             const std::vector<std::pair<std::string, std::string>>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const auto& [flag, file] = outputs[i];
     CheckOutputTarget(file);
@@ -216,7 +223,6 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
     app.parse(argc, argv);
     SetLogLevel(ParseLogLevel(log_level));
     ClampOpenMpThreads();
-    CheckOutputPaths(app);
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
@@ -271,7 +277,10 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
   if (declared >= 0) return declared;
   const int parsed = ParseStageArguments(info.name, app, argc, argv, log_level);
   if (parsed >= 0) return parsed;
-  return RunWithExitCodes(info.name, run);
+  return RunWithExitCodes(info.name, [&] {
+    CheckOutputPaths(app);
+    return run();
+  });
 }
 
 void AddSceneInputs(const Scene& scene, Provenance* provenance) {

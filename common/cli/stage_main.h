@@ -120,6 +120,14 @@ void BoundSharedFlags(CLI::App& app);
 // plus `more_inputs` (name, file), e.g. the scene's mesh files once loaded.
 void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs = {});
 
+// The check itself, on (flag or what, file) pairs: every output against
+// every input and every other output (and CheckOutputTarget). The stage
+// runner (cli/stage.h) calls it with what the stage declared.
+void RefuseOverwritingInputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                             const std::vector<std::pair<std::string, std::string>>& inputs);
+// An output folder that exists as something else than a folder.
+void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder);
+
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.
 std::string OptionsYaml(const CLI::App& app, const std::vector<std::string>& excluded = {});
