@@ -23,8 +23,15 @@ StageDefinition::StageDefinition(const StageSpec& spec)
   app_.add_flag("--validate", validate_,
                 "check the options and inputs, print the resolved options and the provenance hash, do no work");
   not_in_cache_key_.insert("validate");
-  app_.add_option("--scene", scene_path_, "scene.yaml")->required();
-  not_in_cache_key_.insert("scene");  // its content is hashed instead
+  if (scene_hash_ != SceneHash::kNoScene) {
+    app_.add_option("--scene", scene_path_, "scene.yaml")->required();
+    not_in_cache_key_.insert("scene");  // its content is hashed instead
+  }
+  // Every stage takes --force: a stage with an artifact computes even when
+  // it is up to date; one without has its own meaning or none (it always
+  // computes), so that a pipeline may pass it to any stage.
+  app_.add_flag("--force", force_, spec.force ? spec.force : "compute even when the output is up to date");
+  not_in_cache_key_.insert("force");
   if (spec.output.file) {
     has_output_ = true;
     output_ = spec.output.file;
@@ -33,9 +40,7 @@ StageDefinition::StageDefinition(const StageSpec& spec)
     app_.add_option("-o,--output", output_, "output artifact (HDF5, schema " + output_schema_ + ")")
         ->capture_default_str();
     outputs_.push_back({"--output", &output_, false});
-    app_.add_flag("--force", force_, "compute even when the output is up to date");
     not_in_cache_key_.insert("output");
-    not_in_cache_key_.insert("force");
   }
 }
 
@@ -145,8 +150,8 @@ void StageDefinition::Threads(int* threads) {
   not_in_cache_key_.insert("threads");
 }
 
-void StageDefinition::Seed(std::uint64_t* seed) {
-  NameField(seed, app_.add_option("--seed", *seed, "random seed")->capture_default_str()->check(NonNegative()));
+void StageDefinition::Seed(std::uint64_t* seed, const std::string& help) {
+  NameField(seed, app_.add_option("--seed", *seed, help)->capture_default_str()->check(NonNegative()));
 }
 
 std::string StageDefinition::OptionsText() const {
@@ -157,7 +162,7 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   Provenance provenance{name_, AUSBAU_VERSION, OptionsText(), {}};
   if (scene_hash_ == SceneHash::kWholeScene) {
     AddSceneInputs(scene, &provenance);
-  } else {
+  } else if (scene_hash_ == SceneHash::kDynamicMesh) {
     provenance.inputs.emplace_back("dynamic", DynamicContentHash(scene));
   }
   for (const InputFileSpec& input : inputs_) {
@@ -177,6 +182,8 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
 }
 
 int StageDefinition::PrintValidation(const Provenance& provenance) const {
+  // (A stage without an artifact has nothing to be up to date: its work
+  // always runs, so the last line is only for those with one.)
   // The options hold file names (the scene's, its meshes'): their control
   // characters are shown, not sent to the terminal.
   std::printf("%s: the options and inputs are valid\n", name_.c_str());
@@ -198,8 +205,19 @@ int StageDefinition::RunParsed(const StageWork& work) {
   // also against the mesh files scene.yaml names (--csv onto D's mesh had
   // overwritten it), before any work.
   CheckOutputs({});
-  const struct Scene scene = LoadScene(scene_path_);
-  {
+  for (const auto& check : option_checks_) check();
+  if (validate_) {
+    // The inputs that are not hashed (MakeProvenance reads the others): there.
+    for (const InputFileSpec& input : inputs_) {
+      std::error_code error;
+      if (!input.path->empty() && !std::filesystem::exists(*input.path, error)) {
+        throw InputErrorAt(*input.path, "file not found");
+      }
+    }
+  }
+  const bool has_scene = scene_hash_ != SceneHash::kNoScene;
+  const struct Scene scene = has_scene ? LoadScene(scene_path_) : Scene();
+  if (has_scene) {
     std::vector<std::pair<std::string, std::string>> meshes;
     for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
       meshes.emplace_back("scene's static[" + std::to_string(i) + "] mesh", scene.static_files[i].string());
@@ -208,7 +226,7 @@ int StageDefinition::RunParsed(const StageWork& work) {
     CheckOutputs(meshes);
   }
   const Provenance provenance = MakeProvenance(scene);
-  const StageRun run{scene, scene_path_, output_, provenance, *this};
+  const StageRun run{scene, scene_path_, output_, provenance, *this, force_};
   if (validate_) return PrintValidation(provenance);
   if (query_) return answer_query_(run);
   if (has_output_ && !force_ &&

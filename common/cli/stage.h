@@ -12,6 +12,9 @@
 // and the cache short-circuit: when the output's recorded provenance equals
 // this run's, the stage's work is skipped (its `reuse` step runs instead).
 //
+// Every stage is declared this way, also those that read no scene or write
+// no artifact (SceneHash::kNoScene, no output file: always computed).
+//
 // A stage's main.cpp then says what the stage is, in one constant:
 //   constexpr StageSpec kVoxelizeStage{"ausbau-voxelize", "Voxelizes ...", SceneHash::kWholeScene,
 //                                      {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
@@ -53,12 +56,14 @@ enum class CacheKey { kYes, kNo };
 enum class SceneHash {
   kWholeScene,   // scene.yaml, every static mesh file, D's mesh file
   kDynamicMesh,  // only D's mesh file (e.g. the medial spheres)
+  kNoScene,      // the stage reads no scene.yaml (no --scene; StageRun::scene is empty)
 };
 
 // What a stage is: its name, its line for --help, the scene it reads and
 // the artifact it writes (-o/--output, with the schema the cache check and
 // --validate read it by; no output file: the stage writes no artifact,
-// only files named by ExtraOutput).
+// only files named by ExtraOutput or into an OutputFolder, and cannot be
+// up to date: it always computes).
 struct StageSpec {
   const char* name;         // "ausbau-plan"
   const char* description;  // one line for --help
@@ -74,6 +79,10 @@ struct StageSpec {
     const char* inputs = "inputs and options";
     const char* redo = "compute again";
   } up_to_date;
+  // --force's line for --help where it means more than "compute even when
+  // the output is up to date" (StageRun::force; ausbau-scene-gen: replace
+  // a scene); null: that line.
+  const char* force = nullptr;
 };
 
 // What the runner hands to the stage's work: the loaded scene (and the file
@@ -86,6 +95,7 @@ struct StageRun {
   const std::string& output;
   const Provenance& provenance;
   const StageDefinition& stage;
+  bool force;  // --force was given (a stage without an artifact: its own meaning, StageSpec::force)
   // D's mesh content hash as the provenance records it ("" without a scene).
   std::string DynamicMeshHash() const;
   // Refuses (InputError, before the work writes anything) an output of the
@@ -173,7 +183,11 @@ class StageDefinition {
   // --threads (0 = all cores; applied to OpenMP by the runner).
   void Threads(int* threads);
   // --seed (part of the cache key).
-  void Seed(std::uint64_t* seed);
+  void Seed(std::uint64_t* seed, const std::string& help = "random seed");
+  // A check of options together (flags that exclude each other, flags that
+  // apply only to some modes), after parsing and before the scene is read:
+  // --validate refuses what the work would. Throws InputError.
+  void CheckOptions(std::function<void()> check) { option_checks_.push_back(std::move(check)); }
 
   // Which flag writes `field`, for options added through app() directly:
   // an OptionError thrown by a Check() about that field then names the flag.
@@ -235,6 +249,7 @@ class StageDefinition {
   std::vector<InputFileSpec> inputs_;
   std::vector<std::pair<std::string, std::function<std::vector<std::string>()>>> input_paths_;  // InputPaths
   std::vector<std::function<void(Provenance*)>> add_inputs_;
+  std::vector<std::function<void()>> option_checks_;
   std::set<std::string> not_in_cache_key_;
   std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"
 };

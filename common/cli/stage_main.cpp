@@ -24,13 +24,6 @@ namespace ausbau {
 
 namespace {
 
-bool IsOneOf(const std::string& name, std::initializer_list<const char*> names) {
-  for (const char* candidate : names) {
-    if (name == candidate) return true;
-  }
-  return false;
-}
-
 // A value that CLI11 would convert to a non-finite double ("nan", "inf",
 // "1e999"); anything else is left to the option's own conversion.
 CLI::Validator FiniteNumber() {
@@ -41,19 +34,6 @@ CLI::Validator FiniteNumber() {
         return "must be a finite number, got " + text;
       },
       "FINITE");
-}
-
-// The values an option was given, or its default when it was not (-o).
-std::vector<std::string> PathsOf(const CLI::Option* option) {
-  std::vector<std::string> paths;
-  if (option->count() > 0) {
-    for (const std::string& value : option->results()) {
-      if (!value.empty()) paths.push_back(value);
-    }
-  } else if (!option->get_default_str().empty()) {
-    paths.push_back(option->get_default_str());
-  }
-  return paths;
 }
 
 // Two spellings of one file: the same inode where both exist, else the same
@@ -109,39 +89,6 @@ void BoundSharedFlags(CLI::App& app) {
       option->description(option->get_description() + " (at most 10^6)");
     }
   }
-}
-
-void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs) {
-  std::vector<std::pair<std::string, std::string>> outputs, inputs;  // (flag, file)
-  for (const CLI::Option* option : app.get_options()) {
-    const std::string name = option->get_single_name();
-    const bool output =
-        IsOneOf(name, {"output", "csv", "ply", "profile", "ompl-path", "json", "static-out", "dynamic-out"});
-    const bool input = IsOneOf(name, {"scene", "path", "smoothed", "spheres", "voxels", "labels", "tau-file",
-                                      "csv-name", "distfield", "ompl-cfg"});
-    if (!output && !input) continue;
-    // A folder output (ausbau-scene-gen -o, "output folder") is no file,
-    // but must not be one either.
-    if (output && option->get_description().find("folder") != std::string::npos) {
-      for (const std::string& value : PathsOf(option)) RefuseFileAsOutputFolder("--" + name, value);
-      continue;
-    }
-    for (const std::string& value : PathsOf(option)) {
-      if (output) {
-        outputs.emplace_back("--" + name, value);
-        continue;
-      }
-      std::size_t begin = 0;  // --distfield S.h5,D.h5
-      while (begin <= value.size()) {
-        const std::size_t comma = name == "distfield" ? value.find(',', begin) : std::string::npos;
-        const std::size_t end = comma == std::string::npos ? value.size() : comma;
-        if (end > begin) inputs.emplace_back("--" + name, value.substr(begin, end - begin));
-        begin = end + 1;
-      }
-    }
-  }
-  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
-  RefuseOverwritingInputs(outputs, inputs);
 }
 
 void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder) {
@@ -277,10 +224,7 @@ int RunStage(const StageInfo& info, int argc, char** argv, const std::function<v
   if (declared >= 0) return declared;
   const int parsed = ParseStageArguments(info.name, app, argc, argv, log_level);
   if (parsed >= 0) return parsed;
-  return RunWithExitCodes(info.name, [&] {
-    CheckOutputPaths(app);
-    return run();
-  });
+  return RunWithExitCodes(info.name, run);
 }
 
 void AddSceneInputs(const Scene& scene, Provenance* provenance) {
