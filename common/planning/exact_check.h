@@ -71,6 +71,14 @@ struct ExactCheckReport {
   std::shared_ptr<const PartModel> parts;
 };
 
+// Whether a path that ExactCheckPath judged removes D: it passes, starts at
+// the installed pose and ends in the scene's goal (SceneGoal: by default D's
+// AABB separated from S's, which is then what ends_separated says). One
+// definition for ausbau-verdict and ausbau-order: the order's scenes
+// (workflow/disassembly_order.cpp, AttemptScene) have no goal, so for them
+// this is the "separated" test the order had used.
+bool RemovesPart(const ExactCheckReport& report);
+
 // ClassifyParts for a scene's D and S at its start pose, in the scene's pose
 // convention (D's mesh shifted by dynamic_origin), as the checks below and
 // the solid labels (labeling/solid_labels.h) use it.
