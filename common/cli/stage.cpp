@@ -208,11 +208,14 @@ int StageDefinition::RunParsed(const StageWork& work) {
   for (const auto& check : option_checks_) check();
   if (validate_) {
     // The inputs that are not hashed (MakeProvenance reads the others): there.
-    for (const InputFileSpec& input : inputs_) {
+    std::vector<std::string> files;
+    for (const InputFileSpec& input : inputs_) files.push_back(*input.path);
+    for (const auto& [flag, more] : input_paths_) {
+      for (const std::string& file : more()) files.push_back(file);
+    }
+    for (const std::string& file : files) {
       std::error_code error;
-      if (!input.path->empty() && !std::filesystem::exists(*input.path, error)) {
-        throw InputErrorAt(*input.path, "file not found");
-      }
+      if (!file.empty() && !std::filesystem::exists(file, error)) throw InputErrorAt(file, "file not found");
     }
   }
   const bool has_scene = scene_hash_ != SceneHash::kNoScene;

@@ -55,6 +55,9 @@ void DeclareOrder(StageDefinition& stage, OrderStageOptions* options) {
                "mm (converted by the scene's units): how deep a rigid solid of D may touch into S", CacheKey::kYes);
   stage.Seed(&order.plan.planner.seed, "random seed; the same seed gives the same output");
   stage.OutputFolder("--output-dir", &options->output, "output folder: order.json and round-<r>/<part>/");
+  // The parts as the work will take them (--parts-dir a folder, --fixed
+  // naming a part): also checked by --validate.
+  stage.CheckOptions([options] { CollectAssemblyParts(options->parts, options->parts_dir, options->fixed); });
 }
 
 void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
