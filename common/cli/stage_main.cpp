@@ -94,7 +94,7 @@ void BoundSharedFlags(CLI::App& app) {
 void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder) {
   std::error_code error;
   if (!folder.empty() && std::filesystem::exists(folder, error) && !std::filesystem::is_directory(folder, error)) {
-    throw InputErrorAt(folder, flag + " names an output folder, but this is a file");
+    throw InputErrorAt(folder, flag + ": not a folder (" + flag + " names the output folder; this is a file)");
   }
 }
 
