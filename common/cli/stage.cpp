@@ -23,8 +23,15 @@ StageDefinition::StageDefinition(const StageSpec& spec)
   app_.add_flag("--validate", validate_,
                 "check the options and inputs, print the resolved options and the provenance hash, do no work");
   not_in_cache_key_.insert("validate");
-  app_.add_option("--scene", scene_path_, "scene.yaml")->required();
-  not_in_cache_key_.insert("scene");  // its content is hashed instead
+  if (scene_hash_ != SceneHash::kNoScene) {
+    app_.add_option("--scene", scene_path_, "scene.yaml")->required();
+    not_in_cache_key_.insert("scene");  // its content is hashed instead
+  }
+  // Every stage takes --force: a stage with an artifact computes even when
+  // it is up to date; one without has its own meaning or none (it always
+  // computes), so that a pipeline may pass it to any stage.
+  app_.add_flag("--force", force_, spec.force ? spec.force : "compute even when the output is up to date");
+  not_in_cache_key_.insert("force");
   if (spec.output.file) {
     has_output_ = true;
     output_ = spec.output.file;
@@ -32,9 +39,8 @@ StageDefinition::StageDefinition(const StageSpec& spec)
     output_schema_version_ = spec.output.schema_version;
     app_.add_option("-o,--output", output_, "output artifact (HDF5, schema " + output_schema_ + ")")
         ->capture_default_str();
-    app_.add_flag("--force", force_, "compute even when the output is up to date");
+    outputs_.push_back({"--output", &output_, false});
     not_in_cache_key_.insert("output");
-    not_in_cache_key_.insert("force");
   }
 }
 
@@ -49,7 +55,7 @@ CLI::Option* StageDefinition::InputFile(const std::string& flags, std::string* p
                                         const std::string& help) {
   CLI::Option* option = app_.add_option(flags, *path, help);
   not_in_cache_key_.insert(option->get_single_name());  // its content is hashed instead
-  inputs_.push_back({path, role, "", 0});
+  inputs_.push_back({"--" + option->get_single_name(), path, role, "", 0});
   NameField(path, option);
   return option;
 }
@@ -62,9 +68,46 @@ CLI::Option* StageDefinition::InputArtifact(const std::string& flags, std::strin
   return option;
 }
 
+void StageDefinition::InputPaths(const std::string& flag, std::function<std::vector<std::string>()> files) {
+  input_paths_.emplace_back(flag, std::move(files));
+}
+
 CLI::Option* StageDefinition::ExtraOutput(const std::string& flags, std::string* path, const std::string& help) {
-  extra_outputs_.push_back(path);
-  return Option(flags, path, help, CacheKey::kNo);
+  CLI::Option* option = Option(flags, path, help, CacheKey::kNo);
+  outputs_.push_back({"--" + option->get_single_name(), path, false});
+  return option;
+}
+
+CLI::Option* StageDefinition::OutputFolder(const std::string& flags, std::string* path, const std::string& help) {
+  CLI::Option* option = Option(flags, path, help, CacheKey::kNo);
+  outputs_.push_back({"--" + option->get_single_name(), path, true});
+  return option;
+}
+
+void StageDefinition::CheckOutputs(const std::vector<std::pair<std::string, std::string>>& more_inputs) const {
+  std::vector<std::pair<std::string, std::string>> outputs, inputs;  // (flag or what, file)
+  for (const OutputSpec& output : outputs_) {
+    if (output.path->empty()) continue;  // not written
+    // A folder is no file an input could be, but must not be a file either.
+    if (output.folder) {
+      RefuseFileAsOutputFolder(output.flag, *output.path);
+    } else {
+      outputs.emplace_back(output.flag, *output.path);
+    }
+  }
+  if (!scene_path_.empty()) inputs.emplace_back("--scene", scene_path_);
+  for (const InputFileSpec& input : inputs_) {
+    if (!input.path->empty()) inputs.emplace_back(input.flag, *input.path);
+  }
+  for (const auto& [flag, files] : input_paths_) {
+    for (const std::string& file : files()) inputs.emplace_back(flag, file);
+  }
+  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+  RefuseOverwritingInputs(outputs, inputs);
+}
+
+void StageRun::RefuseOutputsOver(const std::vector<std::pair<std::string, std::string>>& inputs) const {
+  stage.CheckOutputs(inputs);
 }
 
 void StageDefinition::Query(const std::string& flags, const std::string& help,
@@ -107,8 +150,8 @@ void StageDefinition::Threads(int* threads) {
   not_in_cache_key_.insert("threads");
 }
 
-void StageDefinition::Seed(std::uint64_t* seed) {
-  NameField(seed, app_.add_option("--seed", *seed, "random seed")->capture_default_str()->check(NonNegative()));
+void StageDefinition::Seed(std::uint64_t* seed, const std::string& help) {
+  NameField(seed, app_.add_option("--seed", *seed, help)->capture_default_str()->check(NonNegative()));
 }
 
 std::string StageDefinition::OptionsText() const {
@@ -119,11 +162,11 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
   Provenance provenance{name_, AUSBAU_VERSION, OptionsText(), {}};
   if (scene_hash_ == SceneHash::kWholeScene) {
     AddSceneInputs(scene, &provenance);
-  } else {
+  } else if (scene_hash_ == SceneHash::kDynamicMesh) {
     provenance.inputs.emplace_back("dynamic", DynamicContentHash(scene));
   }
   for (const InputFileSpec& input : inputs_) {
-    if (input.path->empty()) continue;
+    if (input.path->empty() || input.role.empty()) continue;
     std::error_code error;
     if (!std::filesystem::exists(*input.path, error)) throw InputErrorAt(*input.path, "file not found");
     if (!std::filesystem::is_regular_file(*input.path, error)) throw InputErrorAt(*input.path, "not a regular file");
@@ -139,6 +182,8 @@ Provenance StageDefinition::MakeProvenance(const Scene& scene) const {
 }
 
 int StageDefinition::PrintValidation(const Provenance& provenance) const {
+  // (A stage without an artifact has nothing to be up to date: its work
+  // always runs, so the last line is only for those with one.)
   // The options hold file names (the scene's, its meshes'): their control
   // characters are shown, not sent to the terminal.
   std::printf("%s: the options and inputs are valid\n", name_.c_str());
@@ -156,19 +201,35 @@ int StageDefinition::PrintValidation(const Provenance& provenance) const {
 int StageDefinition::RunParsed(const StageWork& work) {
   // (--threads 0 keeps the default ParseStageArguments clamped to the cores.)
   if (threads_ && *threads_ > 0) omp_set_num_threads(*threads_);
-  const struct Scene scene = LoadScene(scene_path_);
-  {
-    // The outputs against the mesh files scene.yaml names (--csv onto D's
-    // mesh had overwritten it), before any work.
+  // The outputs against the declared inputs before the scene is read, then
+  // also against the mesh files scene.yaml names (--csv onto D's mesh had
+  // overwritten it), before any work.
+  CheckOutputs({});
+  for (const auto& check : option_checks_) check();
+  if (validate_) {
+    // The inputs that are not hashed (MakeProvenance reads the others): there.
+    std::vector<std::string> files;
+    for (const InputFileSpec& input : inputs_) files.push_back(*input.path);
+    for (const auto& [flag, more] : input_paths_) {
+      for (const std::string& file : more()) files.push_back(file);
+    }
+    for (const std::string& file : files) {
+      std::error_code error;
+      if (!file.empty() && !std::filesystem::exists(file, error)) throw InputErrorAt(file, "file not found");
+    }
+  }
+  const bool has_scene = scene_hash_ != SceneHash::kNoScene;
+  const struct Scene scene = has_scene ? LoadScene(scene_path_) : Scene();
+  if (has_scene) {
     std::vector<std::pair<std::string, std::string>> meshes;
     for (std::size_t i = 0; i < scene.static_files.size(); ++i) {
       meshes.emplace_back("scene's static[" + std::to_string(i) + "] mesh", scene.static_files[i].string());
     }
     meshes.emplace_back("scene's dynamic mesh", scene.dynamic_file.string());
-    CheckOutputPaths(app_, meshes);
+    CheckOutputs(meshes);
   }
   const Provenance provenance = MakeProvenance(scene);
-  const StageRun run{scene, scene_path_, output_, provenance};
+  const StageRun run{scene, scene_path_, output_, provenance, *this, force_};
   if (validate_) return PrintValidation(provenance);
   if (query_) return answer_query_(run);
   if (has_output_ && !force_ &&

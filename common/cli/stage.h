@@ -12,6 +12,9 @@
 // and the cache short-circuit: when the output's recorded provenance equals
 // this run's, the stage's work is skipped (its `reuse` step runs instead).
 //
+// Every stage is declared this way, also those that read no scene or write
+// no artifact (SceneHash::kNoScene, no output file: always computed).
+//
 // A stage's main.cpp then says what the stage is, in one constant:
 //   constexpr StageSpec kVoxelizeStage{"ausbau-voxelize", "Voxelizes ...", SceneHash::kWholeScene,
 //                                      {"voxels.h5", kVoxelsSchema, kVoxelsSchemaVersion}};
@@ -53,12 +56,14 @@ enum class CacheKey { kYes, kNo };
 enum class SceneHash {
   kWholeScene,   // scene.yaml, every static mesh file, D's mesh file
   kDynamicMesh,  // only D's mesh file (e.g. the medial spheres)
+  kNoScene,      // the stage reads no scene.yaml (no --scene; StageRun::scene is empty)
 };
 
 // What a stage is: its name, its line for --help, the scene it reads and
 // the artifact it writes (-o/--output, with the schema the cache check and
 // --validate read it by; no output file: the stage writes no artifact,
-// only files named by ExtraOutput).
+// only files named by ExtraOutput or into an OutputFolder, and cannot be
+// up to date: it always computes).
 struct StageSpec {
   const char* name;         // "ausbau-plan"
   const char* description;  // one line for --help
@@ -74,17 +79,29 @@ struct StageSpec {
     const char* inputs = "inputs and options";
     const char* redo = "compute again";
   } up_to_date;
+  // --force's line for --help where it means more than "compute even when
+  // the output is up to date" (StageRun::force; ausbau-scene-gen: replace
+  // a scene); null: that line.
+  const char* force = nullptr;
 };
 
 // What the runner hands to the stage's work: the loaded scene (and the file
 // it came from), the output file and the provenance to record in it.
+class StageDefinition;
+
 struct StageRun {
   const Scene& scene;
   const std::string& scene_file;
   const std::string& output;
   const Provenance& provenance;
+  const StageDefinition& stage;
+  bool force;  // --force was given (a stage without an artifact: its own meaning, StageSpec::force)
   // D's mesh content hash as the provenance records it ("" without a scene).
   std::string DynamicMeshHash() const;
+  // Refuses (InputError, before the work writes anything) an output of the
+  // stage that is one of these inputs (what, file): inputs that only the
+  // work finds (ausbau-scene-import: the meshes its .cfg names).
+  void RefuseOutputsOver(const std::vector<std::pair<std::string, std::string>>& inputs) const;
 };
 
 // What a stage does with a run (StageDefinition::Run); each returns the exit
@@ -105,11 +122,27 @@ class StageDefinition {
  public:
   explicit StageDefinition(const StageSpec& spec);
 
+  // The files a stage reads and writes are declared as such (not as plain
+  // options), so that the runner knows them: before any work it refuses an
+  // output that would replace an input (also by another spelling or a link),
+  // two outputs that name the same file, and an output that exists and is
+  // not a regular file (core/atomic_file.h: CheckOutputTarget). The scene's
+  // files (--scene and the meshes it names) are inputs too.
+  //
   // A further file the stage writes besides its artifact (--csv, --ply, a
   // profile): never part of the cache key; empty = not written.
   CLI::Option* ExtraOutput(const std::string& flags, std::string* path, const std::string& help);
-  // An input file, hashed into the provenance under `role` where given.
+  // A folder the stage writes into (ausbau-scene-gen -o): never part of the
+  // cache key; refused where it names a file.
+  CLI::Option* OutputFolder(const std::string& flags, std::string* path, const std::string& help);
+  // An input file, hashed by content into the provenance under `role`; an
+  // empty role: not hashed, only kept from being overwritten (a file the
+  // work reads and records itself: ausbau-verdict --csv-name).
   CLI::Option* InputFile(const std::string& flags, std::string* path, const std::string& role, const std::string& help);
+  // Input files that an option declared otherwise names (two in one value:
+  // --distfield S.h5,D.h5), for the overwrite check only; `files` runs after
+  // parsing. Hash them with AddInputs where they are part of the provenance.
+  void InputPaths(const std::string& flag, std::function<std::vector<std::string>()> files);
   // An input artifact: its schema is checked (also by --validate), and its
   // recorded provenance hash goes into this stage's provenance under `role`
   // (so that an identical recomputation upstream does not invalidate this).
@@ -150,7 +183,11 @@ class StageDefinition {
   // --threads (0 = all cores; applied to OpenMP by the runner).
   void Threads(int* threads);
   // --seed (part of the cache key).
-  void Seed(std::uint64_t* seed);
+  void Seed(std::uint64_t* seed, const std::string& help = "random seed");
+  // A check of options together (flags that exclude each other, flags that
+  // apply only to some modes), after parsing and before the scene is read:
+  // --validate refuses what the work would. Throws InputError.
+  void CheckOptions(std::function<void()> check) { option_checks_.push_back(std::move(check)); }
 
   // Which flag writes `field`, for options added through app() directly:
   // an OptionError thrown by a Check() about that field then names the flag.
@@ -166,12 +203,22 @@ class StageDefinition {
   // The provenance text of the options (for tests and --validate).
   std::string OptionsText() const;
 
+  // The overwrite check above, of the declared outputs against the declared
+  // inputs and `more_inputs` (what, file). Throws InputError.
+  void CheckOutputs(const std::vector<std::pair<std::string, std::string>>& more_inputs) const;
+
  private:
   struct InputFileSpec {
+    std::string flag;  // "--path"
     std::string* path;
-    std::string role;
+    std::string role;    // empty: not hashed
     std::string schema;  // empty: hashed by content
     int schema_version = 0;
+  };
+  struct OutputSpec {
+    std::string flag;  // "--csv"
+    std::string* path;
+    bool folder = false;
   };
   int RunParsed(const StageWork& work);
   // --validate: prints the resolved options, the inputs and whether the
@@ -196,11 +243,13 @@ class StageDefinition {
   SceneHash scene_hash_ = SceneHash::kWholeScene;
   bool has_output_ = false;  // the stage writes an artifact
   std::string output_;
-  std::vector<std::string*> extra_outputs_;
+  std::vector<OutputSpec> outputs_;  // -o (where the stage writes an artifact) first
   std::string output_schema_;
   int output_schema_version_ = 0;
   std::vector<InputFileSpec> inputs_;
+  std::vector<std::pair<std::string, std::function<std::vector<std::string>()>>> input_paths_;  // InputPaths
   std::vector<std::function<void(Provenance*)>> add_inputs_;
+  std::vector<std::function<void()>> option_checks_;
   std::set<std::string> not_in_cache_key_;
   std::vector<std::pair<const void*, std::string>> flag_of_field_;  // address -> "--flag"
 };

@@ -24,13 +24,6 @@ namespace ausbau {
 
 namespace {
 
-bool IsOneOf(const std::string& name, std::initializer_list<const char*> names) {
-  for (const char* candidate : names) {
-    if (name == candidate) return true;
-  }
-  return false;
-}
-
 // A value that CLI11 would convert to a non-finite double ("nan", "inf",
 // "1e999"); anything else is left to the option's own conversion.
 CLI::Validator FiniteNumber() {
@@ -41,19 +34,6 @@ CLI::Validator FiniteNumber() {
         return "must be a finite number, got " + text;
       },
       "FINITE");
-}
-
-// The values an option was given, or its default when it was not (-o).
-std::vector<std::string> PathsOf(const CLI::Option* option) {
-  std::vector<std::string> paths;
-  if (option->count() > 0) {
-    for (const std::string& value : option->results()) {
-      if (!value.empty()) paths.push_back(value);
-    }
-  } else if (!option->get_default_str().empty()) {
-    paths.push_back(option->get_default_str());
-  }
-  return paths;
 }
 
 // Two spellings of one file: the same inode where both exist, else the same
@@ -111,41 +91,15 @@ void BoundSharedFlags(CLI::App& app) {
   }
 }
 
-void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs) {
-  std::vector<std::pair<std::string, std::string>> outputs, inputs;  // (flag, file)
-  for (const CLI::Option* option : app.get_options()) {
-    const std::string name = option->get_single_name();
-    const bool output =
-        IsOneOf(name, {"output", "csv", "ply", "profile", "ompl-path", "json", "static-out", "dynamic-out"});
-    const bool input = IsOneOf(name, {"scene", "path", "smoothed", "spheres", "voxels", "labels", "tau-file",
-                                      "csv-name", "distfield", "ompl-cfg"});
-    if (!output && !input) continue;
-    // A folder output (ausbau-scene-gen -o, "output folder") is no file,
-    // but must not be one either.
-    if (output && option->get_description().find("folder") != std::string::npos) {
-      for (const std::string& value : PathsOf(option)) {
-        std::error_code error;
-        if (std::filesystem::exists(value, error) && !std::filesystem::is_directory(value, error)) {
-          throw InputErrorAt(value, "--" + name + " names an output folder, but this is a file");
-        }
-      }
-      continue;
-    }
-    for (const std::string& value : PathsOf(option)) {
-      if (output) {
-        outputs.emplace_back("--" + name, value);
-        continue;
-      }
-      std::size_t begin = 0;  // --distfield S.h5,D.h5
-      while (begin <= value.size()) {
-        const std::size_t comma = name == "distfield" ? value.find(',', begin) : std::string::npos;
-        const std::size_t end = comma == std::string::npos ? value.size() : comma;
-        if (end > begin) inputs.emplace_back("--" + name, value.substr(begin, end - begin));
-        begin = end + 1;
-      }
-    }
+void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder) {
+  std::error_code error;
+  if (!folder.empty() && std::filesystem::exists(folder, error) && !std::filesystem::is_directory(folder, error)) {
+    throw InputErrorAt(folder, flag + ": not a folder (" + flag + " names the output folder; this is a file)");
   }
-  inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+}
+
+void RefuseOverwritingInputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                             const std::vector<std::pair<std::string, std::string>>& inputs) {
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const auto& [flag, file] = outputs[i];
     CheckOutputTarget(file);
@@ -216,7 +170,6 @@ int ParseStageArguments(const std::string& name, CLI::App& app, int argc, char**
     app.parse(argc, argv);
     SetLogLevel(ParseLogLevel(log_level));
     ClampOpenMpThreads();
-    CheckOutputPaths(app);
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {

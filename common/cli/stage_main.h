@@ -19,30 +19,19 @@ struct StageInfo {
   std::string description;  // one line for --help
 };
 
-// Builds the app, lets `declare` add the stage's options, parses argv and
-// calls `run`, whose return value is the exit code. Never throws.
+// Builds the app, lets `declare` add the tool's options, parses argv and
+// calls `run`, whose return value is the exit code. Never throws. For the
+// benchmark tools (bench/: ausbau-bench, -check-path, -path-quality), which
+// are no stages: every stage is declared to the runner of cli/stage.h.
 int RunStage(const StageInfo& info, int argc, char** argv, const std::function<void(CLI::App&)>& declare,
              const std::function<int()>& run);
-
-// The whole main of a stage that neither reads a scene.yaml nor caches an
-// artifact (ausbau-assembly, -distfield-build, -order, -report, -scene-gen,
-// -scene-import; the others: RunStageMain in cli/stage.h): its name and
-// --help line, the function that declares its options into a
-// default-constructed `Options`, and the work.
-template <class Options>
-int RunStageMain(int argc, char** argv, const StageInfo& info, void (*declare)(CLI::App&, Options*),
-                 int (*run)(const Options&)) {
-  Options options;
-  return RunStage(
-      info, argc, argv, [&](CLI::App& app) { declare(app, &options); }, [&] { return run(options); });
-}
 
 // Defines a stage executable's main, as BENCHMARK_MAIN() does for Google
 // Benchmark, so that no stage repeats it: the last line of each
 // stages/<name>/main.cpp, after its namespaces close, e.g.
 //   AUSBAU_STAGE_MAIN(kPlanStage, DeclarePlan, Plan, Reuse, CutShort)
-// calls RunStageMain(argc, argv, <the arguments>) (here or in cli/stage.h),
-// the names looked up in namespace ausbau.
+// calls RunStageMain(argc, argv, <the arguments>) (cli/stage.h), the names
+// looked up in namespace ausbau.
 #define AUSBAU_STAGE_MAIN(...)                    \
   int main(int argc, char** argv) {               \
     using namespace ausbau;                       \
@@ -112,13 +101,13 @@ void BoundSharedFlags(CLI::App& app);
 // Refuses (InputError, before any work) an output path that would replace an
 // input or another output (the same file, also by another spelling or a
 // link), or that exists and is not a regular file (core/atomic_file.h:
-// CheckOutputTarget). Outputs and inputs are recognized by flag name:
-//   outputs: -o/--output, --csv, --ply, --profile, --ompl-path, --json,
-//            --static-out, --dynamic-out
-//   inputs:  --scene, --path, --smoothed, --spheres, --voxels, --labels,
-//            --tau-file, --csv-name, --distfield (comma-separated), --ompl-cfg
-// plus `more_inputs` (name, file), e.g. the scene's mesh files once loaded.
-void CheckOutputPaths(const CLI::App& app, const std::vector<std::pair<std::string, std::string>>& more_inputs = {});
+// CheckOutputTarget); on (flag or what, file) pairs. The stage runner
+// (cli/stage.h, StageDefinition::CheckOutputs) calls it with the outputs
+// and inputs each stage declared.
+void RefuseOverwritingInputs(const std::vector<std::pair<std::string, std::string>>& outputs,
+                             const std::vector<std::pair<std::string, std::string>>& inputs);
+// An output folder that exists as something else than a folder.
+void RefuseFileAsOutputFolder(const std::string& flag, const std::string& folder);
 
 // The provenance text of a set of options: "key: value" lines in a stable
 // order, recorded in artifacts and hashed for caching.

@@ -1,5 +1,6 @@
 #include "cli/stage_options.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -125,7 +126,18 @@ void AddPlanSceneOptions(StageDefinition& stage, PlanSceneOptions* plan) {
                "farr: distance fields S.h5,D.h5 (ausbau-distfield-build); default: built or reused through the "
                "cache (<scene dir>/.ausbau-cache or $AUSBAU_CACHE_DIR)",
                CacheKey::kNo);
-  // The two distance-field files, by content (one option names both).
+  // The two distance-field files: inputs (one option names both), split
+  // as written whatever --collision says, and hashed by content.
+  stage.InputPaths("--distfield", [plan] {
+    std::vector<std::string> files;
+    std::size_t begin = 0;
+    while (begin <= plan->distfield.size()) {
+      const std::size_t comma = std::min(plan->distfield.find(',', begin), plan->distfield.size());
+      if (comma > begin) files.push_back(plan->distfield.substr(begin, comma - begin));
+      begin = comma + 1;
+    }
+    return files;
+  });
   stage.AddInputs([plan](Provenance* provenance) {
     const std::vector<std::string> distfield = DistfieldPaths(*plan);
     if (distfield.empty()) return;

@@ -359,6 +359,10 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
 
 }  // namespace
 
+bool RemovesPart(const ExactCheckReport& report) {
+  return report.valid && report.starts_at_start && report.ends_in_goal;
+}
+
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
                                 UnmeasuredInterference unmeasured, const ProgressCallback& progress) {
   if (waypoints.empty()) {

@@ -71,6 +71,14 @@ struct ExactCheckReport {
   std::shared_ptr<const PartModel> parts;
 };
 
+// Whether a path that ExactCheckPath judged removes D: it passes, starts at
+// the installed pose and ends in the scene's goal (SceneGoal: by default D's
+// AABB separated from S's, which is then what ends_separated says). One
+// definition for ausbau-verdict and ausbau-order: the order's scenes
+// (workflow/disassembly_order.cpp, AttemptScene) have no goal, so for them
+// this is the "separated" test the order had used.
+bool RemovesPart(const ExactCheckReport& report);
+
 // `progress`: the segments checked of the path's (core/log.h); empty =
 // silent. Throws Cancelled between poses when cancelled (core/cancel.h).
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,

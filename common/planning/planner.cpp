@@ -16,6 +16,16 @@
 
 namespace ausbau {
 
+const char* PlanStopReason(PlanStatus status, bool budget_bound) {
+  switch (status) {
+    case PlanStatus::kSolved: return "solved";
+    case PlanStatus::kIterationLimit: return "iteration limit";
+    case PlanStatus::kTimeLimit: return budget_bound ? "time budget used up" : "time limit";
+    case PlanStatus::kCancelled: return "cancelled";
+  }
+  return "unknown";
+}
+
 namespace {
 
 PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& motion, const PlannerOptions& options,

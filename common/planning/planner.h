@@ -58,6 +58,14 @@ struct PlannerOptions {
 
 enum class PlanStatus { kSolved, kTimeLimit, kIterationLimit, kCancelled };
 
+// Why a search ended, in the words every log line uses (one list, so that
+// no mode reports an iteration limit as a time limit): "solved",
+// "iteration limit" (--max-iterations or a work cap such as
+// --crop-level-iterations), "time limit" (--time-limit or a safety net),
+// "time budget used up" (a time limit that the run's --budget or
+// --deadline had shortened: `budget_bound`), "cancelled".
+const char* PlanStopReason(PlanStatus status, bool budget_bound);
+
 struct PlanStats {
   double time_s = 0;
   std::int64_t iterations = 0;

@@ -98,7 +98,9 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
     std::vector<Pose> judged = path.waypoints;
     if (judged.size() == 1) judged.push_back(judged.front());
     const ExactCheckReport exact = ExactCheckPath(scene, judged, tolerance);
-    attempt.removable = exact.valid && exact.starts_at_start && exact.ends_separated;
+    // The verdict's definition (RemovesPart): this scene has no goal, so
+    // "in the goal" is D's AABB separated from S's.
+    attempt.removable = RemovesPart(exact);
   }
   if (attempt.removable) {
     attempt.status_detail = "removable";

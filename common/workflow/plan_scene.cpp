@@ -424,9 +424,7 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   }
   planned.status = result.status;
   if (!result.solved()) {
-    LogError("no path within the budget (%s)", result.status != PlanStatus::kTimeLimit ? "iteration limit"
-                                               : budget_bound                          ? "time budget used up"
-                                                                                       : "time limit");
+    LogError("no path within the budget (%s)", PlanStopReason(result.status, budget_bound));
   }
   return planned;
 }
@@ -610,9 +608,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
     return planned;
   }
   if (!solved) {
-    LogError("no path within the budget%s", volume_mode                        ? ""
-                                            : status == PlanStatus::kTimeLimit ? " (time limit)"
-                                                                               : " (iteration limit)");
+    // The volume modes too: sigma_1's or sigma_2's status (an iteration
+    // cap is not the clock).
+    LogError("no path within the budget (%s)", PlanStopReason(status, budget_bound));
   }
   return planned;
 }

@@ -216,11 +216,10 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     exact = ExactCheckPath(scene, written, v.tolerance, unmeasured, options.progress);
     if (!exact->valid) LogWarn("the path fails the exact check: %s", exact->reason.c_str());
   }
-  // Removable only when the path as written starts at the installed pose and
-  // ends in the scene's goal (default: separated; planning/scene_goal.h),
-  // both part of exact->valid, without breaking the limits.
-  v.removable =
-      path.success && !path.waypoints.empty() && exact && exact->valid && exact->starts_at_start && exact->ends_in_goal;
+  // Removable only when the path as written passes the exact check, starts
+  // at the installed pose and ends in the scene's goal (RemovesPart, the
+  // order's definition too).
+  v.removable = path.success && !path.waypoints.empty() && exact && RemovesPart(*exact);
   // Not removable: what holds D (straight pulls from the installed pose).
   if (!v.removable) {
     // The exact check classified D's solids the same way: reused.

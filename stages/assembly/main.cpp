@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "cad/step_scenes.h"
-#include "cli/stage_main.h"
+#include "cli/stage.h"
 #include "core/format.h"
 #include "core/log.h"
 #include "scene/assembly.h"
@@ -13,9 +13,14 @@
 namespace ausbau {
 namespace {
 
-const StageInfo kAssemblyStage{
+// No artifact and no scene: the scenes go into a folder, always written anew.
+constexpr StageSpec kAssemblyStage{
     "ausbau-assembly",
-    "Writes one scene per part of an assembly file (D = the part, S = the rest), or lists its parts."};
+    "Writes one scene per part of an assembly file (D = the part, S = the rest), or lists its parts.",
+    SceneHash::kNoScene,
+    {},
+    {},
+    "accepted for a pipeline's sake: the scenes are always written anew"};
 
 struct AssemblyStageOptions {
   std::string assembly, output = "assembly";
@@ -25,26 +30,33 @@ struct AssemblyStageOptions {
   bool list = false;
 };
 
-void DeclareAssembly(CLI::App& app, AssemblyStageOptions* options) {
-  app.add_option("--assembly", options->assembly,
+void DeclareAssembly(StageDefinition& stage, AssemblyStageOptions* options) {
+  stage
+      .InputFile("--assembly", &options->assembly, "",
                  "the assembly: a STEP file (.step, .stp), or one mesh file holding several parts")
       ->required();
-  app.add_option("-o,--output-dir", options->output,
-                 "output folder: one folder per part with scene.yaml, and assembly.json")
-      ->capture_default_str();
-  app.add_option("--units", options->scenes.units,
-                 "the scenes' units: mm, cm, m, inch, unitless or none (empty: not written)");
-  app.add_option("--name", options->scenes.name, "the scenes' name prefix (default: the assembly file's stem)");
-  app.add_flag("--list", options->list, "print the parts (index, name, triangles, box) and write nothing");
-  app.add_option("--dynamic", options->dynamic,
-                 "STEP: write scenes only for these parts (name, or path in the product tree: every part below "
-                 "it); repeatable");
-  app.add_option("--deflection", options->tessellation.deflection_mm,
-                 "STEP: the tessellation's chord error in mm (recorded in every scene as tessellation_deflection)")
-      ->capture_default_str();
-  app.add_option("--angular-deflection", options->tessellation.angular_deflection_rad,
-                 "STEP: the tessellation's angle between neighbouring triangles' normals, radians")
-      ->capture_default_str();
+  stage.OutputFolder("-o,--output-dir", &options->output,
+                     "output folder: one folder per part with scene.yaml, and assembly.json");
+  stage.Option("--units", &options->scenes.units,
+               "the scenes' units: mm, cm, m, inch, unitless or none (empty: not written)", CacheKey::kYes);
+  stage.Option("--name", &options->scenes.name, "the scenes' name prefix (default: the assembly file's stem)",
+               CacheKey::kYes);
+  stage.Flag("--list", &options->list, "print the parts (index, name, triangles, box) and write nothing",
+             CacheKey::kNo);
+  stage.Option("--dynamic", &options->dynamic,
+               "STEP: write scenes only for these parts (name, or path in the product tree: every part below "
+               "it); repeatable",
+               CacheKey::kYes);
+  stage.Option("--deflection", &options->tessellation.deflection_mm,
+               "STEP: the tessellation's chord error in mm (recorded in every scene as tessellation_deflection)",
+               CacheKey::kYes);
+  stage.Option("--angular-deflection", &options->tessellation.angular_deflection_rad,
+               "STEP: the tessellation's angle between neighbouring triangles' normals, radians", CacheKey::kYes);
+  stage.CheckOptions([options] {
+    if (!IsStepFileName(options->assembly) && !options->dynamic.empty()) {
+      throw InputError("--dynamic: picks parts of a STEP assembly; a mesh file's scenes pick D by name or index");
+    }
+  });
 }
 
 int ListStepParts(const AssemblyStageOptions& options) {
@@ -102,11 +114,8 @@ int ListParts(const std::string& assembly) {
   return kExitOk;
 }
 
-int SplitAssembly(const AssemblyStageOptions& options) {
+int SplitAssembly(const StageRun&, const AssemblyStageOptions& options) {
   if (IsStepFileName(options.assembly)) return SplitStepAssembly(options);
-  if (!options.dynamic.empty()) {
-    throw InputError("--dynamic: picks parts of a STEP assembly; a mesh file's scenes pick D by name or index");
-  }
   if (options.list) return ListParts(options.assembly);
   const std::vector<AssemblyPart> parts = WriteAssemblyScenes(options.assembly, options.output, options.scenes);
   for (const AssemblyPart& part : parts) std::printf("%s\n", TerminalSafe(part.scene.string()).c_str());

@@ -3,7 +3,7 @@
 // workflow/disassembly_order.h; see README.md beside this file.
 #include <cstdio>
 
-#include "cli/stage_main.h"
+#include "cli/stage.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
@@ -15,8 +15,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const StageInfo kOrderStage{
-    "ausbau-order", "Finds the order in which an assembly comes apart, and what blocks each part that does not."};
+// No artifact of the runner's and no scene: the parts are files, and the
+// answer (order.json, a scene and path.h5 per attempt) a folder written anew.
+constexpr StageSpec kOrderStage{
+    "ausbau-order",
+    "Finds the order in which an assembly comes apart, and what blocks each part that does not.",
+    SceneHash::kNoScene,
+    {},
+    {},
+    "accepted for a pipeline's sake: the order is always found anew"};
 
 struct OrderStageOptions {
   std::vector<std::string> parts, fixed;
@@ -24,25 +31,33 @@ struct OrderStageOptions {
   DisassemblyOrderOptions order;
 };
 
-void DeclareOrder(CLI::App& app, OrderStageOptions* options) {
-  app.add_option("--part", options->parts, "a part: NAME=FILE, or FILE (named by its stem); repeat for each part");
-  app.add_option("--parts-dir", options->parts_dir, "every mesh file in this folder is a part, named by its stem");
-  app.add_option("--fixed", options->fixed, "a part that stays in (the frame): S in every round, never taken out");
+void DeclareOrder(StageDefinition& stage, OrderStageOptions* options) {
+  stage.Option("--part", &options->parts, "a part: NAME=FILE, or FILE (named by its stem); repeat for each part",
+               CacheKey::kYes);
+  // The parts' files are inputs: no output may replace one.
+  stage.InputPaths("--part", [options] {
+    std::vector<std::string> files;
+    for (const std::string& part : options->parts) files.push_back(part.substr(part.find('=') + 1));
+    return files;
+  });
+  stage.Option("--parts-dir", &options->parts_dir, "every mesh file in this folder is a part, named by its stem",
+               CacheKey::kYes);
+  stage.Option("--fixed", &options->fixed, "a part that stays in (the frame): S in every round, never taken out",
+               CacheKey::kYes);
   DisassemblyOrderOptions& order = options->order;
-  app.add_option("--part-budget", order.part_budget_s, "seconds each attempt (one part, one round) may take")
-      ->capture_default_str()
+  stage
+      .Option("--part-budget", &order.part_budget_s, "seconds each attempt (one part, one round) may take",
+              CacheKey::kNo)
       ->check(Within(1e-3, 7 * 24 * 3600.0));
-  app.add_option("--units", order.units, "the parts' length unit: mm, cm, m or inch (in)")
-      ->capture_default_str()
+  stage.Option("--units", &order.units, "the parts' length unit: mm, cm, m or inch (in)", CacheKey::kYes)
       ->check(CLI::IsMember({"mm", "cm", "m", "inch", "in"}));
-  app.add_option("--rigid-tolerance", order.plan.volume.rigid_tolerance_mm,
-                 "mm (converted by the scene's units): how deep a rigid solid of D may touch into S")
-      ->capture_default_str();
-  app.add_option("--seed", order.plan.planner.seed, "random seed; the same seed gives the same output")
-      ->capture_default_str()
-      ->check(NonNegative());
-  app.add_option("--output-dir", options->output, "output folder: order.json and round-<r>/<part>/")
-      ->capture_default_str();
+  stage.Option("--rigid-tolerance", &order.plan.volume.rigid_tolerance_mm,
+               "mm (converted by the scene's units): how deep a rigid solid of D may touch into S", CacheKey::kYes);
+  stage.Seed(&order.plan.planner.seed, "random seed; the same seed gives the same output");
+  stage.OutputFolder("--output-dir", &options->output, "output folder: order.json and round-<r>/<part>/");
+  // The parts as the work will take them (--parts-dir a folder, --fixed
+  // naming a part): also checked by --validate.
+  stage.CheckOptions([options] { CollectAssemblyParts(options->parts, options->parts_dir, options->fixed); });
 }
 
 void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
@@ -70,7 +85,7 @@ void PrintOrder(const DisassemblyOrder& order, const fs::path& json) {
   std::fflush(stdout);
 }
 
-int FindOrder(const OrderStageOptions& stage_options) {
+int FindOrder(const StageRun&, const OrderStageOptions& stage_options) {
   DisassemblyOrderOptions options = stage_options.order;
   options.out = stage_options.output;
   options.progress = ShowProgress("parts tried in this round");

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <string_view>
 
-#include "cli/stage_main.h"
+#include "cli/stage.h"
 #include "core/log.h"
 #include "planning/path_io.h"
 #include "report/report.h"
@@ -23,10 +23,16 @@ std::string_view View(const unsigned char* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};
 }
 
-const StageInfo kReportStage{"ausbau-report",
-                             "Writes a self-contained HTML report: the verdict in one sentence, S and D in 3D, D "
-                             "animated along the path, clearance and penetration along it, a table per waypoint, "
-                             "stats and verdict (or a benchmark page with --bench-dir)."};
+// No artifact: the page is written anew each time. --scene is its own
+// option (SceneHash::kNoScene): a benchmark page (--bench-dir) reads none.
+constexpr StageSpec kReportStage{"ausbau-report",
+                                 "Writes a self-contained HTML report: the verdict in one sentence, S and D in 3D, D "
+                                 "animated along the path, clearance and penetration along it, a table per waypoint, "
+                                 "stats and verdict (or a benchmark page with --bench-dir).",
+                                 SceneHash::kNoScene,
+                                 {},
+                                 {},
+                                 "accepted for a pipeline's sake: the page is always written anew"};
 
 struct ReportStageOptions {
   std::string scene, path, smoothed, run_dir;  // as text: into `report` by WriteReport
@@ -35,24 +41,39 @@ struct ReportStageOptions {
   std::string output = "report.html";
 };
 
-void DeclareReport(CLI::App& app, ReportStageOptions* options) {
-  app.add_option("--scene", options->scene, "scene.yaml");
-  app.add_option("--path", options->path, "planned path artifact (ausbau-path)");
-  app.add_option("--smoothed", options->smoothed, "smoothed path artifact (ausbau-path)");
-  app.add_option("--run-dir", options->run_dir,
-                 "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json "
-                 "when present (explicit --path/--smoothed win)");
-  app.add_option("--clearance-samples", options->report.clearance_samples,
-                 "poses along the path at which clearance and penetration are measured, besides the waypoints")
-      ->capture_default_str()
+// The inputs are read by the report itself (no cache): not hashed, only
+// kept from being overwritten by -o.
+void DeclareReport(StageDefinition& stage, ReportStageOptions* options) {
+  stage.InputFile("--scene", &options->scene, "", "scene.yaml");
+  stage.InputFile("--path", &options->path, "", "planned path artifact (ausbau-path)");
+  stage.InputFile("--smoothed", &options->smoothed, "", "smoothed path artifact (ausbau-path)");
+  stage.Option("--run-dir", &options->run_dir,
+               "a run's output folder: uses path.h5, path-smooth.h5, labels.h5, verdict.json "
+               "when present (explicit --path/--smoothed win)",
+               CacheKey::kNo);
+  stage
+      .Option("--clearance-samples", &options->report.clearance_samples,
+              "poses along the path at which clearance and penetration are measured, besides the waypoints",
+              CacheKey::kYes)
       ->check(CLI::Range(0, 100000));
-  app.add_option("--bench-dir", options->bench_dir,
-                 "instead: a page of ausbau-bench's outputs in this folder (summary.md, results.csv, "
-                 "study-*.svg)");
-  app.add_option("-o,--output", options->output, "the HTML file")->capture_default_str();
+  stage.Option("--bench-dir", &options->bench_dir,
+               "instead: a page of ausbau-bench's outputs in this folder (summary.md, results.csv, "
+               "study-*.svg)",
+               CacheKey::kNo);
+  stage.ExtraOutput("-o,--output", &options->output, "the HTML file");
+  stage.CheckOptions([options] {
+    if (!options->bench_dir.empty()) {
+      if (!options->scene.empty() || !options->path.empty() || !options->smoothed.empty() ||
+          !options->run_dir.empty()) {
+        throw InputError("--bench-dir makes a benchmark page and takes no --scene, --path, --smoothed or --run-dir");
+      }
+    } else if (options->scene.empty()) {
+      throw InputError("--scene is required (or --bench-dir for a benchmark page)");
+    }
+  });
 }
 
-int WriteReport(const ReportStageOptions& stage_options) {
+int WriteReport(const StageRun&, const ReportStageOptions& stage_options) {
   ReportStageOptions options = stage_options;
   options.report.scene = options.scene;
   options.report.path = options.path;
@@ -61,13 +82,8 @@ int WriteReport(const ReportStageOptions& stage_options) {
   ReportSummary summary;
   std::string html;
   if (!options.bench_dir.empty()) {
-    if (!options.report.scene.empty() || !options.report.path.empty() || !options.report.smoothed.empty() ||
-        !options.report.run_dir.empty()) {
-      throw InputError("--bench-dir makes a benchmark page and takes no --scene, --path, --smoothed or --run-dir");
-    }
     html = BuildBenchPageHtml(options.bench_dir, &summary);
   } else {
-    if (options.report.scene.empty()) throw InputError("--scene is required (or --bench-dir for a benchmark page)");
     namespace a = report_assets;
     const ReportAssets assets{View(a::kThreeModule, a::kThreeModule_size),
                               View(a::kOrbitControls, a::kOrbitControls_size), View(a::kViewer, a::kViewer_size),

@@ -34,8 +34,9 @@ void DeclareVerdict(StageDefinition& stage, VerdictStageOptions* options) {
   stage.Option("--times", &inputs.times, "folder of <stage>.seconds files (scripts/timed.sh)", CacheKey::kNo);
   stage.Option("--budget", &inputs.budget, "seconds; adds within_budget (total <= budget)", CacheKey::kNo)
       ->check(CLI::NonNegativeNumber);
-  stage.Option("--csv-name", &inputs.csv,
-               "the path's CSV file: checked exactly as written (plain interpolation) and recorded", CacheKey::kNo);
+  // Read and recorded by the work itself (the verdict is always written anew): not hashed.
+  stage.InputFile("--csv-name", &inputs.csv, "",
+                  "the path's CSV file: checked exactly as written (plain interpolation) and recorded");
   stage.Option("--rigid-tolerance", &inputs.rigid_tolerance_mm,
                "how deep D's rigid part may touch into S along the path, in mm (scene units converted)", CacheKey::kNo);
   stage.ExtraOutput("-o,--output", &options->output, "verdict (JSON, schemas/verdict.md)");

@@ -531,6 +531,25 @@ std::vector<Case> FileSystemCases() {
        "same file as the input --scene", Unchanged("scene.yaml")},
       {"CsvEqualsOutput", kNothing, "ausbau-plan --scene scene.yaml -o p.h5 --csv p.h5", 2, "name the same file",
        Absent("p.h5")},
+      // The stages moved onto the runner (issue 32 item 1): their files are
+      // declared, so the same checks hold for them.
+      {"DistfieldStaticOutIsDsMesh", kNothing,
+       "ausbau-distfield-build --scene scene.yaml --static-out part.obj --dynamic-out d.h5", 2,
+       "part\\.obj: .*same file as the input scene's dynamic mesh", Unchanged("part.obj")},
+      {"DistfieldOutputDirIsAFile", kNothing, "ausbau-distfield-build --scene scene.yaml --output-dir scene.yaml", 2,
+       "scene\\.yaml: --output-dir: not a folder", Unchanged("scene.yaml")},
+      {"ReportOutputIsThePath", kNothing, "ausbau-report --scene scene.yaml --path path.h5 -o path.h5", 2,
+       "same file as the input --path", Unchanged("path.h5")},
+      {"OrderOutputDirIsAPart", kNothing, "ausbau-order --part part.obj --part environment.obj --output-dir part.obj",
+       2, "part\\.obj: --output-dir: not a folder", Unchanged("part.obj")},
+      // --validate of a stage without an artifact: checks, prints, writes nothing.
+      {"SceneGenValidateWritesNothing", kNothing, "ausbau-scene-gen --family two-boxes -o new --validate", 0,
+       "ausbau-scene-gen: the options and inputs are valid", Absent("new")},
+      {"SceneGenValidateChecksTheFamilysFlags", kNothing,
+       "ausbau-scene-gen --family two-boxes --parts 3 -o new --validate", 2,
+       "--parts, --cell: apply only to the vehicle", Absent("new")},
+      {"ReportValidateNeedsTheFiles", kNothing, "ausbau-report --scene scene.yaml --path gone.h5 --validate", 2,
+       "gone\\.h5: file not found", Absent("report.html")},
       // Outputs that are not regular files: never replaced.
       {"CsvIsDevFull", kNothing, "ausbau-plan --scene scene.yaml -o p.h5 --csv /dev/full", 2, "/dev/full: is a device",
        Absent("p.h5")},
