@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "artifact/artifact.h"
+#include "artifact/run_files.h"
 #include "cli/stage.h"
 #include "collision/distance_field.h"
 #include "core/log.h"
@@ -74,8 +75,8 @@ int BuildDistanceFields(const StageRun& run, const DistfieldBuildOptions& option
   field.progress = ShowProgress("distance field");
   fs::path static_target = options.static_out, dynamic_target = options.dynamic_out;
   if (!options.output_dir.empty()) {
-    static_target = fs::path(options.output_dir) / "distfield-static.h5";
-    dynamic_target = fs::path(options.output_dir) / "distfield-dynamic.h5";
+    static_target = fs::path(options.output_dir) / kRunFileDistfieldStatic;
+    dynamic_target = fs::path(options.output_dir) / kRunFileDistfieldDynamic;
   }
   const Scene& scene = run.scene;
   const PlanningProblem problem = MakePlanningProblem(scene);

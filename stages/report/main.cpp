@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string_view>
 
+#include "artifact/run_files.h"
 #include "cli/stage.h"
 #include "core/log.h"
 #include "planning/path_io.h"
@@ -38,7 +39,7 @@ struct ReportStageOptions {
   std::string scene, path, smoothed, run_dir;  // as text: into `report` by WriteReport
   ReportOptions report;
   std::string bench_dir;
-  std::string output = "report.html";
+  std::string output = kRunFileReport;
 };
 
 // The inputs are read by the report itself (no cache): not hashed, only
