@@ -272,6 +272,19 @@ PATHS_SEEDS ?= 1 2 3 4
 bench-paths: build
 	@scripts/path-quality-bench.sh $(call quote,$(abspath $(BUILD)/bin)) $(call quote,$(PATHS_OUT)) $(call quote,$(PATHS_SEEDS))
 
+# What each piece of the rigid planner buys (docs/benchmarks.md, issue 29):
+# ausbau-plan once with its defaults and once per variant (Def-RRTC, the
+# Gaussian, bridge and mixed samplers, FARR, planning at the certification's
+# step) on the narrow-passage scenes (scripts/planner-ablation.sh). Up to
+# ABLATION_RUNS x 7 x 6 x ABLATION_TIME_LIMIT s; about 30-40 min on 2 cores.
+ABLATION_OUT ?= out/bench-ablation
+ABLATION_RUNS ?= 3
+ABLATION_TIME_LIMIT ?= 30
+.PHONY: bench-ablation
+bench-ablation: build
+	@scripts/planner-ablation.sh $(call quote,$(abspath $(BUILD)/bin)) $(call quote,$(ABLATION_OUT)) \
+	  $(call quote,$(ABLATION_RUNS)) $(call quote,$(ABLATION_TIME_LIMIT))
+
 .PHONY: bench-farr
 bench-farr: configure
 	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-farr-bench
