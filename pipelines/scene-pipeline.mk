@@ -12,10 +12,7 @@ include $(SCENE_PIPELINE_DIR)out-lock.mk
 # stages, the report and the goldens read the same file): one variable per
 # line of it, RUN_<KEY> (upper case, - as _) = $(OUT)/<file>: RUN_PATH is
 # $(OUT)/path.h5, RUN_PATH_SMOOTH_CSV $(OUT)/path-smooth.csv.
-# $(call run_file,KEY) is the same, and stops the run for a key the manifest
-# does not declare.
-RUN_FILES_TABLE := $(shell awk '!/^[[:space:]]*(\#|$$)/ { name = toupper($$1); gsub("-", "_", name); print $$1 "=" name "=" $$2 }' '$(SCENE_PIPELINE_DIR)run-files.txt')
-$(foreach entry,$(RUN_FILES_TABLE),$(eval RUN_$(word 2,$(subst =, ,$(entry))) := $(OUT)/$(word 3,$(subst =, ,$(entry)))))
-run_file = $(OUT)/$(or $(word 3,$(subst =, ,$(filter $(1)=%,$(RUN_FILES_TABLE)))),$(error $(SCENE_PIPELINE_DIR)run-files.txt declares no file '$(1)'))
+RUN_FILES_TABLE := $(shell awk '!/^[[:space:]]*(\#|$$)/ { name = toupper($$1); gsub("-", "_", name); print name "=" $$2 }' '$(SCENE_PIPELINE_DIR)run-files.txt')
+$(foreach entry,$(RUN_FILES_TABLE),$(eval RUN_$(word 1,$(subst =, ,$(entry))) := $(OUT)/$(word 2,$(subst =, ,$(entry)))))
 # The temporary that path.csv is written through (renamed onto it).
 RUN_PATH_CSV_TMP := $(OUT)/.$(notdir $(RUN_PATH_CSV)).tmp

@@ -8,6 +8,7 @@
 #include "fixtures/box_scenes.h"
 #include "geometry/primitives.h"
 #include "geometry/shells.h"
+#include "test_key_scene.h"
 #include "test_poses.h"
 
 namespace ausbau {
@@ -159,18 +160,7 @@ TEST(Shells, SignedDepthIsExactForTurnedBoxesAndAGap) {
   EXPECT_NEAR(ConvexSignedDepth(a[0], PoseAt(2 * reach - 0.2, 0, 0, M_PI / 4).ToIsometry(), b_moved[0]), 0.2, 1e-9);
 }
 
-// A rigid key (a bar) hanging from a panel into a slot in a 2 mm plate.
-struct KeyScene {
-  TriangleMesh robot, environment;
-  KeyScene() {
-    robot = MakeBox({-50, -50, 5}, {50, 50, 8});        // panel, above the plate
-    robot.Append(MakeBox({-2, -10, -10}, {2, 10, 5}));  // key through a slot, 0.5 mm each side in x
-    environment = MakeBox({-100, -100, -2}, {-2.5, 100, 0});
-    environment.Append(MakeBox({2.5, -100, -2}, {100, 100, 0}));
-    environment.Append(MakeBox({-2.5, -100, -2}, {2.5, -11, 0}));
-    environment.Append(MakeBox({-2.5, 11, -2}, {2.5, 100, 0}));
-  }
-};
+using testing::KeyScene;  // a rigid key through a slot in a 2 mm plate (test_key_scene.h)
 
 TEST(RigidDepth, ARigidKeyCannotCrossATwoMillimetrePlate) {
   const KeyScene scene;

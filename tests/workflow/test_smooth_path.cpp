@@ -7,17 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include "core/error.h"
-#include "geometry/primitives.h"
 #include "planning/dense_check.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
-#include "scene/mesh_io.h"
 #include "scene/scene.h"
+#include "test_cube_between_walls.h"
 #include "test_poses.h"
 #include "test_scenes.h"
 #include "workflow/smooth_path.h"
@@ -26,17 +24,11 @@ namespace ausbau {
 namespace {
 
 using testing::PoseAt;
+using testing::WriteCubeBetweenWalls;
 
 class SmoothPlannedPathTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    TriangleMesh walls = MakeBox({-2, -1, 0}, {-1, 1, 2});
-    walls.Append(MakeBox({1, -1, 0}, {2, 1, 2}));
-    SaveObj(walls, dir_ / "walls.obj");
-    SaveObj(MakeBox({-0.5, -0.5, 0.5}, {0.5, 0.5, 1.5}), dir_ / "cube.obj");
-    std::ofstream(dir_ / "scene.yaml") << "format: ausbau-scene/1\nstatic: [walls.obj]\ndynamic: cube.obj\nunits: mm\n";
-    scene_ = LoadScene(dir_ / "scene.yaml");
-  }
+  void SetUp() override { scene_ = WriteCubeBetweenWalls(dir_.path()); }
 
   // The planned path as ausbau-plan writes it (plain collision), about the
   // reference point of the problem that holds it.

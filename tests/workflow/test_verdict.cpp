@@ -5,14 +5,12 @@
 // (x in [-2, 2], y in [-1, 1], z in [0, 2]).
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <string>
 #include <vector>
 
-#include "geometry/primitives.h"
 #include "planning/path_io.h"
-#include "scene/mesh_io.h"
 #include "scene/scene.h"
+#include "test_cube_between_walls.h"
 #include "test_poses.h"
 #include "test_scenes.h"
 #include "workflow/verdict.h"
@@ -21,17 +19,11 @@ namespace ausbau {
 namespace {
 
 using testing::PoseAt;
+using testing::WriteCubeBetweenWalls;
 
 class JudgeRunTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    TriangleMesh walls = MakeBox({-2, -1, 0}, {-1, 1, 2});
-    walls.Append(MakeBox({1, -1, 0}, {2, 1, 2}));
-    SaveObj(walls, dir_ / "walls.obj");
-    SaveObj(MakeBox({-0.5, -0.5, 0.5}, {0.5, 0.5, 1.5}), dir_ / "cube.obj");
-    std::ofstream(dir_ / "scene.yaml") << "format: ausbau-scene/1\nstatic: [walls.obj]\ndynamic: cube.obj\nunits: mm\n";
-    scene_ = LoadScene(dir_ / "scene.yaml");
-  }
+  void SetUp() override { scene_ = WriteCubeBetweenWalls(dir_.path()); }
 
   // Writes a path artifact (as ausbau-plan would, without recorded inputs:
   // nothing for the verdict's made-from check to compare) and judges it.
