@@ -21,6 +21,8 @@
 #                 collision validity plans without restarts: those are
 #                 rigid-exact's, the pipeline's default)
 #   def-rrtc      RRT-Connect with the thesis's fixed u and range (Def-RRTC)
+#   no-passage    no second try of a trapped extension along the nearby
+#                 nodes' principal directions (--passage-neighbors 0)
 #   gaussian      Gaussian sampling near obstacles (Boor et al. 1999)
 #   bridge        the bridge test (Hsu et al. 2003)
 #   mixed         a third each of uniform, Gaussian and bridge samples
@@ -36,7 +38,7 @@ OUT=$2
 RUNS=$3
 LIMIT=$4
 SCENES=${5:-"alpha-1.5 alpha-1.2 Twistycool Home bugtrap panel-channel-s1"}
-VARIANTS=${6:-"default def-rrtc gaussian bridge mixed farr fine-edges"}
+VARIANTS=${6:-"default def-rrtc no-passage gaussian bridge mixed farr fine-edges"}
 case "$RUNS" in '' | *[!0-9]*) echo "planner-ablation: RUNS '$RUNS' is not a number" >&2; exit 2 ;; esac
 case "$LIMIT" in '' | *[!0-9.]*) echo "planner-ablation: TIME_LIMIT '$LIMIT' is not a number" >&2; exit 2 ;; esac
 OMPL_DIR=$HERE/../shared/benchmarks/ompl
@@ -48,6 +50,7 @@ flags_of() {
   case "$1" in
     default) echo "" ;;
     def-rrtc) echo "--planner rrtc" ;;
+    no-passage) echo "--passage-neighbors 0" ;;
     gaussian) echo "--sampler gaussian" ;;
     bridge) echo "--sampler bridge" ;;
     mixed) echo "--sampler mixed" ;;

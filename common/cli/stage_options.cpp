@@ -54,6 +54,10 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
   stage.Option("--range-max", &planner->range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
   stage.Option("--resolution", &planner->resolution, "edge check step as a fraction of D's AABB diagonal",
                CacheKey::kYes);
+  stage.Option("--passage-neighbors", &planner->passage_neighbors,
+               "rrtc, cr-rrtc: a trapped extension is tried once more along the principal directions of this many "
+               "nearby tree nodes (narrow passages; docs/planning.md); 0 = off",
+               CacheKey::kYes);
 }
 
 void AddVolumeInputOptions(StageDefinition& stage, VolumeInputs* volume) {

@@ -34,6 +34,7 @@ PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& m
   settings.randomize_parameters = randomize_parameters;
   settings.u = options.u;
   settings.range_max = options.range_max;
+  settings.passage_neighbors = options.passage_neighbors;
   return RunRrtConnect(problem, motion, settings, options);
 }
 
@@ -110,6 +111,9 @@ void PlannerOptions::Check() const {
   if (max_total_iterations < 0) throw OptionError(&max_total_iterations, "max_total_iterations", "must be >= 0");
   if (!(u > 0 && u < 1)) throw OptionError(&u, "u", "must lie in (0, 1)");
   if (!(range_max > 0 && range_max <= 1)) throw OptionError(&range_max, "range_max", "must lie in (0, 1]");
+  if (passage_neighbors < 0 || passage_neighbors > 1000) {
+    throw OptionError(&passage_neighbors, "passage_neighbors", "must lie in [0, 1000] (0 = no second try)");
+  }
   if (!(est_range >= 0 && est_range <= 1))
     throw OptionError(&est_range, "est_range", "must lie in [0, 1] (0 = automatic)");
   if (!(resolution > 0 && resolution <= 0.1)) {

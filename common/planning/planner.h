@@ -37,6 +37,10 @@ struct PlannerOptions {
   std::int64_t max_checks = 0;
   double u = 0.583;          // rrtc: metric weight (Def-RRTC default)
   double range_max = 0.417;  // rrtc: maximal edge range (Def-RRTC default)
+  // rrtc, cr-rrtc: a trapped extension is tried once more along the
+  // principal directions of this many nearby tree nodes
+  // (planning/passage_direction.h); 0 = no second try.
+  int passage_neighbors = 12;
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;

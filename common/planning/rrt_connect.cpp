@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/log.h"
+#include "planning/passage_direction.h"
 #include "planning/sampler.h"
 #include "planning/tree.h"
 
@@ -74,8 +75,11 @@ class RrtConnect {
       result.path.insert(result.path.end(), tail.begin() + 1, tail.end());
       result.status = PlanStatus::kSolved;
     }
-    LogDebug("start tree %zu nodes, goal tree %zu nodes (%lld goal roots)", start_tree_.size(), goal_tree_.size(),
-             static_cast<long long>(goal_roots_));
+    LogDebug(
+        "start tree %zu nodes, goal tree %zu nodes (%lld goal roots); second tries along a passage: %lld, "
+        "%lld of them added a node",
+        start_tree_.size(), goal_tree_.size(), static_cast<long long>(goal_roots_),
+        static_cast<long long>(second_tries_), static_cast<long long>(second_tries_added_));
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
     FillPartialPath(problem_, start_tree_, &result);
@@ -94,16 +98,46 @@ class RrtConnect {
     const double range = problem_.metric.Range(from, target);
     const bool clipped = range > range_max;
     const Pose to = clipped ? Interpolate(from, target, range_max / range) : target;
-    if (!settings_.partial_extension) {
-      if (!motion_.MotionValid(from, to)) return Extension::kTrapped;
-      *added = tree.Add(to, near);
-      return clipped ? Extension::kAdvanced : Extension::kReached;
-    }
     Pose reached;
-    const double fraction = motion_.ValidPrefix(from, to, &reached);
-    if (fraction <= 0.0) return Extension::kTrapped;
+    const double fraction = EdgeFraction(from, to, &reached);
+    // How often this tree's extensions were trapped lately (a moving
+    // average over about kTrappedWindow extensions).
+    double& trapped_share = &tree == &start_tree_ ? start_trapped_share_ : goal_trapped_share_;
+    trapped_share += ((fraction > 0.0 ? 0.0 : 1.0) - trapped_share) / kTrappedWindow;
+    if (fraction > 0.0) {
+      *added = tree.Add(reached, near);
+      return (fraction >= 1.0 && !clipped) ? Extension::kReached : Extension::kAdvanced;
+    }
+    // The second try only for a tree that is nearly always trapped: where
+    // extensions mostly get somewhere, it would only add checks.
+    Pose shaped;
+    if (trapped_share <= kSecondTryShare || !ShapedByPassage(tree, near, to, &shaped)) return Extension::kTrapped;
+    ++second_tries_;
+    if (EdgeFraction(from, shaped, &reached) <= 0.0) return Extension::kTrapped;
+    ++second_tries_added_;
     *added = tree.Add(reached, near);
-    return (fraction >= 1.0 && !clipped) ? Extension::kReached : Extension::kAdvanced;
+    return Extension::kAdvanced;
+  }
+
+  // An edge walked as the settings say: the fraction of its valid prefix and
+  // its end in *reached (partial extension), or all (1) or nothing (0).
+  double EdgeFraction(const Pose& from, const Pose& to, Pose* reached) const {
+    if (settings_.partial_extension) return motion_.ValidPrefix(from, to, reached);
+    if (!motion_.MotionValid(from, to)) return 0.0;
+    *reached = to;
+    return 1.0;
+  }
+
+  // The second try of a trapped extension (passage_direction.h): `to` shaped
+  // by the spread of the tree's nodes nearest to node `near`.
+  bool ShapedByPassage(const PoseTree& tree, int near, const Pose& to, Pose* shaped) const {
+    if (settings_.passage_neighbors <= 0 || static_cast<int>(tree.size()) < kPassageMinNeighbors) return false;
+    const Pose& from = tree.poses[near];
+    neighbors_.clear();
+    for (const int index : tree.index.KNearest(from, 0.5, settings_.passage_neighbors)) {
+      neighbors_.push_back(tree.poses[index]);
+    }
+    return ShapeAlongPassage(problem_.metric, from, to, neighbors_, shaped);
   }
 
   // Disassembly problems have a goal region instead of a goal pose: the
@@ -129,6 +163,16 @@ class RrtConnect {
   PoseTree start_tree_;
   PoseTree goal_tree_;
   std::int64_t goal_roots_ = 0;
+  mutable std::vector<Pose> neighbors_;  // ShapedByPassage's scratch
+  // The second try is spent only while more than kSecondTryShare of about
+  // the last kTrappedWindow extensions of the tree were trapped. Chosen from
+  // 0.5, 0.8 and 0.95 (docs/benchmarks.md): flange-1.0, seeds 1-4 within
+  // 120 s, solved 4, 4 and 3; alpha-1.5, seeds 1-3, thousands of checks
+  // 60/54/18, 22/35/27 and 21/51/28 (the last the same as without it).
+  static constexpr double kTrappedWindow = 64;
+  static constexpr double kSecondTryShare = 0.8;
+  std::int64_t second_tries_ = 0, second_tries_added_ = 0;
+  double start_trapped_share_ = 0, goal_trapped_share_ = 0;
 };
 
 }  // namespace
