@@ -19,9 +19,10 @@ struct RrtConnectSettings {
   // (0.03-0.17 s vs 0.1-0.5 s) but much slower on Twistycool (13-32 s vs
   // 1.5-5 s); partial stays the default, as in the thesis.
   bool partial_extension = true;
-  // A trapped extension is tried once more, shaped by the principal
-  // directions of this many of the tree's nodes nearest to the node it
-  // grows from (passage_direction.h); 0 = no second try.
+  // While more than 80% of a tree's recent extensions were trapped, a
+  // trapped extension is tried once more, shaped by the principal directions
+  // of this many of the tree's nodes nearest to the node it grows from
+  // (passage_direction.h); 0 = no second try.
   int passage_neighbors = 12;
 };
 

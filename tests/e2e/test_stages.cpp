@@ -84,23 +84,28 @@ TEST(PlanStage, PlansSmoothsAndTheResultIsValid) {
 // smoother's own split guards shortcuts that turn D (on this scene its
 // rows hold either way).
 TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
-  BoxSceneOptions options;
-  options.seed = 1;
-  options.world = BoxWorld::kRandom;
-  const auto dir = testing::MakeTempDir("panel-channel");
-  const auto yaml = GenerateBoxScene("panel-channel", options, dir / "scene").scene_yaml;
-  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 1 --validity collision -o " +
-                                            (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
-  ASSERT_EQ(plan.exit_code, 0) << plan.output;
-  const Outcome smooth =
-      RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
-                             (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
-  ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
-  const Scene scene = LoadScene(yaml);
-  for (const char* name : {"path.csv", "smooth.csv"}) {
-    const ExactCheckReport check = ExactCheckPath(scene, ReadPathCsv(dir / name), 0.05);
-    EXPECT_TRUE(check.valid) << name << ": " << check.reason;
-    EXPECT_LE(check.max_rigid_depth, 0.05) << name;
+  // Scene seed 4 with plan seed 1 once stopped with an internal error: the
+  // dense re-check found a pose of the certified path 0.2 mm from the walls
+  // in S; the path is now certified again at a finer step (plan_scene.cpp).
+  for (const std::uint64_t scene_seed : {1, 4}) {
+    BoxSceneOptions options;
+    options.seed = scene_seed;
+    options.world = BoxWorld::kRandom;
+    const auto dir = testing::MakeTempDir("panel-channel-" + std::to_string(scene_seed));
+    const auto yaml = GenerateBoxScene("panel-channel", options, dir / "scene").scene_yaml;
+    const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 1 --validity collision -o " +
+                                              (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
+    ASSERT_EQ(plan.exit_code, 0) << plan.output;
+    const Outcome smooth =
+        RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
+                               (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
+    ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+    const Scene scene = LoadScene(yaml);
+    for (const char* name : {"path.csv", "smooth.csv"}) {
+      const ExactCheckReport check = ExactCheckPath(scene, ReadPathCsv(dir / name), 0.05);
+      EXPECT_TRUE(check.valid) << "scene seed " << scene_seed << ", " << name << ": " << check.reason;
+      EXPECT_LE(check.max_rigid_depth, 0.05) << "scene seed " << scene_seed << ", " << name;
+    }
   }
 }
 
