@@ -549,6 +549,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   PathArtifact& artifact = planned.artifact;
   PlanStats stats;
   bool solved = false;
+  // Poses the dense re-check of the whole written path looked at when it
+  // already ran and passed (collision validity, below); -1: not yet.
+  std::int64_t verified_poses = -1;
   PlanStatus status = PlanStatus::kTimeLimit;
   if (volume_mode) {
     // Both of its planners within the budget (no partial path: sigma_1 and
@@ -595,7 +598,10 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       const double step = planner.resolution * problem.robot_diagonal;
       for (int round = 1; round <= 2 && options.verify; ++round) {
         const DenseCheckReport dense = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
-        if (dense.valid) break;
+        if (dense.valid) {
+          verified_poses = dense.poses_checked;  // VerifyRigid's check, done
+          break;
+        }
         LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the step",
                 dense.first_bad_segment, dense.reason.c_str(), 1 << (2 * (round + 1)));
         if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
@@ -622,7 +628,11 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   artifact.success = solved;
   artifact.stats = stats;
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
-  if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
+  if (solved && options.verify && verified_poses >= 0) {
+    LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(verified_poses));
+  } else if (solved && options.verify) {
+    VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
+  }
   if (solved && options.verify && options.validity == ValidityMode::kCollision &&
       !ThroughS(scene, options, &artifact)) {
     return planned;
