@@ -5,6 +5,7 @@
 #include <cmath>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "collision/farr_checker.h"
@@ -223,9 +224,14 @@ void FillPath(const PlanningProblem& problem, const std::vector<Pose>& path, Pat
 
 // Re-checks the rigid part of a path (waypoints from `first` on) with the
 // independent dense check; throws when it fails (a bug, not bad input).
-void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first) {
-  const std::vector<Pose> rigid(artifact.waypoints.begin() + first, artifact.waypoints.end());
-  const DenseCheckReport report = DenseCheckPath(scene, artifact.reference_point, rigid, 0.01);
+// `done`: that check of the whole path, already run and passed (the
+// collision validity's re-certification runs it first).
+void VerifyRigid(const Scene& scene, const PathArtifact& artifact, int first,
+                 const std::optional<DenseCheckReport>& done = std::nullopt) {
+  const DenseCheckReport report =
+      done ? *done
+           : DenseCheckPath(scene, artifact.reference_point,
+                            std::vector<Pose>(artifact.waypoints.begin() + first, artifact.waypoints.end()), 0.01);
   if (!report.valid) {
     throw std::runtime_error("planned path fails the dense re-check: segment " +
                              std::to_string(first + report.first_bad_segment) + " " + report.reason);
@@ -549,9 +555,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   PathArtifact& artifact = planned.artifact;
   PlanStats stats;
   bool solved = false;
-  // Poses the dense re-check of the whole written path looked at when it
-  // already ran and passed (collision validity, below); -1: not yet.
-  std::int64_t verified_poses = -1;
+  // The dense re-check of the whole written path when it already ran and
+  // passed (collision validity, below).
+  std::optional<DenseCheckReport> dense_of_written;
   PlanStatus status = PlanStatus::kTimeLimit;
   if (volume_mode) {
     // Both of its planners within the budget (no partial path: sigma_1 and
@@ -599,7 +605,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       for (int round = 1; round <= 2 && options.verify; ++round) {
         const DenseCheckReport dense = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
         if (dense.valid) {
-          verified_poses = dense.poses_checked;  // VerifyRigid's check, done
+          dense_of_written = dense;  // VerifyRigid's check, done
           break;
         }
         LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the step",
@@ -628,11 +634,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   artifact.success = solved;
   artifact.stats = stats;
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
-  if (solved && options.verify && verified_poses >= 0) {
-    LogInfo("dense re-check passed (%lld poses, step 1%% of D's diagonal)", static_cast<long long>(verified_poses));
-  } else if (solved && options.verify) {
-    VerifyRigid(scene, artifact, std::max(0, artifact.inter_index));
-  }
+  if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index), dense_of_written);
   if (solved && options.verify && options.validity == ValidityMode::kCollision &&
       !ThroughS(scene, options, &artifact)) {
     return planned;
