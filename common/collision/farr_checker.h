@@ -141,8 +141,14 @@ class FarrCollisionChecker : public PoseValidity {
   void ResetStats() const;
   const FarrOptions& options() const { return options_; }
 
+  // FCL's proof of a whole motion (FclCollisionChecker::SweepClear): the
+  // answers are FCL's, and so is what a sweep proves. Not with
+  // report_containment, which a sweep cannot see.
+  bool ProvesMotions() const override { return !options_.report_containment; }
+
  protected:
   bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }
+  bool MotionFree(const Pose& a, const Pose& b) const override { return fcl_.SweepClear(a, b); }
 
  private:
   struct FieldView;

@@ -1,9 +1,12 @@
 #include "collision/fcl_checker.h"
 
+#include <mutex>
+
 #include <fcl/narrowphase/collision.h>
 #include <fcl/narrowphase/distance.h>
 
 #include "collision/fcl_model.h"
+#include "collision/swept_sphere.h"
 
 namespace ausbau {
 namespace {
@@ -20,6 +23,12 @@ fcl::Transform3d ToFcl(const Pose& pose) {
 struct FclCollisionChecker::Models {
   std::shared_ptr<FclModel> robot;
   std::shared_ptr<FclModel> environment;
+  // SweepClear's, built on its first call (from the FCL models' own
+  // copies of the meshes): most checkers never sweep.
+  std::once_flag sweep_once;
+  BoundingSphere robot_sphere;
+  std::unique_ptr<TriangleTree> environment_tree;
+  double sweep_margin = 0;
 };
 
 FclCollisionChecker::FclCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment)
@@ -38,6 +47,25 @@ bool FclCollisionChecker::InCollision(const Pose& pose) const {
   fcl::collide(models_->robot.get(), ToFcl(pose), models_->environment.get(), fcl::Transform3d::Identity(), request,
                result);
   return result.isCollision();
+}
+
+bool FclCollisionChecker::SweepClear(const Pose& a, const Pose& b) const {
+  std::call_once(models_->sweep_once, [this] {
+    const FclModel& robot = *models_->robot;
+    const FclModel& environment = *models_->environment;
+    models_->robot_sphere =
+        BoundingSphere::Of(std::vector<Eigen::Vector3d>(robot.vertices, robot.vertices + robot.num_vertices));
+    std::vector<std::array<Eigen::Vector3d, 3>> triangles(static_cast<std::size_t>(environment.num_tris));
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      const fcl::Triangle& t = environment.tri_indices[i];
+      triangles[i] = {environment.vertices[t[0]], environment.vertices[t[1]], environment.vertices[t[2]]};
+    }
+    models_->environment_tree = std::make_unique<TriangleTree>(std::move(triangles));
+    // Far above FCL's tolerances, so that no pose FCL could call touching
+    // is proved free.
+    models_->sweep_margin = 1e-3 * (models_->robot_sphere.centre.norm() + models_->robot_sphere.radius);
+  });
+  return SweptSphereClear(models_->robot_sphere, *models_->environment_tree, a, b, models_->sweep_margin);
 }
 
 double FclCollisionChecker::Distance(const Pose& pose) const {

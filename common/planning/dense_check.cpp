@@ -2,8 +2,10 @@
 
 #include <fcl/narrowphase/collision.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <string>
 
 #include "collision/fcl_model.h"
 #include "scene/scene.h"
@@ -11,7 +13,8 @@
 namespace ausbau {
 
 DenseCheckReport DenseCheckPath(const Scene& scene, const Eigen::Vector3d& reference_point,
-                                const std::vector<Pose>& waypoints, double step_fraction) {
+                                const std::vector<Pose>& waypoints, double step_fraction,
+                                std::chrono::steady_clock::time_point deadline) {
   DenseCheckReport report;
   const auto robot = BuildFclModel(scene.dynamic_mesh);  // mesh coordinates, not shifted
   const auto environment = BuildFclModel(scene.static_mesh);
@@ -62,9 +65,19 @@ DenseCheckReport DenseCheckPath(const Scene& scene, const Eigen::Vector3d& refer
   for (std::size_t i = 0; i + 1 < waypoints.size(); ++i) {
     const Pose a = about_reference(waypoints[i]), b = about_reference(waypoints[i + 1]);
     const double displacement = (b.t - a.t).norm() + radius * RotationAngle(a.q, b.q);
-    const int steps = std::max(1, static_cast<int>(std::ceil(displacement / step)));
-    for (int k = 1; k <= steps; ++k) {
-      const double s = static_cast<double>(k) / steps;
+    // In 64 bits: a motion across bounds of 1e9 at a step of 0.1 is 1e10 steps.
+    const std::int64_t steps =
+        std::max<std::int64_t>(1, static_cast<std::int64_t>(std::min(std::ceil(displacement / step), 1e18)));
+    for (std::int64_t k = 1; k <= steps; ++k) {
+      if (report.poses_checked % 256 == 255 && deadline != std::chrono::steady_clock::time_point::max() &&
+          std::chrono::steady_clock::now() >= deadline) {
+        report.valid = false;
+        report.stopped_by_deadline = true;
+        report.first_bad_segment = static_cast<int>(i);
+        report.reason = "not finished by the deadline (" + std::to_string(report.poses_checked) + " poses checked)";
+        return report;
+      }
+      const double s = static_cast<double>(k) / static_cast<double>(steps);
       if (!check(Interpolate(a, b, s), static_cast<int>(i), s)) return report;
     }
   }

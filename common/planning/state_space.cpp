@@ -231,7 +231,6 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   // not proved halves it, and where it is no longer than the slack's step
   // the walk goes on pose by pose. Both ends of a stretch in bounds keep it
   // in (the bounds are a box).
-  constexpr int kStepsBeforeSweeping = 4;
   const bool sweeps = slack_->ProvesTranslations() && per_unit > 0 && a.q.coeffs() == b.q.coeffs();
   double stretch = 1.0;
   int walked = 0;
@@ -288,12 +287,30 @@ bool MotionChecker::OutOfTime() const {
          CancelRequested();  // the caller throws (core/cancel.h)
 }
 
+bool MotionChecker::SweepWorthTrying() const {
+  if (sweep_gain_.load(std::memory_order_relaxed) > 0) return true;
+  return sweep_chances_.fetch_add(1, std::memory_order_relaxed) % kSweepProbe == 0;
+}
+
+void MotionChecker::RecordSweep(std::int64_t proved_steps) const {
+  constexpr double kWindow = 32, kLargestGain = 64;
+  const double gain = proved_steps > 0 ? std::min<double>(kLargestGain, static_cast<double>(proved_steps - 1)) : -1.0;
+  const double average = sweep_gain_.load(std::memory_order_relaxed);
+  sweep_gain_.store(average + (gain - average) / kWindow, std::memory_order_relaxed);
+}
+
 bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
   if (slack_) return Advance(a, b, nullptr) >= 1.0;
   const std::int64_t steps = Steps(a, b);
   if (!IsValid(b)) return false;
+  const bool sweeps = validity_->ProvesMotions();
+  auto pose_at = [&](std::int64_t i) {
+    return i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
+  };
   // Bisection order (as OMPL's discrete motion validator): a collision in
-  // the middle of an edge is found after few checks.
+  // the middle of an edge is found after few checks. Where the validity
+  // proves motions, an interval long enough is first tried as a whole
+  // (both its ends are in bounds, so all of it is: the bounds are a box).
   std::queue<std::pair<std::int64_t, std::int64_t>> intervals;
   intervals.emplace(0, steps);
   for (std::int64_t checked = 0; !intervals.empty(); ++checked) {
@@ -303,8 +320,13 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
     const auto [lo, hi] = intervals.front();
     intervals.pop();
     if (hi - lo < 2) continue;
+    if (sweeps && hi - lo >= kShortestSweep && SweepWorthTrying()) {
+      const bool proved = validity_->ProveMotion(pose_at(lo), pose_at(hi));
+      RecordSweep(proved ? hi - lo - 1 : 0);
+      if (proved) continue;
+    }
     const std::int64_t mid = lo + (hi - lo) / 2;
-    if (!IsValid(Interpolate(a, b, static_cast<double>(mid) / static_cast<double>(steps)))) return false;
+    if (!IsValid(pose_at(mid))) return false;
     intervals.emplace(lo, mid);
     intervals.emplace(mid, hi);
   }
@@ -319,13 +341,37 @@ double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid
     return std::max(0.0, reached);
   }
   const std::int64_t steps = Steps(a, b);
-  std::int64_t valid = 0;
+  auto pose_at = [&](std::int64_t i) {
+    return i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
+  };
+  // Where the validity proves motions (PoseValidity::ProveMotion), the walk
+  // tries the rest of the motion as a whole once it has taken
+  // kStepsBeforeSweeping steps (most extensions are blocked within a few;
+  // a sweep would only add to their cost): one proved doubles the next
+  // stretch, one not proved halves it, down to kShortestSweep. The answer
+  // is the same as the walk pose by pose.
+  const bool sweeps = validity_->ProvesMotions();
+  std::int64_t stretch = steps, walked = 0, valid = 0;
   Pose last = a;
-  for (std::int64_t i = 1; i <= steps; ++i) {
-    if (i % 64 == 0 && OutOfTime()) break;  // blocked here, as in Advance
-    const Pose pose = i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
+  for (std::int64_t round = 1; valid < steps; ++round) {
+    if (round % 64 == 0 && OutOfTime()) break;  // blocked here, as in Advance
+    if (sweeps && walked >= kStepsBeforeSweeping && stretch >= kShortestSweep && SweepWorthTrying()) {
+      const std::int64_t end = steps - valid <= stretch ? steps : valid + stretch;
+      const Pose end_pose = pose_at(end);
+      const bool proved = problem_->InBounds(end_pose) && validity_->ProveMotion(last, end_pose);
+      RecordSweep(proved ? end - valid : 0);
+      if (proved) {
+        valid = end;
+        last = end_pose;
+        stretch = stretch > steps / 2 ? steps : 2 * stretch;
+        continue;
+      }
+      stretch /= 2;
+    }
+    const Pose pose = pose_at(valid + 1);
     if (!IsValid(pose)) break;
-    valid = i;
+    ++valid;
+    ++walked;
     last = pose;
   }
   if (last_valid) *last_valid = last;

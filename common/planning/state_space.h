@@ -8,6 +8,7 @@
 // from its mesh origin. Conversions happen only at the boundary.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -164,11 +165,32 @@ class MotionChecker {
   // Past the deadline, or cancelled.
   bool OutOfTime() const;
 
+  // Sweeps (PoseValidity::ProveMotion) of the walk without slack: only
+  // after this many steps pose by pose, and only over this many steps or
+  // more (a shorter one saves too few checks for what a failed one costs).
+  static constexpr std::int64_t kStepsBeforeSweeping = 4;
+  static constexpr std::int64_t kShortestSweep = 8;
+  // Whether to try a sweep now, and what one tried gained (`proved_steps`
+  // the poses it proved, 0 when it proved nothing): see sweep_gain_.
+  bool SweepWorthTrying() const;
+  void RecordSweep(std::int64_t proved_steps) const;
+
   const PlanningProblem* problem_;
   const PoseValidity* validity_;
   const SlackValidity* slack_;  // validity_ when it measures slack, else null
   double step_;
   std::chrono::steady_clock::time_point deadline_;
+  // A moving average (over about the last 32 sweeps) of the checks a sweep
+  // saved less the one it cost: the poses it proved minus one (at most 64),
+  // or -1 when it proved nothing. Where D is rarely farther from S than its
+  // own radius (alpha-1.5: 1-2% of sweeps prove anything) the sweeps would
+  // only add checks, so while the average is not positive only every
+  // kSweepProbe-th chance is taken, to notice when they start to pay.
+  // Atomic for PRM's threads, which share the checker (the answers never
+  // depend on it, only the number of checks).
+  mutable std::atomic<double> sweep_gain_{1.0};
+  mutable std::atomic<std::int64_t> sweep_chances_{0};
+  static constexpr std::int64_t kSweepProbe = 16;
 };
 
 }  // namespace ausbau

@@ -601,11 +601,30 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // planned motion grazes S between the certification's poses (a
       // panel-channel scene, 0.2 mm clearance, did): certify again at a 4x
       // and a 16x finer step before calling the path a bug (VerifyRigid).
+      // The re-check may take as long as the planner could have: a path
+      // across bounds of 1e9 (goal: {clearance: 1e9}), which sweeps through
+      // open space find in a moment, is billions of poses for it; such a
+      // path is no answer (the time limit's), not one written unchecked.
       const double step = planner.resolution * problem.robot_diagonal;
+      const auto dense_deadline =
+          std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                 std::chrono::duration<double>(planner.time_limit_s));
       for (int round = 1; round <= 2 && options.verify; ++round) {
-        const DenseCheckReport dense = DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01);
+        const DenseCheckReport dense =
+            DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01, dense_deadline);
         if (dense.valid) {
           dense_of_written = dense;  // VerifyRigid's check, done
+          break;
+        }
+        if (dense.stopped_by_deadline) {
+          LogWarn(
+              "the dense re-check of the planned path did not finish within --time-limit (%lld poses checked): "
+              "no path",
+              static_cast<long long>(dense.poses_checked));
+          solved = false;
+          status = PlanStatus::kTimeLimit;
+          artifact.waypoints.clear();
+          artifact.stopped_by_budget = true;  // cut short: the next run plans again
           break;
         }
         LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the step",

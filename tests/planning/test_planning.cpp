@@ -437,6 +437,47 @@ TEST(StateSpace, GuidedSamplesLieNearTheCourseHalfOfTheTime) {
   EXPECT_LT(near, kSamples * 70 / 100);
 }
 
+// The FCL checker without its proof of whole motions (ProvesMotions false).
+class CheckerWithoutSweeps : public PoseValidity {
+ public:
+  explicit CheckerWithoutSweeps(const FclCollisionChecker& fcl) : fcl_(fcl) {}
+
+ protected:
+  bool CheckValid(const Pose& pose) const override { return !fcl_.InCollision(pose); }
+
+ private:
+  const FclCollisionChecker& fcl_;
+};
+
+TEST(MotionChecker, SweepsChangeTheChecksNotTheAnswers) {
+  Fixture f("peg-in-plate");
+  const CheckerWithoutSweeps plain(f.checker);
+  ASSERT_TRUE(f.checker.ProvesMotions());
+  ASSERT_FALSE(plain.ProvesMotions());
+  const double step = 0.01 * f.problem.robot_diagonal;
+  const MotionChecker sweeping(f.problem, f.checker, step), walking(f.problem, plain, step);
+  Random random(9);
+  int blocked = 0, whole = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Pose a = f.problem.SampleUniform(random);
+    while (!walking.IsValid(a)) a = f.problem.SampleUniform(random);
+    const Pose b = f.problem.SampleUniform(random);
+    Pose reached_sweeping, reached_walking;
+    const double fraction = sweeping.ValidPrefix(a, b, &reached_sweeping);
+    EXPECT_EQ(fraction, walking.ValidPrefix(a, b, &reached_walking)) << "trial " << trial;
+    EXPECT_TRUE(reached_sweeping.t == reached_walking.t && reached_sweeping.q.coeffs() == reached_walking.q.coeffs());
+    const bool valid = sweeping.MotionValid(a, b);
+    EXPECT_EQ(valid, walking.MotionValid(a, b)) << "trial " << trial;
+    blocked += fraction < 1;
+    whole += valid;
+  }
+  EXPECT_GT(blocked, 30);  // both kinds of motion are exercised
+  EXPECT_GT(whole, 30);
+  // Much of the box around the plate is open space, where a sweep proves
+  // what would take dozens of checks.
+  EXPECT_LT(f.checker.checks(), plain.checks() / 2);
+}
+
 TEST(Planner, SamplersWorkInsideTheTreePlanners) {
   Fixture f("peg-in-plate");
   for (const char* sampler : {"gaussian", "bridge", "mixed"}) {
