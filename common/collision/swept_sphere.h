@@ -46,12 +46,12 @@ class TriangleTree {
  private:
   struct Node {
     Eigen::Vector3d min, max;
-    int first = 0, count = 0;  // leaf: triangles order_[first, first + count)
+    int first = 0, count = 0;  // a leaf's triangles: triangles_[first, first + count)
     int left = -1, right = -1;
   };
   int Build(int first, int count);
 
-  std::vector<std::array<Eigen::Vector3d, 3>> triangles_;  // in order_
+  std::vector<std::array<Eigen::Vector3d, 3>> triangles_;  // in leaf order (Build sorts them)
   std::vector<Node> nodes_;
 };
 

@@ -287,6 +287,24 @@ bool MotionChecker::OutOfTime() const {
          CancelRequested();  // the caller throws (core/cancel.h)
 }
 
+bool MotionChecker::StretchInBounds(const Pose& a, const Pose& b) const {
+  // The bounded point turns with D: between two poses in bounds it may bulge
+  // out of them, at most |p| min(theta^2 / 8, 2) from its chord (the same
+  // bound as the sphere's centre, collision/swept_sphere.h). Both ends that
+  // far inside (and a hair more, so that rounding never matters) keep all of
+  // it in: the bounds are a box.
+  const Aabb& bounds = problem_->bounds;
+  const double theta = RotationAngle(a.q, b.q);
+  const double bulge = problem_->bounded_point.norm() * std::min(theta * theta / 8.0, 2.0) +
+                       1e-9 * (bounds.max - bounds.min).cwiseAbs().maxCoeff();
+  const Eigen::Vector3d low = bounds.min.array() + bulge, high = bounds.max.array() - bulge;
+  auto inside = [&](const Pose& pose) {
+    const Eigen::Vector3d p = pose.Apply(problem_->bounded_point);
+    return (p.array() >= low.array()).all() && (p.array() <= high.array()).all();
+  };
+  return inside(a) && inside(b);
+}
+
 bool MotionChecker::SweepWorthTrying() const {
   if (sweep_gain_.load(std::memory_order_relaxed) > 0) return true;
   return sweep_chances_.fetch_add(1, std::memory_order_relaxed) % kSweepProbe == 0;
@@ -309,8 +327,8 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
   };
   // Bisection order (as OMPL's discrete motion validator): a collision in
   // the middle of an edge is found after few checks. Where the validity
-  // proves motions, an interval long enough is first tried as a whole
-  // (both its ends are in bounds, so all of it is: the bounds are a box).
+  // proves motions, an interval long enough is first tried as a whole, if
+  // it stays in bounds (StretchInBounds).
   std::queue<std::pair<std::int64_t, std::int64_t>> intervals;
   intervals.emplace(0, steps);
   for (std::int64_t checked = 0; !intervals.empty(); ++checked) {
@@ -321,7 +339,8 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
     intervals.pop();
     if (hi - lo < 2) continue;
     if (sweeps && hi - lo >= kShortestSweep && SweepWorthTrying()) {
-      const bool proved = validity_->ProveMotion(pose_at(lo), pose_at(hi));
+      const Pose from = pose_at(lo), to = pose_at(hi);
+      const bool proved = StretchInBounds(from, to) && validity_->ProveMotion(from, to);
       RecordSweep(proved ? hi - lo - 1 : 0);
       if (proved) continue;
     }
@@ -358,7 +377,7 @@ double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid
     if (sweeps && walked >= kStepsBeforeSweeping && stretch >= kShortestSweep && SweepWorthTrying()) {
       const std::int64_t end = steps - valid <= stretch ? steps : valid + stretch;
       const Pose end_pose = pose_at(end);
-      const bool proved = problem_->InBounds(end_pose) && validity_->ProveMotion(last, end_pose);
+      const bool proved = StretchInBounds(last, end_pose) && validity_->ProveMotion(last, end_pose);
       RecordSweep(proved ? end - valid : 0);
       if (proved) {
         valid = end;

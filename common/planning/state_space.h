@@ -170,6 +170,9 @@ class MotionChecker {
   // more (a shorter one saves too few checks for what a failed one costs).
   static constexpr std::int64_t kStepsBeforeSweeping = 4;
   static constexpr std::int64_t kShortestSweep = 8;
+  // Whether every pose of the straight motion a -> b keeps the bounded point
+  // in the bounds (what a sweep of the validity does not prove).
+  bool StretchInBounds(const Pose& a, const Pose& b) const;
   // Whether to try a sweep now, and what one tried gained (`proved_steps`
   // the poses it proved, 0 when it proved nothing): see sweep_gain_.
   bool SweepWorthTrying() const;

@@ -449,19 +449,18 @@ class CheckerWithoutSweeps : public PoseValidity {
   const FclCollisionChecker& fcl_;
 };
 
-TEST(MotionChecker, SweepsChangeTheChecksNotTheAnswers) {
-  Fixture f("peg-in-plate");
-  const CheckerWithoutSweeps plain(f.checker);
-  ASSERT_TRUE(f.checker.ProvesMotions());
-  ASSERT_FALSE(plain.ProvesMotions());
-  const double step = 0.01 * f.problem.robot_diagonal;
-  const MotionChecker sweeping(f.problem, f.checker, step), walking(f.problem, plain, step);
+// Walks `trials` random motions from valid poses with and without sweeps;
+// returns how many were blocked and how many were valid as a whole.
+std::pair<int, int> CompareSweepingAndWalking(const PlanningProblem& problem, const FclCollisionChecker& checker,
+                                              const CheckerWithoutSweeps& plain, int trials) {
+  const double step = 0.01 * problem.robot_diagonal;
+  const MotionChecker sweeping(problem, checker, step), walking(problem, plain, step);
   Random random(9);
   int blocked = 0, whole = 0;
-  for (int trial = 0; trial < 300; ++trial) {
-    Pose a = f.problem.SampleUniform(random);
-    while (!walking.IsValid(a)) a = f.problem.SampleUniform(random);
-    const Pose b = f.problem.SampleUniform(random);
+  for (int trial = 0; trial < trials; ++trial) {
+    Pose a = problem.SampleUniform(random);
+    while (!walking.IsValid(a)) a = problem.SampleUniform(random);
+    const Pose b = problem.SampleUniform(random);
     Pose reached_sweeping, reached_walking;
     const double fraction = sweeping.ValidPrefix(a, b, &reached_sweeping);
     EXPECT_EQ(fraction, walking.ValidPrefix(a, b, &reached_walking)) << "trial " << trial;
@@ -471,11 +470,34 @@ TEST(MotionChecker, SweepsChangeTheChecksNotTheAnswers) {
     blocked += fraction < 1;
     whole += valid;
   }
+  return {blocked, whole};
+}
+
+TEST(MotionChecker, SweepsChangeTheChecksNotTheAnswers) {
+  Fixture f("peg-in-plate");
+  const CheckerWithoutSweeps plain(f.checker);
+  ASSERT_TRUE(f.checker.ProvesMotions());
+  ASSERT_FALSE(plain.ProvesMotions());
+  const auto [blocked, whole] = CompareSweepingAndWalking(f.problem, f.checker, plain, 300);
   EXPECT_GT(blocked, 30);  // both kinds of motion are exercised
   EXPECT_GT(whole, 30);
   // Much of the box around the plate is open space, where a sweep proves
   // what would take dozens of checks.
   EXPECT_LT(f.checker.checks(), plain.checks() / 2);
+}
+
+TEST(MotionChecker, SweepsKeepATurningBoundedPointInBounds) {
+  // The bounds hold a point two diagonals off D's reference point (as where
+  // a scene's mesh origin lies far from its part): while D turns, that point
+  // swings out of the bounds between two poses inside them, which a sweep
+  // of the validity does not see; the walk pose by pose does.
+  Fixture f("peg-in-plate");
+  PlanningProblem problem = f.problem;
+  problem.bounded_point = Eigen::Vector3d(2 * problem.robot_diagonal, 0, 0);
+  const CheckerWithoutSweeps plain(f.checker);
+  const auto [blocked, whole] = CompareSweepingAndWalking(problem, f.checker, plain, 300);
+  EXPECT_GT(blocked, 30);
+  EXPECT_GT(whole, 10);
 }
 
 TEST(Planner, SamplersWorkInsideTheTreePlanners) {
