@@ -42,11 +42,11 @@ class FclCollisionChecker : public PoseValidity {
   Closest ClosestPoints(const Pose& pose) const;
 
   // True when no pose of the straight motion a -> b has D touch S, proved
-  // for the whole motion at once by spheres around D swept along it
-  // (collision/swept_spheres.h), with a margin of a thousandth of D's size
+  // for the whole motion at once by D's bounding sphere swept along it
+  // (collision/swept_sphere.h), with a margin of a thousandth of D's size
   // (far above FCL's tolerances), so InCollision is false on all of them.
-  // False says nothing. A few queries, however long the motion: what makes
-  // a long edge through open space cheap.
+  // False says nothing. One query of a tree over S's triangles, however
+  // long the motion: what makes a long edge through open space cheap.
   bool SweepClear(const Pose& a, const Pose& b) const;
 
   bool ProvesMotions() const override { return true; }

@@ -186,9 +186,10 @@ class MotionChecker {
   // A moving average (over about the last 32 sweeps) of the checks a sweep
   // saved less the one it cost: the poses it proved minus one (at most 64),
   // or -1 when it proved nothing. Where D is rarely farther from S than its
-  // own radius (alpha-1.5: 1-2% of sweeps prove anything) the sweeps would
-  // only add checks, so while the average is not positive only every
-  // kSweepProbe-th chance is taken, to notice when they start to pay.
+  // own radius (the alpha puzzles: about a tenth of the sweeps prove
+  // anything) they would only add work, so while the average is not
+  // positive only every kSweepProbe-th chance is taken, to notice when
+  // they start to pay.
   // Atomic for PRM's threads, which share the checker (the answers never
   // depend on it, only the number of checks).
   mutable std::atomic<double> sweep_gain_{1.0};
