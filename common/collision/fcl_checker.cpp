@@ -27,7 +27,7 @@ struct FclCollisionChecker::Models {
   // copies of the meshes): most checkers never sweep.
   std::once_flag sweep_once;
   BoundingSphere robot_sphere;
-  std::unique_ptr<TriangleTree> environment_tree;
+  std::unique_ptr<TriangleBvh> environment_tree;
   double sweep_margin = 0;
 };
 
@@ -55,12 +55,13 @@ bool FclCollisionChecker::SweepClear(const Pose& a, const Pose& b) const {
     const FclModel& environment = *models_->environment;
     models_->robot_sphere =
         BoundingSphere::Of(std::vector<Eigen::Vector3d>(robot.vertices, robot.vertices + robot.num_vertices));
-    std::vector<std::array<Eigen::Vector3d, 3>> triangles(static_cast<std::size_t>(environment.num_tris));
+    std::vector<std::array<int, 3>> triangles(static_cast<std::size_t>(environment.num_tris));
     for (std::size_t i = 0; i < triangles.size(); ++i) {
       const fcl::Triangle& t = environment.tri_indices[i];
-      triangles[i] = {environment.vertices[t[0]], environment.vertices[t[1]], environment.vertices[t[2]]};
+      triangles[i] = {static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])};
     }
-    models_->environment_tree = std::make_unique<TriangleTree>(std::move(triangles));
+    models_->environment_tree = std::make_unique<TriangleBvh>(
+        std::vector<Eigen::Vector3d>(environment.vertices, environment.vertices + environment.num_vertices), triangles);
     // Far above FCL's tolerances, so that no pose FCL could call touching
     // is proved free.
     models_->sweep_margin = 1e-3 * (models_->robot_sphere.centre.norm() + models_->robot_sphere.radius);

@@ -1,6 +1,8 @@
 #include "geometry/closest_point.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <limits>
 
 namespace ausbau {
 namespace {
@@ -20,6 +22,59 @@ Vec3 ClosestPointOnSegment(const Vec3& p, const Vec3& s, const Vec3& t, double* 
   const double length_squared = d.squaredNorm();
   *u = length_squared > 0 ? std::clamp((p - s).dot(d) / length_squared, 0.0, 1.0) : 0.0;
   return s + *u * d;
+}
+
+double PointSegmentDistanceSquared(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double length2 = ab.squaredNorm();
+  const double s = length2 > 0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+  return (a + s * ab - p).squaredNorm();
+}
+
+// Ericson, Real-Time Collision Detection 5.1.9, with both degenerate cases.
+double SegmentSegmentDistanceSquared(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  if (a <= 0 && e <= 0) return r.squaredNorm();
+  if (a <= 0) return PointSegmentDistanceSquared(p1, p2, q2);
+  if (e <= 0) return PointSegmentDistanceSquared(p2, p1, q1);
+  const double c = d1.dot(r), b = d1.dot(d2), denominator = a * e - b * b;
+  double s = denominator > 0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return (p1 + s * d1 - (p2 + t * d2)).squaredNorm();
+}
+
+// Distance from p to the plane region of a non-degenerate triangle, when
+// p projects inside it (else +infinity: then an edge is nearer).
+double PointInsideTriangleDistanceSquared(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                          const Vec3& normal) {
+  // Inside when p's projection lies on the inner side of all three edges.
+  if ((b - a).cross(p - a).dot(normal) < 0 || (c - b).cross(p - b).dot(normal) < 0 ||
+      (a - c).cross(p - c).dot(normal) < 0) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double height = (p - a).dot(normal);
+  return height * height / normal.squaredNorm();
+}
+
+// Whether the segment crosses the triangle's plane inside the triangle
+// (not parallel to it; a parallel segment is left to the edge distances).
+// Tolerant on the side of "crosses".
+bool SegmentCrossesTriangle(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c,
+                            const Vec3& normal) {
+  const double h0 = (p0 - a).dot(normal), h1 = (p1 - a).dot(normal);
+  if ((h0 > 0 && h1 > 0) || (h0 < 0 && h1 < 0) || h0 == h1) return false;
+  const Vec3 x = p0 + (h0 / (h0 - h1)) * (p1 - p0);
+  const double slack = -1e-12 * normal.squaredNorm();
+  return (b - a).cross(x - a).dot(normal) >= slack && (c - b).cross(x - b).dot(normal) >= slack &&
+         (a - c).cross(x - c).dot(normal) >= slack;
 }
 
 }  // namespace
@@ -95,6 +150,22 @@ Vec3 ClosestPointOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const V
     w = vc * reciprocal;
   }
   return Answer(a + ab * v + ac * w, 1 - v - w, v, w, barycentric);
+}
+
+double SegmentTriangleDistanceSquared(const Vec3& p0, const Vec3& p1, const Vec3& a, const Vec3& b, const Vec3& c) {
+  // Where segment and triangle do not meet, the nearest pair has an end of
+  // the segment or a point of the triangle's boundary: if both were inner
+  // points, the line between them would be normal to the plane and to the
+  // segment, so the segment would be parallel to the plane and could slide
+  // to one of those.
+  double best = std::min({SegmentSegmentDistanceSquared(p0, p1, a, b), SegmentSegmentDistanceSquared(p0, p1, b, c),
+                          SegmentSegmentDistanceSquared(p0, p1, c, a)});
+  const Vec3 normal = (b - a).cross(c - a);
+  const double scale2 = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  if (normal.squaredNorm() <= 1e-24 * scale2 * scale2) return best;  // degenerate: its edges are all of it
+  if (SegmentCrossesTriangle(p0, p1, a, b, c, normal)) return 0;
+  best = std::min(best, PointInsideTriangleDistanceSquared(p0, a, b, c, normal));
+  return std::min(best, PointInsideTriangleDistanceSquared(p1, a, b, c, normal));
 }
 
 }  // namespace ausbau

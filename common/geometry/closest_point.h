@@ -1,6 +1,7 @@
 // The closest point on a triangle to a point (Ericson, Real-Time Collision
 // Detection, 5.1.5: tests of the Voronoi regions of the three vertices, the
-// three edges and the face, in barycentric terms).
+// three edges and the face, in barycentric terms); and the distance between
+// a segment and a triangle (the sweeps of collision/swept_sphere.h).
 //
 // One implementation for the distance field, the labeling BVH and the
 // voxelizer. They used to carry their own copies, which agree on every
@@ -41,5 +42,11 @@ enum class FaceWeights {
 Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                        const Eigen::Vector3d& c, DegenerateTriangles degenerate,
                                        FaceWeights face_weights, Eigen::Vector3d* barycentric = nullptr);
+
+// Squared distance between the segment [p0, p1] and the triangle (a, b, c);
+// 0 when they meet. Degenerate triangles (a segment or a point) and
+// segments (a point) are handled: no division by zero.
+double SegmentTriangleDistanceSquared(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& a,
+                                      const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 }  // namespace ausbau

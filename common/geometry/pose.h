@@ -6,6 +6,8 @@
 // convention); this header only does the algebra.
 #pragma once
 
+#include <algorithm>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -45,6 +47,17 @@ inline double RotationAngle(const Eigen::Quaterniond& a, const Eigen::Quaternion
 // speed, so a point at distance r travels at most r * angle).
 inline double MaxDisplacement(const Pose& a, const Pose& b, double radius) {
   return (b.t - a.t).norm() + radius * RotationAngle(a.q, b.q);
+}
+
+// Upper bound on how far a point at `offset` from the reference point (D's
+// frame) strays, along the interpolated motion from a to b, from the chord
+// between its two end positions (at the same s): R(s) offset is a turn at
+// constant rate through theta, whose distance to its linear interpolation
+// is at most s (1 - s) / 2 x theta^2 |offset| <= theta^2 / 8 |offset| (the
+// interpolation error of a C2 curve), and never more than 2 |offset|.
+inline double MaxChordDeviation(const Pose& a, const Pose& b, const Eigen::Vector3d& offset) {
+  const double theta = RotationAngle(a.q, b.q);
+  return offset.norm() * std::min(theta * theta / 8.0, 2.0);
 }
 
 }  // namespace ausbau

@@ -191,6 +191,41 @@ void TriangleBvh::ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::V
   }
 }
 
+bool TriangleBvh::AnyWithinSegment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double radius) const {
+  if (nodes_.empty()) return false;
+  const Eigen::Vector3d low = p0.cwiseMin(p1).array() - radius, high = p0.cwiseMax(p1).array() + radius;
+  const double radius2 = radius * radius;
+  const Eigen::Vector3d axis = p1 - p0;
+  const double length2 = axis.squaredNorm();
+  // Whether a node may hold a triangle within `radius`: its box meets the
+  // capsule's box, and the segment comes within the radius plus the box's
+  // half diagonal of the box's centre.
+  const auto may_hold = [&](const Node& node) {
+    const Eigen::Vector3d lo(node.min[0], node.min[1], node.min[2]), hi(node.max[0], node.max[1], node.max[2]);
+    if ((lo.array() > high.array()).any() || (hi.array() < low.array()).any()) return false;
+    const Eigen::Vector3d centre = 0.5 * (lo + hi);
+    const double s = length2 > 0 ? std::clamp((centre - p0).dot(axis) / length2, 0.0, 1.0) : 0.0;
+    const double reach = radius + 0.5 * (hi - lo).norm();
+    return (p0 + s * axis - centre).squaredNorm() <= reach * reach;
+  };
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!may_hold(node)) continue;
+    if (node.count == 0) {
+      stack[top++] = node.first + 1;
+      stack[top++] = node.first;
+      continue;
+    }
+    for (int s = node.first; s < node.first + node.count; ++s) {
+      if (SegmentTriangleDistanceSquared(p0, p1, a_[s], b_[s], c_[s]) <= radius2) return true;
+    }
+  }
+  return false;
+}
+
 int TriangleBvh::CountCrossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min,
                                 const std::function<bool(int)>& skip) const {
   if (nodes_.empty()) return 0;

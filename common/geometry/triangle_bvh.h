@@ -1,6 +1,7 @@
 // A bounding volume hierarchy over a triangle mesh's triangles, with exact
-// nearest-point and ray-crossing queries (the labeling's medial spheres,
-// orientation and exposure tests).
+// nearest-point, ray-crossing and segment-distance queries (the labeling's
+// medial spheres, orientation and exposure tests; the sweeps of
+// collision/swept_sphere.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -43,6 +44,11 @@ class TriangleBvh {
   // until visit returns false (the caller has its answer).
   void ForEachTriangleNear(const Eigen::Vector3d& min, const Eigen::Vector3d& max,
                            const std::function<bool(int)>& visit) const;
+
+  // Whether some triangle comes within `radius` of the segment [p0, p1]
+  // (exact segment-triangle distances; distance <= radius counts). Stops at
+  // the first one.
+  bool AnyWithinSegment(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, double radius) const;
 
   int TriangleCount() const { return static_cast<int>(a_.size()); }
 

@@ -43,6 +43,12 @@ Aabb PlanningProblem::RobotBoxAt(const Pose& pose) const { return PlacedBox(robo
 
 namespace {
 
+// Pose i of a motion from a to b walked in `steps` equal steps (b itself
+// exactly at the end).
+Pose PoseAtStep(const Pose& a, const Pose& b, std::int64_t i, std::int64_t steps) {
+  return i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
+}
+
 // A pose near the path `guide`: a uniform pose of a uniformly chosen
 // segment, moved in a uniform direction by a distance log-uniform in
 // [diagonal / 1000, diagonal] (no scale to tune: every passage width in that
@@ -289,14 +295,13 @@ bool MotionChecker::OutOfTime() const {
 
 bool MotionChecker::StretchInBounds(const Pose& a, const Pose& b) const {
   // The bounded point turns with D: between two poses in bounds it may bulge
-  // out of them, at most |p| min(theta^2 / 8, 2) from its chord (the same
-  // bound as the sphere's centre, collision/swept_sphere.h). Both ends that
+  // out of them, at most MaxChordDeviation from its chord (the same bound as
+  // the sphere's centre, collision/swept_sphere.h). Both ends that
   // far inside (and a hair more, so that rounding never matters) keep all of
   // it in: the bounds are a box.
   const Aabb& bounds = problem_->bounds;
-  const double theta = RotationAngle(a.q, b.q);
-  const double bulge = problem_->bounded_point.norm() * std::min(theta * theta / 8.0, 2.0) +
-                       1e-9 * (bounds.max - bounds.min).cwiseAbs().maxCoeff();
+  const double bulge =
+      MaxChordDeviation(a, b, problem_->bounded_point) + 1e-9 * (bounds.max - bounds.min).cwiseAbs().maxCoeff();
   const Eigen::Vector3d low = bounds.min.array() + bulge, high = bounds.max.array() - bulge;
   auto inside = [&](const Pose& pose) {
     const Eigen::Vector3d p = pose.Apply(problem_->bounded_point);
@@ -322,9 +327,7 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
   const std::int64_t steps = Steps(a, b);
   if (!IsValid(b)) return false;
   const bool sweeps = validity_->ProvesMotions();
-  auto pose_at = [&](std::int64_t i) {
-    return i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
-  };
+  auto pose_at = [&](std::int64_t i) { return PoseAtStep(a, b, i, steps); };
   // Bisection order (as OMPL's discrete motion validator): a collision in
   // the middle of an edge is found after few checks. Where the validity
   // proves motions, an interval long enough is first tried as a whole, if
@@ -360,9 +363,7 @@ double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid
     return std::max(0.0, reached);
   }
   const std::int64_t steps = Steps(a, b);
-  auto pose_at = [&](std::int64_t i) {
-    return i == steps ? b : Interpolate(a, b, static_cast<double>(i) / static_cast<double>(steps));
-  };
+  auto pose_at = [&](std::int64_t i) { return PoseAtStep(a, b, i, steps); };
   // Where the validity proves motions (PoseValidity::ProveMotion), the walk
   // tries the rest of the motion as a whole once it has taken
   // kStepsBeforeSweeping steps (most extensions are blocked within a few;

@@ -1,5 +1,6 @@
-// collision/swept_sphere.h: segment-triangle distances on hand-checked
-// cases and against dense sampling, the triangle tree against brute force,
+// collision/swept_sphere.h and what it stands on: segment-triangle distances
+// (geometry/closest_point.h) on hand-checked cases and against dense
+// sampling, TriangleBvh::AnyWithinSegment against brute force,
 // and the proof of a whole motion against FCL on poses along it.
 #include <gtest/gtest.h>
 
@@ -9,7 +10,9 @@
 #include "collision/fcl_checker.h"
 #include "collision/swept_sphere.h"
 #include "core/random.h"
+#include "geometry/closest_point.h"
 #include "geometry/primitives.h"
+#include "geometry/triangle_bvh.h"
 #include "test_poses.h"
 
 namespace ausbau {
@@ -69,29 +72,34 @@ TEST(SegmentTriangle, AgreesWithDenseSampling) {
   }
 }
 
-TEST(TriangleTree, AgreesWithBruteForce) {
+TEST(TriangleBvh, AnyWithinSegmentAgreesWithBruteForce) {
   Random random(5);
-  std::vector<std::array<Vector3d, 3>> triangles;
+  std::vector<Vector3d> vertices;
+  std::vector<std::array<int, 3>> triangles;
   for (int i = 0; i < 300; ++i) {
     const Vector3d corner(random.Uniform(-10, 10), random.Uniform(-10, 10), random.Uniform(-10, 10));
-    triangles.push_back({corner, corner + Vector3d(random.Uniform(-1, 1), random.Uniform(-1, 1), 0),
-                         corner + Vector3d(0, random.Uniform(-1, 1), random.Uniform(-1, 1))});
+    vertices.push_back(corner);
+    vertices.push_back(corner + Vector3d(random.Uniform(-1, 1), random.Uniform(-1, 1), 0));
+    vertices.push_back(corner + Vector3d(0, random.Uniform(-1, 1), random.Uniform(-1, 1)));
+    triangles.push_back({3 * i, 3 * i + 1, 3 * i + 2});
   }
-  const TriangleTree tree(triangles);
+  const TriangleBvh tree(vertices, triangles);
   int within = 0;
   for (int trial = 0; trial < 500; ++trial) {
     const Vector3d p0(random.Uniform(-12, 12), random.Uniform(-12, 12), random.Uniform(-12, 12));
     const Vector3d p1 = p0 + Vector3d(random.Uniform(-4, 4), random.Uniform(-4, 4), random.Uniform(-4, 4));
     const double radius = random.Uniform(0, 2);
     bool brute = false;
-    for (const auto& t : triangles)
-      brute |= SegmentTriangleDistanceSquared(p0, p1, t[0], t[1], t[2]) <= radius * radius;
-    EXPECT_EQ(tree.AnyWithin(p0, p1, radius), brute) << "trial " << trial;
+    for (const auto& t : triangles) {
+      brute |=
+          SegmentTriangleDistanceSquared(p0, p1, vertices[t[0]], vertices[t[1]], vertices[t[2]]) <= radius * radius;
+    }
+    EXPECT_EQ(tree.AnyWithinSegment(p0, p1, radius), brute) << "trial " << trial;
     within += brute;
   }
   EXPECT_GT(within, 50);  // both answers are exercised
   EXPECT_LT(within, 450);
-  EXPECT_FALSE(TriangleTree({}).AnyWithin({0, 0, 0}, {1, 1, 1}, 5));
+  EXPECT_FALSE(TriangleBvh().AnyWithinSegment({0, 0, 0}, {1, 1, 1}, 5));
 }
 
 TEST(SweptSphere, BoundingSphereHoldsEveryVertex) {
