@@ -221,9 +221,10 @@ clean:
 # Ours against OMPL's RRT-Connect with its default range, side by side in one
 # run (issue 29; docs/benchmarks.md "Planners against OMPL"): `ausbau-plan`
 # as a user runs it (whole process, default flags) and CR-RRTC in process, on
-# the OMPL.app scenes and the Parasol flange, and ours alone on the L-channel
-# family (PLANNERS_CHANNELS seeds of panel-channel, paths judged by the
-# external set's oracle.py; scripts/planner-bench.sh). Writes summary.md (machine,
+# the OMPL.app scenes and the Parasol flange, and ours alone on the channel
+# families (PLANNERS_CHANNELS seeds each of panel-channel, panel-zchannel and
+# panel-keyhole, paths judged by the external set's oracle.py;
+# scripts/planner-bench.sh). Writes summary.md (machine,
 # tables, speed-ups), speedups.csv, results.csv and OMPL benchmark logs in
 # PLANNERS_OUT, and checks the speed-ups against bench/planners/recorded.csv:
 # it fails when one falls below half of the recorded one or a path fails the

@@ -11,8 +11,9 @@
 #     RUNS        seeds per cell (1..RUNS); TIME_LIMIT seconds per run
 #     SCENES      space-separated: an OMPL.app scene name (in
 #                 ../shared/benchmarks/ompl), a scene.yaml path, or
-#                 panel-channel-sN (generated here, seed N, random world
-#                 placement); default below
+#                 panel-channel-sN, panel-zchannel-sN or panel-keyhole-sN
+#                 (generated here, seed N, random world placement);
+#                 default below
 #     VARIANTS    space-separated names from the list below; default: all
 #
 # A failure counts as TIME_LIMIT seconds in the median time; the checks are
@@ -23,6 +24,9 @@
 #   def-rrtc      RRT-Connect with the thesis's fixed u and range (Def-RRTC)
 #   no-passage    no second try of a trapped extension along the nearby
 #                 nodes' principal directions (--passage-neighbors 0)
+#   no-exits      no exit moves (pulls out, quarter turns) from new nodes
+#                 of the start tree (--exit-axes 0; disassembly only)
+#   exits-3       exit moves about all three of D's normal axes (--exit-axes 3)
 #   gaussian      Gaussian sampling near obstacles (Boor et al. 1999)
 #   bridge        the bridge test (Hsu et al. 2003)
 #   mixed         a third each of uniform, Gaussian and bridge samples
@@ -51,6 +55,8 @@ flags_of() {
     default) echo "" ;;
     def-rrtc) echo "--planner rrtc" ;;
     no-passage) echo "--passage-neighbors 0" ;;
+    no-exits) echo "--exit-axes 0" ;;
+    exits-3) echo "--exit-axes 3" ;;
     gaussian) echo "--sampler gaussian" ;;
     bridge) echo "--sampler bridge" ;;
     mixed) echo "--sampler mixed" ;;
@@ -65,11 +71,11 @@ done
 
 scene_file() {  # the scene.yaml of a SCENES item
   case "$1" in
-    panel-channel-s*)
-      local seed=${1#panel-channel-s} dir="$OUT/scenes/$1"
+    panel-channel-s* | panel-zchannel-s* | panel-keyhole-s*)
+      local family=${1%-s*} seed=${1##*-s} dir="$OUT/scenes/$1"
       case "$seed" in '' | *[!0-9]*) return 1 ;; esac
       [ -f "$dir/scene.yaml" ] ||
-        "$BIN/ausbau-scene-gen" --family panel-channel --seed "$seed" --world random -o "$dir" --log-level warn || return 1
+        "$BIN/ausbau-scene-gen" --family "$family" --seed "$seed" --world random -o "$dir" --log-level warn || return 1
       echo "$dir/scene.yaml" ;;
     */*) [ -f "$1" ] && echo "$1" ;;
     *) [ -f "$OMPL_DIR/$1.yaml" ] && echo "$OMPL_DIR/$1.yaml" ;;

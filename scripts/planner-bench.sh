@@ -2,20 +2,23 @@
 # Ours against OMPL's RRT-Connect (make bench-planners, issue 29): the OMPL.app
 # scenes and the Parasol flange through ausbau-bench (ausbau-plan as a whole
 # process with its default flags, CR-RRTC in process, OMPL default range, side
-# by side in one run), plus our own L-channel family (panel-channel: a tongue
-# under the roof of an L-shaped T-slot, 0.2-0.9 mm clearances, random world
-# placement; generated here, no goal pose, so ours only), each channel path
-# judged by the external set's independent oracle.py.
+# by side in one run), plus our own channel families (generated here, random
+# world placement, no goal pose, so ours only): panel-channel (a tongue under
+# the roof of an L-shaped T-slot, 0.2-1.0 mm clearances), panel-zchannel (a
+# Z-shaped one, three legs, 0.2-0.5 mm) and panel-keyhole (slide, turn 90
+# degrees, lift; 0.2-0.5 mm), each channel path judged by the external set's
+# independent oracle.py.
 #
 #   scripts/planner-bench.sh BIN OUT RUNS TIME_LIMIT SCENES CHANNEL_SEEDS [RECORDED]
 #     BIN            folder of ausbau-bench, ausbau-plan, ausbau-scene-gen
 #     OUT            output folder (summary.md, speedups.csv, results.csv,
 #                    OMPL logs, ausbau-plan/<scene>-seed<N>.{h5,csv,log},
-#                    scenes/panel-channel-s<N>/, oracle.txt)
+#                    scenes/<family>-s<N>/, oracle.txt)
 #     RUNS           seeds per scene; TIME_LIMIT seconds per run
 #     SCENES         comma list for ausbau-bench --scenes (names or yaml paths)
-#     CHANNEL_SEEDS  space-separated generator seeds of the channel family
-#                    ("" for none)
+#     CHANNEL_SEEDS  space-separated generator seeds of each channel family
+#                    ("" for none); the families: $CHANNEL_FAMILIES, default
+#                    "panel-channel panel-zchannel panel-keyhole"
 #     RECORDED       speedups.csv to check against (ausbau-bench --recorded);
 #                    empty: no check
 # Exit 1 when the check fails or an oracle call finds a channel path invalid;
@@ -34,15 +37,21 @@ RECORDED=${7:-}
 ORACLE=$HERE/../shared/benchmarks/inistate-external/oracle.py
 mkdir -p "$OUT/scenes" || exit 2
 
+CHANNEL_FAMILIES=${CHANNEL_FAMILIES:-panel-channel panel-zchannel panel-keyhole}
 channels=()
-for seed in $CHANNEL_SEEDS; do
-  case "$seed" in '' | *[!0-9]*) echo "planner-bench: channel seed '$seed' is not a number" >&2; exit 2 ;; esac
-  dir="$OUT/scenes/panel-channel-s$seed"
-  if [ ! -f "$dir/scene.yaml" ]; then
-    "$BIN/ausbau-scene-gen" --family panel-channel --seed "$seed" --world random -o "$dir" --log-level warn ||
-      { echo "planner-bench: ausbau-scene-gen failed for seed $seed" >&2; exit 2; }
-  fi
-  channels+=("$dir")
+for family in $CHANNEL_FAMILIES; do
+  case "$family" in panel-channel | panel-zchannel | panel-keyhole) ;;
+    *) echo "planner-bench: '$family' is not a channel family (panel-channel, panel-zchannel, panel-keyhole)" >&2; exit 2 ;;
+  esac
+  for seed in $CHANNEL_SEEDS; do
+    case "$seed" in '' | *[!0-9]*) echo "planner-bench: channel seed '$seed' is not a number" >&2; exit 2 ;; esac
+    dir="$OUT/scenes/$family-s$seed"
+    if [ ! -f "$dir/scene.yaml" ]; then
+      "$BIN/ausbau-scene-gen" --family "$family" --seed "$seed" --world random -o "$dir" --log-level warn ||
+        { echo "planner-bench: ausbau-scene-gen failed for $family seed $seed" >&2; exit 2; }
+    fi
+    channels+=("$dir")
+  done
 done
 list=$SCENES
 for dir in "${channels[@]}"; do list="${list:+$list,}$(cd "$dir" && pwd)/scene.yaml"; done
@@ -73,9 +82,9 @@ if [ ${#channels[@]} -gt 0 ]; then
         fi
       done
     done
-    line="planner-bench: L-channel family (ausbau-plan paths as written): $valid oracle-valid, $invalid invalid, $unsolved without a path"
+    line="planner-bench: channel families (ausbau-plan paths as written): $valid oracle-valid, $invalid invalid, $unsolved without a path"
     echo "$line" | tee -a "$OUT/oracle.txt"
-    printf '\n## L-channel family through oracle.py\n\n%s\n' "${line#planner-bench: }" >> "$OUT/summary.md"
+    printf '\n## Channel families through oracle.py\n\n%s\n' "${line#planner-bench: }" >> "$OUT/summary.md"
     [ "$invalid" -eq 0 ] || status=1
   fi
 fi

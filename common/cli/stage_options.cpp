@@ -58,6 +58,12 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
                "rrtc, cr-rrtc: a trapped extension is tried once more along the principal directions of this many "
                "nearby tree nodes (narrow passages; docs/planning.md); 0 = off",
                CacheKey::kYes);
+  planner->exit_axes = -1;  // automatic: ResolvedPlanner (workflow/plan_scene.cpp) decides by the validity
+  stage.Option("--exit-axes", &planner->exit_axes,
+               "rrtc, cr-rrtc, disassembly: from each new start-tree node, straight pulls out of S along this many "
+               "of D's surface-normal axes (largest first) and quarter turns about them (docs/planning.md, \"Exit "
+               "moves\"); 0 = off, at most 3; -1 = automatic: 1 with --validity collision, else 0",
+               CacheKey::kYes);
 }
 
 void AddVolumeInputOptions(StageDefinition& stage, VolumeInputs* volume) {

@@ -35,6 +35,7 @@ PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& m
   settings.u = options.u;
   settings.range_max = options.range_max;
   settings.passage_neighbors = options.passage_neighbors;
+  settings.exit_axes = std::max(0, options.exit_axes);  // -1 (automatic) unresolved: none
   return RunRrtConnect(problem, motion, settings, options);
 }
 
@@ -114,6 +115,9 @@ void PlannerOptions::Check() const {
   if (passage_neighbors < 0 || passage_neighbors > 1000) {
     throw OptionError(&passage_neighbors, "passage_neighbors", "must lie in [0, 1000] (0 = no second try)");
   }
+  if (exit_axes < -1 || exit_axes > 3) {
+    throw OptionError(&exit_axes, "exit_axes", "must lie in [-1, 3] (0 = none, -1 = automatic)");
+  }
   if (!(est_range >= 0 && est_range <= 1))
     throw OptionError(&est_range, "est_range", "must lie in [0, 1] (0 = automatic)");
   if (!(resolution > 0 && resolution <= 0.1)) {
@@ -180,11 +184,7 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   return result;
 }
 
-namespace {
-
-// The eigenvectors of the area-weighted normal tensor sum a n n^T of D's
-// triangles, turned by `rotation` (largest first; none when it fails).
-std::vector<Eigen::Vector3d> NormalAxes(const TriangleMesh& mesh, const Eigen::Quaterniond& rotation) {
+std::vector<Eigen::Vector3d> SurfaceNormalAxes(const TriangleMesh& mesh, const Eigen::Quaterniond& rotation) {
   Eigen::Matrix3d tensor = Eigen::Matrix3d::Zero();
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d cross =
@@ -205,23 +205,14 @@ std::vector<Eigen::Vector3d> NormalAxes(const TriangleMesh& mesh, const Eigen::Q
   return axes;
 }
 
-}  // namespace
-
-PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
-                            const PlannerOptions& options) {
-  PlanResult result;
-  result.status = PlanStatus::kIterationLimit;
-  if (problem.goal) return result;
-  const auto begin = std::chrono::steady_clock::now();
-  const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
-  // D's principal axes in the world at the start, then the world's axes
-  // (CAD parts sit square to the vehicle), less those along an axis tried.
-  // "Along" means within a micro-radian: a bolt's principal axis, tilted a
-  // few milliradians by its tessellation, drives its shank into the bore
-  // after a few mm, where the world's axis (or its normals' axis) draws it
-  // out.
+std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Quaterniond& orientation) {
+  // D's principal axes in the world, then the world's axes (CAD parts sit
+  // square to the vehicle), less those along an axis already there. "Along"
+  // means within a micro-radian: a bolt's principal axis, tilted a few
+  // milliradians by its tessellation, drives its shank into the bore after
+  // a few mm, where the world's axis (or its normals' axis) draws it out.
   std::vector<Eigen::Vector3d> vertices;
-  for (const auto& v : problem.robot.vertices) vertices.push_back(problem.start.q * v);
+  for (const auto& v : robot.vertices) vertices.push_back(orientation * v);
   const Eigen::Matrix3d principal = vertices.empty() ? Eigen::Matrix3d::Identity() : PrincipalAxes(vertices);
   std::vector<Eigen::Vector3d> axes;
   const auto add_axis = [&](const Eigen::Vector3d& axis) {
@@ -235,7 +226,18 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   // (its largest), a pin's or a bore's axis (its smallest: the normals of a
   // cylinder lie across it), exactly, where the spread of the vertices
   // (the principal axes) is tilted by whatever stands on the plate.
-  for (const Eigen::Vector3d& axis : NormalAxes(problem.robot, problem.start.q)) add_axis(axis);
+  for (const Eigen::Vector3d& axis : SurfaceNormalAxes(robot, orientation)) add_axis(axis);
+  return axes;
+}
+
+PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
+                            const PlannerOptions& options) {
+  PlanResult result;
+  result.status = PlanStatus::kIterationLimit;
+  if (problem.goal) return result;
+  const auto begin = std::chrono::steady_clock::now();
+  const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
+  const std::vector<Eigen::Vector3d> axes = PullAxes(problem.robot, problem.start.q);
   const double step = options.resolution * problem.robot_diagonal;
   // The pulls count work, not seconds: each is walked to its end (a pull
   // stopped by the clock would turn a right answer into "not removable" on

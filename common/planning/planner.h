@@ -41,6 +41,12 @@ struct PlannerOptions {
   // principal directions of this many nearby tree nodes
   // (planning/passage_direction.h); 0 = no second try.
   int passage_neighbors = 12;
+  // rrtc, cr-rrtc, disassembly problems: exit moves (straight pulls out and
+  // quarter turns) from each new start-tree node about this many of D's
+  // surface-normal axes (planning/rrt_connect.h); 0 = none; -1 = automatic:
+  // ausbau-plan's collision validity 1 (measured: docs/benchmarks.md, "Exit
+  // moves"), every other use 0 (not measured yet with slower validities).
+  int exit_axes = 0;
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;
@@ -131,6 +137,19 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
+
+// The eigenvectors of the area-weighted normal tensor sum a n n^T of D's
+// triangles, turned by `rotation`, largest first (a plate's normal first, a
+// pin's axis last: the normals of a cylinder lie across it); none when the
+// eigen solver fails. Each points to the positive side of its largest
+// coordinate.
+std::vector<Eigen::Vector3d> SurfaceNormalAxes(const TriangleMesh& mesh, const Eigen::Quaterniond& rotation);
+
+// The directions a part is pulled along, in the world, without repeats (a
+// direction within a micro-radian of one already there): D's principal axes
+// (the spread of its vertices) turned by `orientation`, the world's axes, and
+// the axes of D's area-weighted surface normals turned by `orientation`.
+std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Quaterniond& orientation);
 
 // Straight pulls from the start (a peg or a pin in a tight fit, a cap on a
 // post: what a sampler finds last, with a clearance of hundredths of a mm,

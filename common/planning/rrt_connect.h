@@ -24,6 +24,12 @@ struct RrtConnectSettings {
   // of this many of the tree's nodes nearest to the node it grows from
   // (passage_direction.h); 0 = no second try.
   int passage_neighbors = 12;
+  // Disassembly problems (no goal pose): from each new node of the start
+  // tree, straight pulls out of S along D's first this many surface-normal
+  // axes (largest first: a plate's normal, then the others), both ways,
+  // then quarter turns about them, each followed by the pulls
+  // (docs/planning.md, "Exit moves"); 0 = none.
+  int exit_axes = 0;
 };
 
 PlanResult RunRrtConnect(const PlanningProblem& problem, const MotionChecker& motion,

@@ -74,6 +74,8 @@ std::unique_ptr<PoseValidity> MakeChecker(const PlanSceneOptions& options, const
 PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode) {
   PlannerOptions planner = options.planner;
   if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
+  // Exit moves where they were measured: the collision validity's planner.
+  if (planner.exit_axes < 0) planner.exit_axes = options.validity == ValidityMode::kCollision ? 1 : 0;
   return planner;
 }
 
@@ -258,13 +260,25 @@ bool AllSolid(const TriangleMesh& mesh) {
   return std::all_of(shells.begin(), shells.end(), [](const Shell& s) { return s.closed && s.volume > 0; });
 }
 
-bool ThroughS(const Scene& scene, const PlanSceneOptions& options, PathArtifact* artifact) {
-  if (!AllSolid(scene.dynamic_mesh) || !AllSolid(scene.static_mesh)) {
+// The exact check of the written path where D and S are solids; none where
+// they are not.
+std::optional<ExactCheckReport> ExactCheckWhereSolid(const Scene& scene, const PlanSceneOptions& options,
+                                                     const PathArtifact& artifact) {
+  if (!AllSolid(scene.dynamic_mesh) || !AllSolid(scene.static_mesh)) return std::nullopt;
+  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
+  return ExactCheckPath(scene, artifact.waypoints, tolerance);
+}
+
+// `done`: that check of the written path, already run (the re-certification
+// below runs it).
+bool ThroughS(const Scene& scene, const PlanSceneOptions& options, PathArtifact* artifact,
+              const std::optional<ExactCheckReport>& done) {
+  const std::optional<ExactCheckReport> report = done ? done : ExactCheckWhereSolid(scene, options, *artifact);
+  if (!report) {
     LogInfo("no exact re-check: D or S is not made of closed solids (a path inside S would not be seen)");
     return true;
   }
-  const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene.units, nullptr);
-  const ExactCheckReport exact = ExactCheckPath(scene, artifact->waypoints, tolerance);
+  const ExactCheckReport& exact = *report;
   if (exact.valid) {
     LogInfo("exact check passed (%lld poses): deepest rigid penetration %.4g %s",
             static_cast<long long>(exact.poses_checked), exact.max_rigid_depth, scene.units.c_str());
@@ -558,6 +572,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   // The dense re-check of the whole written path when it already ran and
   // passed (collision validity, below).
   std::optional<DenseCheckReport> dense_of_written;
+  std::optional<ExactCheckReport> exact_of_written;  // the same for the exact check
   PlanStatus status = PlanStatus::kTimeLimit;
   if (volume_mode) {
     // Both of its planners within the budget (no partial path: sigma_1 and
@@ -601,6 +616,11 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // planned motion grazes S between the certification's poses (a
       // panel-channel scene, 0.2 mm clearance, did): certify again at a 4x
       // and a 16x finer step before calling the path a bug (VerifyRigid).
+      // The same where D and S are solids and the exact check finds D
+      // deeper in S than the rigid tolerance between two poses: the
+      // certification's step (a quarter of a percent of D's diagonal) may
+      // be wider than twice the tolerance (a panel-keyhole scene: 0.057 mm
+      // deep for a tolerance of 0.05, D 60 mm across).
       // The re-check may take as long as the planner could have: a path
       // across bounds of 1e9 (goal: {clearance: 1e9}), which sweeps through
       // open space find in a moment, is billions of poses for it; such a
@@ -613,8 +633,16 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
         const DenseCheckReport dense =
             DenseCheckPath(scene, problem.reference_point, artifact.waypoints, 0.01, dense_deadline);
         if (dense.valid) {
-          dense_of_written = dense;  // VerifyRigid's check, done
-          break;
+          dense_of_written = dense;                                           // VerifyRigid's check, done
+          exact_of_written = ExactCheckWhereSolid(scene, options, artifact);  // ThroughS's
+          if (!exact_of_written || exact_of_written->valid) break;
+          LogInfo("the exact check finds %s; certifying the path again at 1/%d of the step",
+                  exact_of_written->reason.c_str(), 1 << (2 * (round + 1)));
+          if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
+          write();
+          dense_of_written.reset();
+          exact_of_written.reset();
+          continue;
         }
         if (dense.stopped_by_deadline) {
           LogWarn(
@@ -655,7 +683,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
   if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index), dense_of_written);
   if (solved && options.verify && options.validity == ValidityMode::kCollision &&
-      !ThroughS(scene, options, &artifact)) {
+      !ThroughS(scene, options, &artifact, exact_of_written)) {
     return planned;
   }
   if (!solved) {

@@ -55,7 +55,8 @@ void DeclareSceneGen(StageDefinition& stage, SceneGenOptions* options) {
   stage.app().option_defaults()->always_capture_default();  // --help shows every default
   stage.Option("--family", &options->family,
                "rod-in-cage | peg-in-plate | two-boxes | clips-ds1 .. clips-ds5 (InIState scenes) | "
-               "panel-tilt-slide | panel-straight-pull | panel-channel (box scenes with an exact checker) | "
+               "panel-tilt-slide | panel-straight-pull | panel-channel | panel-zchannel | panel-keyhole (box scenes "
+               "with an exact checker) | "
                "vehicle (a ~1.2M-triangle body shell with --parts fastened brackets; one scene per part)",
                CacheKey::kYes);
   stage.Seed(&options->seed, "random seed (varies dimensions)");

@@ -109,6 +109,26 @@ TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
   }
 }
 
+// A key in a keyhole slot (panel-keyhole seed 4, D about 60 mm across):
+// planned without exit moves with seed 2, its certified path grazed a wall
+// of S 0.057 mm deep between two poses (the certification's step, 0.15 mm,
+// is wider than twice the rigid tolerance), which the exact check caught,
+// and the run ended with no path. The path is now certified again at a
+// finer step, like one the dense re-check finds in S.
+TEST(PlanStage, APathTheExactCheckRejectsIsCertifiedAgain) {
+  BoxSceneOptions options;
+  options.seed = 4;
+  options.world = BoxWorld::kRandom;
+  const auto dir = testing::MakeTempDir("panel-keyhole-4");
+  const auto yaml = GenerateBoxScene("panel-keyhole", options, dir / "scene").scene_yaml;
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 2 --exit-axes 0 -o " +
+                                            (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("the exact check finds"), std::string::npos) << plan.output;
+  const ExactCheckReport check = ExactCheckPath(LoadScene(yaml), ReadPathCsv(dir / "path.csv"), 0.05);
+  EXPECT_TRUE(check.valid) << check.reason;
+}
+
 TEST(PlanStage, SameSeedGivesAByteIdenticalCsv) {
   const auto yaml = testing::MakeGeneratedScene("rod-in-cage", 3);
   const auto dir = yaml.parent_path();
