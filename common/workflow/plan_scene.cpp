@@ -269,11 +269,12 @@ std::optional<ExactCheckReport> ExactCheckWhereSolid(const Scene& scene, const P
   return ExactCheckPath(scene, artifact.waypoints, tolerance);
 }
 
-// `done`: that check of the written path, already run (the re-certification
-// below runs it).
+// `done`: ExactCheckWhereSolid of the written path, already run (the
+// re-certification below runs it; none there where D or S is no solid), or
+// null.
 bool ThroughS(const Scene& scene, const PlanSceneOptions& options, PathArtifact* artifact,
-              const std::optional<ExactCheckReport>& done) {
-  const std::optional<ExactCheckReport> report = done ? done : ExactCheckWhereSolid(scene, options, *artifact);
+              const std::optional<ExactCheckReport>* done) {
+  const std::optional<ExactCheckReport> report = done ? *done : ExactCheckWhereSolid(scene, options, *artifact);
   if (!report) {
     LogInfo("no exact re-check: D or S is not made of closed solids (a path inside S would not be seen)");
     return true;
@@ -572,7 +573,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   // The dense re-check of the whole written path when it already ran and
   // passed (collision validity, below).
   std::optional<DenseCheckReport> dense_of_written;
-  std::optional<ExactCheckReport> exact_of_written;  // the same for the exact check
+  // The same for the exact check (ran: whether it did, solids or not).
+  std::optional<ExactCheckReport> exact_of_written;
+  bool exact_ran = false;
   PlanStatus status = PlanStatus::kTimeLimit;
   if (volume_mode) {
     // Both of its planners within the budget (no partial path: sigma_1 and
@@ -635,6 +638,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
         if (dense.valid) {
           dense_of_written = dense;                                           // VerifyRigid's check, done
           exact_of_written = ExactCheckWhereSolid(scene, options, artifact);  // ThroughS's
+          exact_ran = true;
           if (!exact_of_written || exact_of_written->valid) break;
           LogInfo("the exact check finds %s; certifying the path again at 1/%d of the step",
                   exact_of_written->reason.c_str(), 1 << (2 * (round + 1)));
@@ -642,6 +646,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
           write();
           dense_of_written.reset();
           exact_of_written.reset();
+          exact_ran = false;
           continue;
         }
         if (dense.stopped_by_deadline) {
@@ -683,7 +688,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
   LogResult(volume_mode ? "InIState planning" : "planning", stats, solved);
   if (solved && options.verify) VerifyRigid(scene, artifact, std::max(0, artifact.inter_index), dense_of_written);
   if (solved && options.verify && options.validity == ValidityMode::kCollision &&
-      !ThroughS(scene, options, &artifact, exact_of_written)) {
+      !ThroughS(scene, options, &artifact, exact_ran ? &exact_of_written : nullptr)) {
     return planned;
   }
   if (!solved) {
