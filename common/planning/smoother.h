@@ -13,9 +13,9 @@
 //      tail is also frozen where the part needs it no longer, which removes
 //      needless turning;
 //   4. waypoints whose neighbours see each other are dropped;
-//   5. (disassembly, when the result still turns D) a translation-only path
-//      is planned (D's start orientation fixed), smoothed by 1-4, and kept
-//      when it is shorter.
+//   5. (disassembly, when the result still turns D by more than 0.1 rad in
+//      all) a translation-only path is planned (D's start orientation
+//      fixed), smoothed by 1-4, and kept when it is shorter.
 #pragma once
 
 #include <cstdint>

@@ -256,35 +256,49 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   SmoothedPath out;
   out.planning_path = ToPlanning(problem, input.waypoints);
   const FclCollisionChecker checker(problem.robot, problem.environment);
+  if (!volume_mode && (!options.volume.voxels.empty() || !options.volume.labels.empty())) {
+    LogWarn("--voxels and --labels are ignored: the path was planned under plain collision");
+  }
   int inter_index = -1;
-  if (!volume_mode) {
-    if (!options.volume.voxels.empty() || !options.volume.labels.empty()) {
-      LogWarn("--voxels and --labels are ignored: the path was planned under plain collision");
+  DenseCheckReport output_check;
+  // The smoother's checks are discrete (a quarter of the planning step): a
+  // shortcut that slides along S a few microns off can graze it between
+  // two checked poses, which the dense re-check then finds (panel-channel
+  // seed 4, plain collision: 0.0004 mm from S). Under plain collision the
+  // path is then smoothed again at a 4x finer step before the input path is
+  // kept, as ausbau-plan certifies again (plan_scene.cpp).
+  for (int round = 1;; ++round) {
+    SmoothPlannedPathOptions within = options;
+    if (round > 1) within.smooth.resolution /= 4;
+    if (!volume_mode) {
+      const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, within.smooth, nullptr);
+      out.result = SmoothPath(problem, checker, out.planning_path, within.smooth, guard.get());
+      WarnBelowClearance(scene, *guard, out.result.path, 0);
+    } else {
+      inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, within, &out);
     }
-    const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
-    out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
-    WarnBelowClearance(scene, *guard, out.result.path, 0);
-  } else {
-    inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, options, &out);
+    out.artifact = input;
+    out.artifact.units = scene.units;
+    out.artifact.clearance = ClearanceInSceneUnits(options.smooth.clearance, scene.units);
+    out.artifact.waypoints = ToScene(problem, out.result.path);
+    if (!volume_mode) {
+      // Written for readers that interpolate about the mesh origin, as the
+      // rigid-exact branch and ausbau-plan do (plan_scene.cpp): a part placed
+      // metres from that origin would otherwise sweep off the smoothed motion
+      // on turning segments. The volume modes keep their rows (one per
+      // planned pose, with per-row volumes); simplified there.
+      const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr) / 10;
+      out.artifact.waypoints = DensifyForPlainInterpolation(out.artifact.waypoints, problem.reference_point,
+                                                            problem.dynamic_origin, deviation);
+    }
+    const std::vector<Pose> output_rigid(out.artifact.waypoints.begin() + std::max(0, inter_index),
+                                         out.artifact.waypoints.end());
+    output_check = DenseCheckPath(scene, problem.reference_point, output_rigid, 0.01);
+    if (output_check.valid || volume_mode || round == 2) break;
+    LogInfo("smoothed path fails the dense re-check (segment %d, %s); smoothing again at a 4x finer step",
+            output_check.first_bad_segment, output_check.reason.c_str());
   }
   SmoothResult& result = out.result;
-  out.artifact = input;
-  out.artifact.units = scene.units;
-  out.artifact.clearance = ClearanceInSceneUnits(options.smooth.clearance, scene.units);
-  out.artifact.waypoints = ToScene(problem, result.path);
-  if (!volume_mode) {
-    // Written for readers that interpolate about the mesh origin, as the
-    // rigid-exact branch and ausbau-plan do (plan_scene.cpp): a part placed
-    // metres from that origin would otherwise sweep off the smoothed motion
-    // on turning segments. The volume modes keep their rows (one per
-    // planned pose, with per-row volumes); simplified there.
-    const double deviation = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr) / 10;
-    out.artifact.waypoints = DensifyForPlainInterpolation(out.artifact.waypoints, problem.reference_point,
-                                                          problem.dynamic_origin, deviation);
-  }
-  const std::vector<Pose> output_rigid(out.artifact.waypoints.begin() + std::max(0, inter_index),
-                                       out.artifact.waypoints.end());
-  const DenseCheckReport output_check = DenseCheckPath(scene, problem.reference_point, output_rigid, 0.01);
   if (!output_check.valid) {
     // The smoother's own check is discrete; if the independent check finds
     // a collision on a shortcut, keep the input path rather than a bad one.

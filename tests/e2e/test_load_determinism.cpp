@@ -121,7 +121,8 @@ void ExpectSameAnswerUnderLoad(const fs::path& scene, const std::string& name, c
 }
 
 // The demo scene (rigid-exact): straight pulls, the planner's restarts,
-// the smoother's shortcuts and its translation-only alternative. The
+// the smoother's shortcuts (and its translation-only alternative where the
+// smoothed path still turns D by more than 0.1 rad in all). The
 // planner's safety net tightened from 60 s to 30 s (the plan takes under
 // a second), the smoother's kept (its work, 300 attempts here to keep the
 // test short, takes a few seconds idle).

@@ -100,6 +100,23 @@ TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
         RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
                                (dir / "smooth.h5").string() + " --csv " + (dir / "smooth.csv").string());
     ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+    // Smoothing step 5's gate, both ways: with seed 1 the smoothed path
+    // still turns D by more than 0.1 rad in all and the translation-only
+    // alternative is planned; with seed 4 it turns less, and it is not.
+    // Seed 4's smoothed path once failed the dense re-check (a shortcut
+    // grazing S between two checked poses) and the input path, turning
+    // 2.07 rad, was written; it is smoothed again at a finer step now.
+    const std::string tried = "translation-only alternative: tried (the path turns D ";
+    const std::string skipped = "translation-only alternative: not tried (the path turns D ";
+    const auto at_tried = smooth.output.find(tried), at_skipped = smooth.output.rfind(skipped);
+    if (scene_seed == 1) {
+      ASSERT_NE(at_tried, std::string::npos) << smooth.output;
+      EXPECT_GT(std::stod(smooth.output.substr(at_tried + tried.size())), 0.1);
+    } else {
+      ASSERT_NE(at_skipped, std::string::npos) << smooth.output;
+      EXPECT_LE(std::stod(smooth.output.substr(at_skipped + skipped.size())), 0.1);
+      EXPECT_LE(ReadPathArtifact(dir / "smooth.h5").length_rotation, 0.1) << smooth.output;
+    }
     const Scene scene = LoadScene(yaml);
     for (const char* name : {"path.csv", "smooth.csv"}) {
       const ExactCheckReport check = ExactCheckPath(scene, ReadPathCsv(dir / name), 0.05);
@@ -107,6 +124,33 @@ TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
       EXPECT_LE(check.max_rigid_depth, 0.05) << "scene seed " << scene_seed << ", " << name;
     }
   }
+}
+
+// The translation-only alternative (docs/planning.md, smoothing step 5) is
+// planned only where the smoothed path still turns D by more than 0.1 rad
+// in all. On the demo panel (clips, a rail under a lip: no way out without
+// a tilt) the turning left is a few hundredths of a radian, and the
+// alternative's 20,000 iterations, which never got out, were most of the
+// smoothing's time.
+TEST(SmoothStage, NoTranslationOnlyAlternativeWhereThePathBarelyTurns) {
+  const auto yaml = testing::SourceDir() / "scenes/panel-tilt-slide-1/scene.yaml";
+  const auto dir = testing::MakeTempDir("demo-alternative");
+  const Outcome plan =
+      RunStage("plan", "--scene " + yaml.string() + " --validity rigid-exact -o " + (dir / "path.h5").string());
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  const Outcome smooth = RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() +
+                                                " -o " + (dir / "smooth.h5").string());
+  ASSERT_EQ(smooth.exit_code, 0) << smooth.output;
+  EXPECT_EQ(smooth.output.find("translation-only alternative: tried"), std::string::npos) << smooth.output;
+  const std::string marker = "translation-only alternative: not tried (the path turns D ";
+  const auto at = smooth.output.find(marker);
+  ASSERT_NE(at, std::string::npos) << smooth.output;
+  const double turn = std::stod(smooth.output.substr(at + marker.size()));
+  EXPECT_GT(turn, 0.0);
+  EXPECT_LE(turn, 0.1);
+  const PathArtifact smoothed = ReadPathArtifact(dir / "smooth.h5");
+  EXPECT_TRUE(smoothed.success);
+  EXPECT_TRUE(ExactCheckPath(LoadScene(yaml), smoothed.waypoints, 0.05).valid);
 }
 
 // A key in a keyhole slot (panel-keyhole seed 4, D about 60 mm across):
