@@ -448,7 +448,7 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   // 20,000 iterations (external clip panels: 20-24 s of a 25 s pipeline,
   // docs/benchmarks.md).
   const bool turns = result.after.rotation > kTurnWorthAnAlternative;
-  if (EndIsFree(problem) && !turns && result.after.rotation > 0) {
+  if (EndIsFree(problem) && !turns && result.after.rotation > 1e-9) {
     LogInfo("translation-only alternative: not tried (the path turns D %.3g rad in all, within %.3g)",
             result.after.rotation, kTurnWorthAnAlternative);
   }

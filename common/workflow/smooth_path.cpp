@@ -267,13 +267,13 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   // seed 4, plain collision: 0.0004 mm from S). Under plain collision the
   // path is then smoothed again at a 4x finer step before the input path is
   // kept, as ausbau-plan certifies again (plan_scene.cpp).
+  const std::unique_ptr<ClearanceGuard> guard =
+      volume_mode ? nullptr : MakeGuard(scene, problem, options.smooth, nullptr);
   for (int round = 1;; ++round) {
     SmoothPlannedPathOptions within = options;
     if (round > 1) within.smooth.resolution /= 4;
     if (!volume_mode) {
-      const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, within.smooth, nullptr);
       out.result = SmoothPath(problem, checker, out.planning_path, within.smooth, guard.get());
-      WarnBelowClearance(scene, *guard, out.result.path, 0);
     } else {
       inter_index = SmoothInIState(scene, problem, input, checker, first_rigid, within, &out);
     }
@@ -298,6 +298,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
     LogInfo("smoothed path fails the dense re-check (segment %d, %s); smoothing again at a 4x finer step",
             output_check.first_bad_segment, output_check.reason.c_str());
   }
+  if (guard) WarnBelowClearance(scene, *guard, out.result.path, 0);
   SmoothResult& result = out.result;
   if (!output_check.valid) {
     // The smoother's own check is discrete; if the independent check finds
