@@ -1,15 +1,21 @@
 #include "planning/certify.h"
 
+#include <algorithm>
+
 #include "core/log.h"
 #include "planning/rrt_connect.h"
 
 namespace ausbau {
 
+double CertificationStep(const PlanningProblem& problem, double planner_step) {
+  return std::min(planner_step / 4.0, kCertificationResolution * problem.robot_diagonal);
+}
+
 CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
                           const PlannerOptions& options, std::vector<Pose>* path,
                           std::chrono::steady_clock::time_point deadline) {
   CertifyReport report;
-  const MotionChecker fine(problem, validity, planner_step / 4.0, deadline);
+  const MotionChecker fine(problem, validity, CertificationStep(problem, planner_step), deadline);
   std::vector<Pose> certified;
   if (path->empty()) return report;
   certified.push_back(path->front());

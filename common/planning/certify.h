@@ -3,11 +3,12 @@
 // Planners check edges at a step bound (no vertex of D moves more than
 // `step` between checked poses), which leaves thin slivers of collision
 // between checked poses undetected. Before a path is returned, every segment
-// is re-checked at step / 4; a segment that fails is re-planned locally
-// (CR-RRTC between its two end poses, edges checked at the fine step, half
-// of its samples near the segment: PlanningProblem::sampling_guide) and
-// spliced in. Rare, but without it a grazing path can fail a later dense
-// check.
+// is re-checked at step / 4 (CertificationStep); a segment that fails is
+// re-planned locally (CR-RRTC between its two end poses, edges checked at
+// the fine step, half of its samples near the segment:
+// PlanningProblem::sampling_guide) and spliced in. Rare at the thesis's
+// step of 1%, a few segments a path at 4%; without it a grazing path can
+// fail a later dense check.
 #pragma once
 
 #include <chrono>
@@ -24,6 +25,14 @@ struct CertifyReport {
   // limit: safety nets) stopped it, not for want of a repair.
   bool stopped_by_time_limit = false;
 };
+
+// The step of the certification: a quarter of the planner's, and never
+// coarser than kCertificationResolution of D's diagonal, so that a search
+// at a coarser step (ausbau-plan's collision validity plans at 4%,
+// workflow/plan_scene.cpp) returns paths checked as finely as one at the
+// thesis's 1%.
+constexpr double kCertificationResolution = 0.0025;
+double CertificationStep(const PlanningProblem& problem, double planner_step);
 
 // `path` is replaced by the certified (possibly repaired) path. `options`
 // supplies the seed and the time budget left for repairs. `deadline`: a

@@ -7,6 +7,7 @@
 
 #include "core/cancel.h"
 #include "core/error.h"
+#include "core/log.h"
 #include "geometry/principal_axes.h"
 #include "planning/certify.h"
 #include "planning/prm.h"
@@ -36,6 +37,8 @@ PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& m
   settings.range_max = options.range_max;
   settings.passage_neighbors = options.passage_neighbors;
   settings.exit_axes = std::max(0, options.exit_axes);  // -1 (automatic) unresolved: none
+  // A search coarser than the thesis's step walks a trapped tree at it.
+  settings.fine_step = std::min(motion.step(), 4 * kCertificationResolution * problem.robot_diagonal);
   return RunRrtConnect(problem, motion, settings, options);
 }
 
@@ -175,6 +178,25 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   result.stats.invalid_checks += validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   if (!report.certified) {
+    // A search at a step coarser than the thesis's (ausbau-plan's collision
+    // validity) may have passed through a wall thinner than its step, which
+    // no repair between the two sides can mend: search again at the step
+    // the certification is a quarter of, in the time left.
+    const double fine_resolution = 4 * kCertificationResolution;
+    const double left = options.time_limit_s - result.stats.time_s;
+    if (!report.stopped_by_time_limit && options.resolution > fine_resolution && left > 0) {
+      LogInfo("the path found at a step of %g of D's diagonal cannot be certified; planning again at %g",
+              options.resolution, fine_resolution);
+      PlannerOptions fine = options;
+      fine.resolution = fine_resolution;
+      fine.time_limit_s = left;
+      PlanResult again = Plan(problem, validity, fine);
+      again.stats.iterations += result.stats.iterations;
+      again.stats.collision_checks += result.stats.collision_checks;
+      again.stats.invalid_checks += result.stats.invalid_checks;
+      again.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+      return again;
+    }
     // Uncertified: cut short when the clock stopped the repair (the time
     // limit, a safety net), else a search that found nothing certifiable
     // within its work (the repair's iterations): the next restart tries.

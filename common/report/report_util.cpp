@@ -187,7 +187,8 @@ main { padding: 12px 18px 30px; max-width: 1500px; }
 #controls button { min-width: 70px; padding: 4px 10px; font-size: 14px; }
 #scrubber { flex: 1 1 320px; }
 #controls label { font-size: 13px; white-space: nowrap; }
-#timeinfo { font-variant-numeric: tabular-nums; font-size: 13px; min-width: 200px; }
+/* One width whatever the text says: the scrubber beside it must not move under the pointer. */
+#timeinfo { font-variant-numeric: tabular-nums; font-size: 13px; flex: 0 0 50ch; white-space: nowrap; overflow: hidden; text-overflow: ellipsis; }
 #plotbox { position: relative; border: 1px solid #cfd6df; border-radius: 4px; background: #fff; }
 #plot { display: block; width: 100%; height: 190px; cursor: crosshair; }
 #plotnote { font-size: 12px; color: #5b6773; margin: 4px 0 0; }

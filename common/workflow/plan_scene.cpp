@@ -76,6 +76,14 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
   // Exit moves where they were measured: the collision validity's planner.
   if (planner.exit_axes < 0) planner.exit_axes = options.validity == ValidityMode::kCollision ? 1 : 0;
+  // The search's step (docs/planning.md, "A coarse search, a fine
+  // certification"): with the collision validity 4% of D's diagonal, the
+  // path certified at the quarter of a percent a search at the thesis's 1%
+  // is (planning/certify.h; 2-16x fewer checks on the OMPL.app scenes and
+  // the channel families, docs/benchmarks.md); 1% elsewhere (the volume
+  // modes' searches were not measured at 4%; rigid-exact walks by its
+  // slack, not a step).
+  if (planner.resolution == 0) planner.resolution = options.validity == ValidityMode::kCollision ? 0.04 : 0.01;
   return planner;
 }
 
@@ -338,7 +346,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
   InIStateOptions inistate;
   inistate.local = ResolvedPlanner(options, true);
-  inistate.rigid = options.planner;
+  inistate.rigid = ResolvedPlanner(options, false);
   inistate.rigid.planner = options.rigid_planner;
   inistate.psi = psi;
   // The estimate's successful round planned sigma_1 already; with the same
@@ -540,7 +548,7 @@ void PlanSceneOptions::Check() const {
   if (max_crop_level < -1) throw InputError("--max-crop-level: must be >= -1");
   if (crop_level_iterations < 1) throw InputError("--crop-level-iterations: must be >= 1");
   ResolvedPlanner(*this, volume_mode).Check();
-  PlannerOptions rigid = planner;
+  PlannerOptions rigid = ResolvedPlanner(*this, false);
   rigid.planner = rigid_planner;
   rigid.Check();
 }
@@ -628,7 +636,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // across bounds of 1e9 (goal: {clearance: 1e9}), which sweeps through
       // open space find in a moment, is billions of poses for it; such a
       // path is no answer (the time limit's), not one written unchecked.
-      const double step = planner.resolution * problem.robot_diagonal;
+      // The rounds certify at a quarter and a sixteenth of the
+      // certification's step (CertifyPath certifies at a quarter of this).
+      const double step = 4 * CertificationStep(problem, planner.resolution * problem.robot_diagonal);
       const auto dense_deadline =
           std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                  std::chrono::duration<double>(planner.time_limit_s));
@@ -640,8 +650,8 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
           exact_of_written = ExactCheckWhereSolid(scene, options, artifact);  // ThroughS's
           exact_ran = true;
           if (!exact_of_written || exact_of_written->valid) break;
-          LogInfo("the exact check finds %s; certifying the path again at 1/%d of the step",
-                  exact_of_written->reason.c_str(), 1 << (2 * (round + 1)));
+          LogInfo("the exact check finds %s; certifying the path again at 1/%d of the certification's step",
+                  exact_of_written->reason.c_str(), 1 << (2 * round));
           if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
           write();
           dense_of_written.reset();
@@ -660,8 +670,8 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
           artifact.stopped_by_budget = true;  // cut short: the next run plans again
           break;
         }
-        LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the step",
-                dense.first_bad_segment, dense.reason.c_str(), 1 << (2 * (round + 1)));
+        LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the certification's step",
+                dense.first_bad_segment, dense.reason.c_str(), 1 << (2 * round));
         if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
         write();
       }

@@ -202,8 +202,11 @@ TEST(HostileCaches, NoHomeAndAReadOnlySceneFolderMeansNoCache) {
 // is through a wall. At --resolution 0.1 the straight pull up checks poses
 // 1.4 mm apart: at each the plate is below the roof, wholly inside it
 // (where FCL, which intersects surfaces only, sees nothing) or above it, so
-// the planner and the dense re-check both passed a path 1.3 mm deep in S
-// and ausbau-plan said 0. It now also runs the exact check: no valid path,
+// the planner, its certification at a quarter of that step and the dense
+// re-check all passed a path 1.3 mm deep in S and ausbau-plan said 0. Then
+// the exact check caught it; now the certification, at 0.25% of D's
+// diagonal whatever the search's step, does (planning/certify.h), and no
+// search finds a way out (again at 1% where time is left): no valid path,
 // exit 3, and the verdict says NOT REMOVABLE.
 TEST(WrongAnswers, CollisionValidityPathThroughAWallIsNoPath) {
   const fs::path dir = testing::MakeTempDir("hostile-wall");
@@ -221,8 +224,7 @@ TEST(WrongAnswers, CollisionValidityPathThroughAWallIsNoPath) {
                              "ausbau-plan --scene scene.yaml --validity collision --resolution 0.1 --time-limit 10 "
                              "-o path.h5 --csv path.csv");
   EXPECT_EQ(plan.exit_code, 3) << plan.output;
-  EXPECT_TRUE(Has(plan.output, "passes the dense re-check but not the exact one: a rigid part of D penetrates S"))
-      << plan.output;
+  EXPECT_TRUE(Has(plan.output, "of the path fails the fine re-check and could not be re-planned")) << plan.output;
   EXPECT_FALSE(fs::exists(dir / "path.csv"));
   const Outcome verdict = Shell(dir, "ausbau-verdict --scene scene.yaml --path path.h5 -o v.json");
   EXPECT_EQ(verdict.exit_code, 3) << verdict.output;
