@@ -52,10 +52,9 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
                "one run of at most this many iterations, no restarts; 0 = unlimited", CacheKey::kYes);
   stage.Option("--u", &planner->u, "rrtc: metric weight of translation, (0, 1)", CacheKey::kYes);
   stage.Option("--range-max", &planner->range_max, "rrtc: maximal edge range, (0, 1]", CacheKey::kYes);
-  planner->resolution = 0;  // automatic: ResolvedPlanner (workflow/plan_scene.cpp) decides by the validity
   stage.Option("--resolution", &planner->resolution,
                "the search's edge check step as a fraction of D's AABB diagonal (the path is certified at a quarter "
-               "of it, at most 0.0025); 0 = automatic: 0.04 with --validity collision, else 0.01",
+               "of it, and at most 0.0025)",
                CacheKey::kYes);
   stage.Option("--passage-neighbors", &planner->passage_neighbors,
                "rrtc, cr-rrtc: a trapped extension is tried once more along the principal directions of this many "

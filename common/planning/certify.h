@@ -7,7 +7,7 @@
 // re-planned locally (CR-RRTC between its two end poses, edges checked at
 // the fine step, half of its samples near the segment:
 // PlanningProblem::sampling_guide) and spliced in. Rare at the thesis's
-// step of 1%, a few segments a path at 4%; without it a grazing path can
+// step of 1% (a few segments a path at 4%); without it a grazing path can
 // fail a later dense check.
 #pragma once
 
@@ -28,9 +28,8 @@ struct CertifyReport {
 
 // The step of the certification: a quarter of the planner's, and never
 // coarser than kCertificationResolution of D's diagonal, so that a search
-// at a coarser step (ausbau-plan's collision validity plans at 4%,
-// workflow/plan_scene.cpp) returns paths checked as finely as one at the
-// thesis's 1%.
+// at a coarser step (`--resolution` above 0.01) returns paths checked as
+// finely as one at the thesis's 1%.
 constexpr double kCertificationResolution = 0.0025;
 double CertificationStep(const PlanningProblem& problem, double planner_step);
 

@@ -37,8 +37,6 @@ PlanResult RunRrtcVariant(const PlanningProblem& problem, const MotionChecker& m
   settings.range_max = options.range_max;
   settings.passage_neighbors = options.passage_neighbors;
   settings.exit_axes = std::max(0, options.exit_axes);  // -1 (automatic) unresolved: none
-  // A search coarser than the thesis's step walks a trapped tree at it.
-  settings.fine_step = std::min(motion.step(), 4 * kCertificationResolution * problem.robot_diagonal);
   return RunRrtConnect(problem, motion, settings, options);
 }
 
@@ -178,8 +176,8 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   result.stats.invalid_checks += validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   if (!report.certified) {
-    // A search at a step coarser than the thesis's (ausbau-plan's collision
-    // validity) may have passed through a wall thinner than its step, which
+    // A search at a step coarser than the thesis's (--resolution above
+    // 0.01) may have passed through a wall thinner than its step, which
     // no repair between the two sides can mend: search again at the step
     // the certification is a quarter of, in the time left.
     const double fine_resolution = 4 * kCertificationResolution;

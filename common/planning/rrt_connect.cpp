@@ -1,7 +1,6 @@
 #include "planning/rrt_connect.h"
 
 #include <algorithm>
-#include <optional>
 
 #include "core/log.h"
 #include "planning/passage_direction.h"
@@ -25,10 +24,7 @@ class RrtConnect {
         random_(options.seed),
         sampler_(problem, motion, ParseSamplerKind(options.sampler), options.sampler_sigma),
         start_tree_(problem.metric),
-        goal_tree_(problem.metric) {
-    if (settings.fine_step > 0 && settings.fine_step < motion.step())
-      fine_motion_.emplace(problem, motion.validity(), settings.fine_step, motion.deadline());
-  }
+        goal_tree_(problem.metric) {}
 
   PlanResult Run() {
     if (!problem_.goal && settings_.exit_axes > 0) {
@@ -96,10 +92,6 @@ class RrtConnect {
         static_cast<long long>(second_tries_), static_cast<long long>(second_tries_added_));
     LogDebug("exit moves from new nodes: %lld pulls, %lld quarter turns", static_cast<long long>(exit_pulls_),
              static_cast<long long>(exit_turns_));
-    if (fine_motion_) {
-      LogDebug("extensions of a trapped tree walked at the fine step %g: %lld", fine_motion_->step(),
-               static_cast<long long>(fine_walks_));
-    }
     result.stats.iterations = iteration;
     result.stats.nodes = static_cast<std::int64_t>(start_tree_.size() + goal_tree_.size());
     FillPartialPath(problem_, start_tree_, &result);
@@ -118,15 +110,11 @@ class RrtConnect {
     const double range = problem_.metric.Range(from, target);
     const bool clipped = range > range_max;
     const Pose to = clipped ? Interpolate(from, target, range_max / range) : target;
-    // How often this tree's extensions were trapped lately (a moving
-    // average over about kTrappedWindow extensions). A tree nearly always
-    // trapped (in a narrow passage, where only small moves get anywhere)
-    // walks at the fine step where the search's is coarser.
-    double& trapped_share = &tree == &start_tree_ ? start_trapped_share_ : goal_trapped_share_;
-    const MotionChecker& motion = fine_motion_ && trapped_share > kSecondTryShare ? *fine_motion_ : motion_;
-    if (&motion != &motion_) ++fine_walks_;
     Pose reached;
-    const double fraction = EdgeFraction(motion, from, to, &reached);
+    const double fraction = EdgeFraction(from, to, &reached);
+    // How often this tree's extensions were trapped lately (a moving
+    // average over about kTrappedWindow extensions).
+    double& trapped_share = &tree == &start_tree_ ? start_trapped_share_ : goal_trapped_share_;
     trapped_share += ((fraction > 0.0 ? 0.0 : 1.0) - trapped_share) / kTrappedWindow;
     if (fraction > 0.0) {
       *added = tree.Add(reached, near);
@@ -137,7 +125,7 @@ class RrtConnect {
     Pose shaped;
     if (trapped_share <= kSecondTryShare || !ShapedByPassage(tree, near, to, &shaped)) return Extension::kTrapped;
     ++second_tries_;
-    if (EdgeFraction(motion, from, shaped, &reached) <= 0.0) return Extension::kTrapped;
+    if (EdgeFraction(from, shaped, &reached) <= 0.0) return Extension::kTrapped;
     ++second_tries_added_;
     *added = tree.Add(reached, near);
     return Extension::kAdvanced;
@@ -198,9 +186,9 @@ class RrtConnect {
 
   // An edge walked as the settings say: the fraction of its valid prefix and
   // its end in *reached (partial extension), or all (1) or nothing (0).
-  double EdgeFraction(const MotionChecker& motion, const Pose& from, const Pose& to, Pose* reached) const {
-    if (settings_.partial_extension) return motion.ValidPrefix(from, to, reached);
-    if (!motion.MotionValid(from, to)) return 0.0;
+  double EdgeFraction(const Pose& from, const Pose& to, Pose* reached) const {
+    if (settings_.partial_extension) return motion_.ValidPrefix(from, to, reached);
+    if (!motion_.MotionValid(from, to)) return 0.0;
     *reached = to;
     return 1.0;
   }
@@ -233,7 +221,6 @@ class RrtConnect {
 
   const PlanningProblem& problem_;
   const MotionChecker& motion_;
-  std::optional<MotionChecker> fine_motion_;  // settings_.fine_step's, where finer than motion_'s
   const RrtConnectSettings settings_;
   const PlannerOptions& options_;
   Random random_;
@@ -249,7 +236,7 @@ class RrtConnect {
   // 60/54/18, 22/35/27 and 21/51/28 (the last the same as without it).
   static constexpr double kTrappedWindow = 64;
   static constexpr double kSecondTryShare = 0.8;
-  std::int64_t second_tries_ = 0, second_tries_added_ = 0, fine_walks_ = 0;
+  std::int64_t second_tries_ = 0, second_tries_added_ = 0;
   double start_trapped_share_ = 0, goal_trapped_share_ = 0;
   std::vector<Eigen::Vector3d> local_normal_axes_;  // ExitFrom's axes, in D's frame
   std::int64_t exit_pulls_ = 0, exit_turns_ = 0;

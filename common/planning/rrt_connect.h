@@ -30,11 +30,6 @@ struct RrtConnectSettings {
   // then quarter turns about them, each followed by the pulls
   // (docs/planning.md, "Exit moves"); 0 = none.
   int exit_axes = 0;
-  // > 0 and finer than the search's step: while more than 80% of a tree's
-  // recent extensions were trapped (a tree in a narrow passage, where only
-  // small moves get anywhere), its extensions are walked at this step
-  // (docs/planning.md, "A coarse search, a fine certification").
-  double fine_step = 0;
 };
 
 PlanResult RunRrtConnect(const PlanningProblem& problem, const MotionChecker& motion,

@@ -156,7 +156,6 @@ class MotionChecker {
   double ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const;
   double step() const { return step_; }
   const PoseValidity& validity() const { return *validity_; }
-  std::chrono::steady_clock::time_point deadline() const { return deadline_; }
 
  private:
   // With a SlackValidity: walks from a towards b by conservative

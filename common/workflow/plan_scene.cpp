@@ -76,14 +76,6 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
   // Exit moves where they were measured: the collision validity's planner.
   if (planner.exit_axes < 0) planner.exit_axes = options.validity == ValidityMode::kCollision ? 1 : 0;
-  // The search's step (docs/planning.md, "A coarse search, a fine
-  // certification"): with the collision validity 4% of D's diagonal, the
-  // path certified at the quarter of a percent a search at the thesis's 1%
-  // is (planning/certify.h; 2-16x fewer checks on the OMPL.app scenes and
-  // the channel families, docs/benchmarks.md); 1% elsewhere (the volume
-  // modes' searches were not measured at 4%; rigid-exact walks by its
-  // slack, not a step).
-  if (planner.resolution == 0) planner.resolution = options.validity == ValidityMode::kCollision ? 0.04 : 0.01;
   return planner;
 }
 
@@ -346,7 +338,7 @@ PathArtifact PlanVolumeMode(const PlanSceneOptions& options, const Scene& scene,
   const VolumeValidity volume_validity(model->volume(), model->measure(), tau);
   InIStateOptions inistate;
   inistate.local = ResolvedPlanner(options, true);
-  inistate.rigid = ResolvedPlanner(options, false);
+  inistate.rigid = options.planner;
   inistate.rigid.planner = options.rigid_planner;
   inistate.psi = psi;
   // The estimate's successful round planned sigma_1 already; with the same
@@ -548,7 +540,7 @@ void PlanSceneOptions::Check() const {
   if (max_crop_level < -1) throw InputError("--max-crop-level: must be >= -1");
   if (crop_level_iterations < 1) throw InputError("--crop-level-iterations: must be >= 1");
   ResolvedPlanner(*this, volume_mode).Check();
-  PlannerOptions rigid = ResolvedPlanner(*this, false);
+  PlannerOptions rigid = planner;
   rigid.planner = rigid_planner;
   rigid.Check();
 }

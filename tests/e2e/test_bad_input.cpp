@@ -453,7 +453,7 @@ std::vector<Case> CliCases() {
       {"pbd-label", labels, "--rigid-tolerance", {"-1"}},
       {"plan", scene, "--u", {"2"}},
       {"plan", scene, "--range-max", {"0"}},
-      {"plan", scene, "--resolution", {"-1", "nan"}},  // 0 is automatic
+      {"plan", scene, "--resolution", {"0", "nan"}},
       {"plan", scene, "--rigid-tolerance", {"-1"}},
       {"plan", scene, "--sigma", {"-1"}},
       {"smooth", smooth, "--attempts", {"-1"}},

@@ -93,11 +93,8 @@ TEST(SmoothStage, CollisionPathsHoldUnderPlainInterpolation) {
     options.world = BoxWorld::kRandom;
     const auto dir = testing::MakeTempDir("panel-channel-" + std::to_string(scene_seed));
     const auto yaml = GenerateBoxScene("panel-channel", options, dir / "scene").scene_yaml;
-    // At the thesis's step (1%, the default before the coarse search),
-    // where these two plans show what the test is about.
-    const Outcome plan =
-        RunStage("plan", "--scene " + yaml.string() + " --seed 1 --validity collision --resolution 0.01 -o " +
-                             (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
+    const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 1 --validity collision -o " +
+                                              (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
     ASSERT_EQ(plan.exit_code, 0) << plan.output;
     const Outcome smooth =
         RunStage("smooth", "--scene " + yaml.string() + " --path " + (dir / "path.h5").string() + " -o " +
@@ -168,8 +165,7 @@ TEST(PlanStage, APathTheExactCheckRejectsIsCertifiedAgain) {
   options.world = BoxWorld::kRandom;
   const auto dir = testing::MakeTempDir("panel-keyhole-4");
   const auto yaml = GenerateBoxScene("panel-keyhole", options, dir / "scene").scene_yaml;
-  // At the thesis's step (1%, the default then), where this plan grazes.
-  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 2 --exit-axes 0 --resolution 0.01 -o " +
+  const Outcome plan = RunStage("plan", "--scene " + yaml.string() + " --seed 2 --exit-axes 0 -o " +
                                             (dir / "path.h5").string() + " --csv " + (dir / "path.csv").string());
   ASSERT_EQ(plan.exit_code, 0) << plan.output;
   EXPECT_NE(plan.output.find("the exact check finds"), std::string::npos) << plan.output;

@@ -181,8 +181,8 @@ void ExpectSamePath(const std::vector<Pose>& a, const std::vector<Pose>& b) {
   }
 }
 
-// A search at a step coarser than D is thin (4% of its diagonal, ausbau-plan's
-// collision validity) passes through a wall thinner still: D, a plate
+// A search at a step coarser than D is thin (--resolution 0.04: 4% of its
+// diagonal) passes through a wall thinner still: D, a plate
 // 10 x 10 x 0.02, kept flat (translation only), from below a wall 60 x 60 x
 // 0.02 to above it; the bounds leave room around the wall's edges. The path
 // returned is certified at a quarter of a percent of D's diagonal, so it
