@@ -11,11 +11,11 @@ double CertificationStep(const PlanningProblem& problem, double planner_step) {
   return std::min(planner_step / 4.0, kCertificationResolution * problem.robot_diagonal);
 }
 
-CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double planner_step,
+CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& validity, double fine_step,
                           const PlannerOptions& options, std::vector<Pose>* path,
                           std::chrono::steady_clock::time_point deadline) {
   CertifyReport report;
-  const MotionChecker fine(problem, validity, CertificationStep(problem, planner_step), deadline);
+  const MotionChecker fine(problem, validity, fine_step, deadline);
   std::vector<Pose> certified;
   if (path->empty()) return report;
   certified.push_back(path->front());

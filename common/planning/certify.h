@@ -3,7 +3,8 @@
 // Planners check edges at a step bound (no vertex of D moves more than
 // `step` between checked poses), which leaves thin slivers of collision
 // between checked poses undetected. Before a path is returned, every segment
-// is re-checked at step / 4 (CertificationStep); a segment that fails is
+// is re-checked at step / 4, at most 0.25% of D's diagonal
+// (CertificationStep); a segment that fails is
 // re-planned locally (CR-RRTC between its two end poses, edges checked at
 // the fine step, half of its samples near the segment:
 // PlanningProblem::sampling_guide) and spliced in. Rare at the thesis's
@@ -33,14 +34,16 @@ struct CertifyReport {
 constexpr double kCertificationResolution = 0.0025;
 double CertificationStep(const PlanningProblem& problem, double planner_step);
 
-// `path` is replaced by the certified (possibly repaired) path. `options`
+// Every segment of `path` is checked at `fine_step` (CertificationStep of
+// the planner's step, or finer where a path is certified again). `path` is
+// replaced by the certified (possibly repaired) path. `options`
 // supplies the seed and the time budget left for repairs. `deadline`: a
 // segment walked by conservative advancement past it counts as blocked
 // (MotionChecker), so the path is not certified; the straight pulls' safety
 // net (planner.h). None by default: a planner's path is always certified
 // to its end.
 CertifyReport CertifyPath(
-    const PlanningProblem& problem, const PoseValidity& validity, double planner_step, const PlannerOptions& options,
+    const PlanningProblem& problem, const PoseValidity& validity, double fine_step, const PlannerOptions& options,
     std::vector<Pose>* path,
     std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 

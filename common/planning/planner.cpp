@@ -171,7 +171,8 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
   const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
   PlannerOptions repair_options = options;
   repair_options.time_limit_s = std::max(1.0, options.time_limit_s - result.stats.time_s);
-  const CertifyReport report = CertifyPath(problem, validity, step, repair_options, &result.path);
+  const CertifyReport report =
+      CertifyPath(problem, validity, CertificationStep(problem, step), repair_options, &result.path);
   result.stats.collision_checks += validity.checks() - checks;
   result.stats.invalid_checks += validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
@@ -294,7 +295,8 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
       PlannerOptions repair = options;
       repair.time_limit_s =
           std::max(1.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
-      if (!CertifyPath(problem, validity, step, repair, &path, deadline).certified) continue;
+      if (!CertifyPath(problem, validity, CertificationStep(problem, step), repair, &path, deadline).certified)
+        continue;
       result.path = std::move(path);
       result.status = PlanStatus::kSolved;
       break;

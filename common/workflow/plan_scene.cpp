@@ -629,8 +629,8 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
       // open space find in a moment, is billions of poses for it; such a
       // path is no answer (the time limit's), not one written unchecked.
       // The rounds certify at a quarter and a sixteenth of the
-      // certification's step (CertifyPath certifies at a quarter of this).
-      const double step = 4 * CertificationStep(problem, planner.resolution * problem.robot_diagonal);
+      // certification's step.
+      const double certified = CertificationStep(problem, planner.resolution * problem.robot_diagonal);
       const auto dense_deadline =
           std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                  std::chrono::duration<double>(planner.time_limit_s));
@@ -644,7 +644,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
           if (!exact_of_written || exact_of_written->valid) break;
           LogInfo("the exact check finds %s; certifying the path again at 1/%d of the certification's step",
                   exact_of_written->reason.c_str(), 1 << (2 * round));
-          if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
+          if (!CertifyPath(problem, checker, certified / std::pow(4.0, round), planner, &path).certified) break;
           write();
           dense_of_written.reset();
           exact_of_written.reset();
@@ -664,7 +664,7 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
         }
         LogInfo("the dense re-check finds segment %d %s; certifying the path again at 1/%d of the certification's step",
                 dense.first_bad_segment, dense.reason.c_str(), 1 << (2 * round));
-        if (!CertifyPath(problem, checker, step / std::pow(4.0, round), planner, &path).certified) break;
+        if (!CertifyPath(problem, checker, certified / std::pow(4.0, round), planner, &path).certified) break;
         write();
       }
     }
