@@ -31,9 +31,10 @@
 #   bridge        the bridge test (Hsu et al. 2003)
 #   mixed         a third each of uniform, Gaussian and bridge samples
 #   farr          FARR rays in front of FCL (the fields built in OUT/cache)
-#   coarse-step   the search at 4% of D's diagonal instead of the
-#                 thesis's 1% (certified at 0.25% either way): what a
-#                 coarse search buys and costs
+#   no-coarse     no coarse first search (--coarse-iterations 0): the
+#                 search at 1% from the start
+#   coarse-step   the search at 4% of D's diagonal only, no search at the
+#                 thesis's 1% after it (certified at 0.25% either way)
 #   fine-edges    planned at the certification's step (0.25%): what
 #                 planning at 1% and certifying the path saves
 # Exit 2 on bad usage; otherwise 0 (a table, not a check).
@@ -45,7 +46,7 @@ OUT=$2
 RUNS=$3
 LIMIT=$4
 SCENES=${5:-"alpha-1.5 alpha-1.2 Twistycool Home bugtrap panel-channel-s1"}
-VARIANTS=${6:-"default coarse-step def-rrtc no-passage gaussian bridge mixed farr fine-edges"}
+VARIANTS=${6:-"default no-coarse coarse-step def-rrtc no-passage gaussian bridge mixed farr fine-edges"}
 case "$RUNS" in '' | *[!0-9]*) echo "planner-ablation: RUNS '$RUNS' is not a number" >&2; exit 2 ;; esac
 case "$LIMIT" in '' | *[!0-9.]*) echo "planner-ablation: TIME_LIMIT '$LIMIT' is not a number" >&2; exit 2 ;; esac
 OMPL_DIR=$HERE/../shared/benchmarks/ompl
@@ -64,8 +65,9 @@ flags_of() {
     bridge) echo "--sampler bridge" ;;
     mixed) echo "--sampler mixed" ;;
     farr) echo "--collision farr" ;;
+    no-coarse) echo "--coarse-iterations 0" ;;
     coarse-step) echo "--resolution 0.04" ;;
-    fine-edges) echo "--resolution 0.0025" ;;
+    fine-edges) echo "--resolution 0.0025 --coarse-iterations 0" ;;
     *) return 1 ;;
   esac
 }

@@ -121,6 +121,9 @@ void PlannerOptions::Check() const {
   }
   if (!(est_range >= 0 && est_range <= 1))
     throw OptionError(&est_range, "est_range", "must lie in [0, 1] (0 = automatic)");
+  if (coarse_iterations < -1) {
+    throw OptionError(&coarse_iterations, "coarse_iterations", "must be >= 0 (0 = none, -1 = automatic)");
+  }
   if (!(resolution > 0 && resolution <= 0.1)) {
     throw OptionError(&resolution, "resolution", "must lie in (0, 0.1] (a fraction of D's diagonal)");
   }
@@ -157,8 +160,16 @@ double PartialProgress(const PlanningProblem& problem, const Pose& pose) {
   return gap;
 }
 
-PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
-  options.Check();
+namespace {
+
+// One search at options.resolution, its path certified at the
+// certification's step (planning/certify.h), the certification's checks and
+// time counted in the statistics. A path that cannot be certified is no
+// path: kTimeLimit where the clock stopped the repair (a safety net), else
+// kIterationLimit with *uncertified set.
+PlanResult SearchAndCertify(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options,
+                            bool* uncertified) {
+  *uncertified = false;
   const auto begin = std::chrono::steady_clock::now();
   const double step = options.resolution * problem.robot_diagonal;
   const MotionChecker motion(problem, validity, step,
@@ -166,43 +177,78 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
                                          std::chrono::duration<double>(options.time_limit_s)));
   PlanResult result = FindPlanner(options.planner)->run(problem, motion, options);
   if (!result.solved()) return result;
-  // Certify the path at a finer step (planning/certify.h), counting its
-  // checks and time in the run's statistics.
   const std::int64_t checks = validity.checks(), invalid = validity.invalid_checks();
   PlannerOptions repair_options = options;
   repair_options.time_limit_s = std::max(1.0, options.time_limit_s - result.stats.time_s);
   const CertifyReport report =
       CertifyPath(problem, validity, CertificationStep(problem, step), repair_options, &result.path);
+  LogDebug("certification: %lld checks, %d segment(s) re-planned", static_cast<long long>(validity.checks() - checks),
+           report.repaired_segments);
   result.stats.collision_checks += validity.checks() - checks;
   result.stats.invalid_checks += validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   if (!report.certified) {
-    // A search at a step coarser than the thesis's (--resolution above
-    // 0.01) may have passed through a wall thinner than its step, which
-    // no repair between the two sides can mend: search again at the step
-    // the certification is a quarter of, in the time left.
-    const double fine_resolution = 4 * kCertificationResolution;
-    const double left = options.time_limit_s - result.stats.time_s;
-    if (!report.stopped_by_time_limit && options.resolution > fine_resolution && left > 0) {
-      LogInfo("the path found at a step of %g of D's diagonal cannot be certified; planning again at %g",
-              options.resolution, fine_resolution);
-      PlannerOptions fine = options;
-      fine.resolution = fine_resolution;
-      fine.time_limit_s = left;
-      PlanResult again = Plan(problem, validity, fine);
-      again.stats.iterations += result.stats.iterations;
-      again.stats.collision_checks += result.stats.collision_checks;
-      again.stats.invalid_checks += result.stats.invalid_checks;
-      again.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
-      return again;
-    }
-    // Uncertified: cut short when the clock stopped the repair (the time
-    // limit, a safety net), else a search that found nothing certifiable
-    // within its work (the repair's iterations): the next restart tries.
     result.path.clear();
     result.status = report.stopped_by_time_limit ? PlanStatus::kTimeLimit : PlanStatus::kIterationLimit;
+    *uncertified = !report.stopped_by_time_limit;
   }
   return result;
+}
+
+}  // namespace
+
+PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options) {
+  options.Check();
+  const auto begin = std::chrono::steady_clock::now();
+  const double thesis_resolution = 4 * kCertificationResolution;  // 1%, the certification's step x 4
+  // The first search: at the coarse step for coarse_iterations (when the
+  // step asked for is finer), else the only one. -1 (automatic) unresolved: none.
+  const bool coarse_first = options.coarse_iterations > 0 && options.resolution < kCoarseResolution;
+  PlannerOptions first_options = options;
+  if (coarse_first) {
+    first_options.resolution = kCoarseResolution;
+    first_options.max_iterations = options.max_iterations > 0
+                                       ? std::min(options.max_iterations, options.coarse_iterations)
+                                       : options.coarse_iterations;
+  }
+  bool uncertified = false;
+  PlanResult first = SearchAndCertify(problem, validity, first_options, &uncertified);
+  if (first.solved() || first.status == PlanStatus::kTimeLimit || first.status == PlanStatus::kCancelled) {
+    return first;
+  }
+  // A search at a step coarser than the thesis's may have passed through a
+  // wall thinner than its step, which no repair between the two sides can
+  // mend; and a coarse first search may find nothing in its iterations
+  // where the passage is narrower than its step (flange-1.0's tube in its
+  // hole). Both are followed by a search at the finer step, afresh (same
+  // seed), in the time and iterations left.
+  PlannerOptions fine = options;
+  fine.coarse_iterations = 0;
+  if (coarse_first) {
+    if (options.max_iterations > 0 && first.stats.iterations >= options.max_iterations) return first;
+    if (options.max_iterations > 0) fine.max_iterations = options.max_iterations - first.stats.iterations;
+    LogDebug("no certified path in %lld iterations at a step of %g of D's diagonal; searching at %g",
+             static_cast<long long>(first.stats.iterations), kCoarseResolution, options.resolution);
+  } else if (uncertified && options.resolution > thesis_resolution) {
+    fine.resolution = thesis_resolution;
+    LogInfo("the path found at a step of %g of D's diagonal cannot be certified; planning again at %g",
+            options.resolution, thesis_resolution);
+  } else {
+    return first;
+  }
+  fine.time_limit_s =
+      options.time_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  if (!(fine.time_limit_s > 0)) {
+    first.status = PlanStatus::kTimeLimit;
+    return first;
+  }
+  PlanResult again = SearchAndCertify(problem, validity, fine, &uncertified);
+  again.stats.iterations += first.stats.iterations;
+  again.stats.nodes += first.stats.nodes;
+  again.stats.collision_checks += first.stats.collision_checks;
+  again.stats.invalid_checks += first.stats.invalid_checks;
+  again.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return again;
 }
 
 std::vector<Eigen::Vector3d> SurfaceNormalAxes(const TriangleMesh& mesh, const Eigen::Quaterniond& rotation) {

@@ -50,6 +50,12 @@ struct PlannerOptions {
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;
+  // A first search at kCoarseResolution for at most this many iterations
+  // (where `resolution` is finer); when it finds no path that can be
+  // certified, the search at `resolution` starts afresh in the time left
+  // (Plan). 0 = none; ausbau-plan's collision validity uses
+  // kCoarseFirstIterations (docs/planning.md, "A coarse search first").
+  std::int64_t coarse_iterations = 0;
   // est: expansion radius r1 (range, eq. 3); 0 = automatic (single_tree_planners.h).
   double est_range = 0.0;
   // When set and true, the planner stops at its next iteration with
@@ -65,6 +71,9 @@ struct PlannerOptions {
   // Throws InputError naming the option when a value is out of range.
   void Check() const;
 };
+
+// The coarse first search's step: 4x the thesis's (1% of D's diagonal).
+inline constexpr double kCoarseResolution = 0.04;
 
 enum class PlanStatus { kSolved, kTimeLimit, kIterationLimit, kCancelled };
 
@@ -118,8 +127,11 @@ double LimitByDeadline(double limit, double deadline_epoch_s, double floor, bool
 const std::vector<std::string>& PlannerNames();
 
 // Plans from problem.start to problem.goal (or into the disassembly region)
-// with the validity check given. Deterministic for a given seed as long as
-// it does not run into the time limit.
+// with the validity check given, and certifies the path (planning/certify.h).
+// With options.coarse_iterations, a search at kCoarseResolution first; a
+// search at a step coarser than 1% whose path cannot be certified is
+// followed by one at 1%. Deterministic for a given seed as long as it does
+// not run into the time limit.
 PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& options);
 
 // Plan() in rounds with restarts: round k uses seed + k and at most
@@ -135,6 +147,8 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 // have used that many together (the last round capped to the rest), with
 // kIterationLimit. Statistics are summed over the rounds.
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
+// The coarse first search's iterations: the first restart round's.
+inline constexpr std::int64_t kCoarseFirstIterations = kFirstRestartIterations;
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 

@@ -76,6 +76,10 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
   // Exit moves where they were measured: the collision validity's planner.
   if (planner.exit_axes < 0) planner.exit_axes = options.validity == ValidityMode::kCollision ? 1 : 0;
+  // The coarse first search where it was measured: the same planner.
+  if (planner.coarse_iterations < 0) {
+    planner.coarse_iterations = options.validity == ValidityMode::kCollision ? kCoarseFirstIterations : 0;
+  }
   return planner;
 }
 

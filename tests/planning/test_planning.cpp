@@ -207,23 +207,65 @@ TEST(Planner, ACoarseSearchThroughAThinWallReturnsAPathAroundIt) {
   EXPECT_DOUBLE_EQ(CertificationStep(problem, 0.004 * problem.robot_diagonal), 0.001 * problem.robot_diagonal);
   EXPECT_FALSE(
       MotionChecker(problem, checker, CertificationStep(problem, coarse)).MotionValid(problem.start, *problem.goal));
+  // Both ways of searching at 4%: asked for, and ausbau-plan's coarse
+  // first search ahead of one at 1%.
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
-    PlannerOptions options;
-    options.seed = seed;
-    options.resolution = 0.04;
-    options.time_limit_s = 120;  // generous: the result must not depend on timing
-    const PlanResult result = Plan(problem, checker, options);
-    ASSERT_TRUE(result.solved()) << "seed " << seed;
-    std::vector<Pose> scene_path;
-    double farthest = 0;  // from the wall's centre line, in x or y
-    for (const Pose& pose : result.path) {
-      scene_path.push_back(problem.PlanningToScene(pose));
-      farthest = std::max(farthest, pose.t.head<2>().cwiseAbs().maxCoeff());
+    for (const bool coarse_first : {false, true}) {
+      PlannerOptions options;
+      options.seed = seed;
+      options.resolution = coarse_first ? 0.01 : 0.04;
+      options.coarse_iterations = coarse_first ? kCoarseFirstIterations : 0;
+      options.time_limit_s = 120;  // generous: the result must not depend on timing
+      const PlanResult result = Plan(problem, checker, options);
+      ASSERT_TRUE(result.solved()) << "seed " << seed;
+      std::vector<Pose> scene_path;
+      double farthest = 0;  // from the wall's centre line, in x or y
+      for (const Pose& pose : result.path) {
+        scene_path.push_back(problem.PlanningToScene(pose));
+        farthest = std::max(farthest, pose.t.head<2>().cwiseAbs().maxCoeff());
+      }
+      const DenseCheckReport dense = DenseCheckPath(scene, problem.reference_point, scene_path, kDenseStep);
+      EXPECT_TRUE(dense.valid) << "seed " << seed << ": " << dense.reason;
+      EXPECT_GT(farthest, 35.0) << "seed " << seed << ": the path does not go around the wall";
     }
-    const DenseCheckReport dense = DenseCheckPath(scene, problem.reference_point, scene_path, kDenseStep);
-    EXPECT_TRUE(dense.valid) << "seed " << seed << ": " << dense.reason;
-    EXPECT_GT(farthest, 35.0) << "seed " << seed << ": the path does not go around the wall";
   }
+}
+
+// The coarse first search that finds nothing in its iterations hands over
+// to the search at 1%, which starts afresh with the same seed: the same
+// path as that search alone, after one more iteration (here the coarse
+// search gets one, too few for the rod to leave its cage).
+TEST(Planner, ACoarseFirstSearchWithoutAPathHandsOverToTheFineSearch) {
+  Fixture f("rod-in-cage");
+  PlannerOptions options;
+  options.seed = 9;
+  options.time_limit_s = 120;  // generous: the result must not depend on timing
+  const PlanResult fine_only = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(fine_only.solved());
+  ASSERT_GT(fine_only.stats.iterations, 1);
+  options.coarse_iterations = 1;
+  const PlanResult handed_over = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(handed_over.solved());
+  ExpectSamePath(fine_only.path, handed_over.path);
+  EXPECT_EQ(handed_over.stats.iterations, fine_only.stats.iterations + 1);
+  EXPECT_GT(handed_over.stats.collision_checks, fine_only.stats.collision_checks);
+  // An iteration cap covers both searches together.
+  options.coarse_iterations = 2;
+  options.max_iterations = 3;
+  const PlanResult capped = Plan(f.problem, f.checker, options);
+  EXPECT_EQ(capped.status, PlanStatus::kIterationLimit);
+  EXPECT_EQ(capped.stats.iterations, 3);
+  // A step asked for at 4% or coarser has no coarse first search.
+  options.max_iterations = 0;
+  options.coarse_iterations = 1;
+  options.resolution = kCoarseResolution;
+  PlannerOptions plain = options;
+  plain.coarse_iterations = 0;
+  const PlanResult at_coarse_step = Plan(f.problem, f.checker, plain);
+  const PlanResult asked_coarse = Plan(f.problem, f.checker, options);
+  ASSERT_TRUE(at_coarse_step.solved());
+  ExpectSamePath(at_coarse_step.path, asked_coarse.path);
+  EXPECT_EQ(at_coarse_step.stats.iterations, asked_coarse.stats.iterations);
 }
 
 TEST(Planner, SameSeedSamePath) {
