@@ -107,7 +107,8 @@ std::vector<PlannerSpec> ParsePlanners(const Options& options) {
     while (std::getline(stream, part, ':')) parts.push_back(part);
     spec.options.planner = parts[0];
     spec.options.resolution = options.resolution;
-    spec.options.coarse_iterations = kCoarseFirstIterations;  // as ausbau-plan's collision validity
+    // As ausbau-plan's collision validity (workflow/plan_scene.cpp, ResolvedPlanner).
+    if (parts[0] == "cr-rrtc" || parts[0] == "rrtc") spec.options.coarse_iterations = kCoarseFirstIterations;
     if (parts[0] == "rrtc" && parts.size() == 3) {
       try {
         spec.options.u = std::stod(parts[1]);

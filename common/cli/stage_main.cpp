@@ -84,6 +84,10 @@ void BoundSharedFlags(CLI::App& app) {
     } else if (name == "max-iterations") {
       // A cap itself (0 = none; --time-limit bounds the run): not negative.
       option->check(Within(0, 1e15));
+    } else if (name == "coarse-iterations") {
+      // -1: automatic (workflow/plan_scene.cpp, ResolvedPlanner).
+      option->check(Within(-1, kMaxIterationFlag));
+      option->description(option->get_description() + " (at most 10^6)");
     } else if (name.size() > 11 && name.compare(name.size() - 11, 11, "-iterations") == 0) {
       option->check(Within(0, kMaxIterationFlag));
       option->description(option->get_description() + " (at most 10^6)");

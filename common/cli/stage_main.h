@@ -91,7 +91,8 @@ inline void AddRenamedFlag(CLI::App& app, const std::string& old_name, const std
 //   --memory-limit   GiB, kMinMemoryLimitGiB .. kMaxMemoryLimitGiB (1e30 had
 //                    overflowed to "must be > 0")
 //   --*-iterations   at most kMaxIterationFlag (10^9 hung); --max-iterations
-//                    (a cap itself, 0 = none) only >= 0
+//                    (a cap itself, 0 = none) only >= 0; --coarse-iterations
+//                    also -1 (automatic)
 //   --rigid-tolerance mm, >= 0
 inline constexpr double kMinMemoryLimitGiB = 1e-3;  // about 1 MiB
 inline constexpr double kMaxMemoryLimitGiB = 1e6;   // about 1 PiB

@@ -61,11 +61,12 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
                "nearby tree nodes (narrow passages; docs/planning.md); 0 = off",
                CacheKey::kYes);
   planner->coarse_iterations = -1;  // automatic: ResolvedPlanner (workflow/plan_scene.cpp) decides by the validity
-  stage.Option("--coarse-iterations", &planner->coarse_iterations,
-               "rrtc, cr-rrtc: a first search at a step of 4% of D's diagonal for at most this many iterations; "
-               "without a path it can certify, the search at --resolution starts afresh (docs/planning.md, \"A "
-               "coarse search first\"); 0 = off; -1 = automatic: 4096 with --validity collision, else 0",
-               CacheKey::kYes);
+  stage.Option(
+      "--coarse-iterations", &planner->coarse_iterations,
+      "rrtc, cr-rrtc: a first search at a step of 4% of D's diagonal for at most this many iterations; "
+      "without a path it can certify, the search at --resolution starts afresh (docs/planning.md, \"A "
+      "coarse search first\"); 0 = off; -1 = automatic: 4096 for rrtc and cr-rrtc with --validity collision, else 0",
+      CacheKey::kYes);
   planner->exit_axes = -1;  // automatic: ResolvedPlanner (workflow/plan_scene.cpp) decides by the validity
   stage.Option("--exit-axes", &planner->exit_axes,
                "rrtc, cr-rrtc, disassembly: from each new start-tree node, straight pulls out of S along this many "

@@ -76,9 +76,12 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   if (planner.planner == "auto") planner.planner = volume_mode ? "est" : "cr-rrtc";
   // Exit moves where they were measured: the collision validity's planner.
   if (planner.exit_axes < 0) planner.exit_axes = options.validity == ValidityMode::kCollision ? 1 : 0;
-  // The coarse first search where it was measured: the same planner.
+  // The coarse first search where it was measured: the collision
+  // validity's RRT-Connect planners.
   if (planner.coarse_iterations < 0) {
-    planner.coarse_iterations = options.validity == ValidityMode::kCollision ? kCoarseFirstIterations : 0;
+    const bool rrt_connect = planner.planner == "cr-rrtc" || planner.planner == "rrtc";
+    planner.coarse_iterations =
+        options.validity == ValidityMode::kCollision && rrt_connect ? kCoarseFirstIterations : 0;
   }
   return planner;
 }

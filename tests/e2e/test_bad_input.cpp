@@ -430,6 +430,8 @@ std::vector<Case> CliCases() {
     cases.push_back(Flag("medial-spheres", scene, "--growth-iterations", value));
   }
   cases.push_back(Flag("plan", scene, "--max-iterations", "-1"));
+  // -1 is automatic (the default); below it, or above 10^6, is refused.
+  for (const char* value : {"1e9", "-2"}) cases.push_back(Flag("plan", scene, "--coarse-iterations", value));
   // --tau: a number >= 0 (-5 had meant "estimate").
   for (const char* value : {"-5", "nan"}) cases.push_back(Flag("plan", scene, "--tau", value));
   // Every other numeric flag: out of its range, NaN.
