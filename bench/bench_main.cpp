@@ -108,7 +108,7 @@ std::vector<PlannerSpec> ParsePlanners(const Options& options) {
     spec.options.planner = parts[0];
     spec.options.resolution = options.resolution;
     // As ausbau-plan's collision validity (workflow/plan_scene.cpp, ResolvedPlanner).
-    if (parts[0] == "cr-rrtc" || parts[0] == "rrtc") spec.options.coarse_iterations = kCoarseFirstIterations;
+    spec.options.coarse_iterations = CoarseFirstIterationsFor(parts[0]);
     if (parts[0] == "rrtc" && parts.size() == 3) {
       try {
         spec.options.u = std::stod(parts[1]);

@@ -91,6 +91,10 @@ const std::vector<std::string>& PlannerNames() {
   return names;
 }
 
+std::int64_t CoarseFirstIterationsFor(const std::string& planner) {
+  return planner == "cr-rrtc" || planner == "rrtc" ? kCoarseFirstIterations : 0;
+}
+
 void PlannerOptions::Check() const {
   if (FindPlanner(planner) == nullptr) {
     std::string expected;

@@ -149,6 +149,10 @@ PlanResult Plan(const PlanningProblem& problem, const PoseValidity& validity, co
 inline constexpr std::int64_t kFirstRestartIterations = 4096;
 // The coarse first search's iterations: the first restart round's.
 inline constexpr std::int64_t kCoarseFirstIterations = kFirstRestartIterations;
+// The coarse first search's iterations for a planner where it was measured:
+// kCoarseFirstIterations for the RRT-Connect planners (rrtc, cr-rrtc), 0 for
+// the others. ausbau-plan's collision validity and ausbau-bench use it.
+std::int64_t CoarseFirstIterationsFor(const std::string& planner);
 PlanResult PlanWithRestarts(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 

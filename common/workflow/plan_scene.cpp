@@ -79,9 +79,8 @@ PlannerOptions ResolvedPlanner(const PlanSceneOptions& options, bool volume_mode
   // The coarse first search where it was measured: the collision
   // validity's RRT-Connect planners.
   if (planner.coarse_iterations < 0) {
-    const bool rrt_connect = planner.planner == "cr-rrtc" || planner.planner == "rrtc";
     planner.coarse_iterations =
-        options.validity == ValidityMode::kCollision && rrt_connect ? kCoarseFirstIterations : 0;
+        options.validity == ValidityMode::kCollision ? CoarseFirstIterationsFor(planner.planner) : 0;
   }
   return planner;
 }
