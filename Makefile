@@ -263,6 +263,13 @@ bench-planners-check: bench-build build
 BENCH_FARR_OUT ?= out/bench-farr
 BENCH_FARR_ARGS ?=
 
+# The collision check of --validity collision (FCL's trees walked by
+# collision/fcl_tree_walk.h) against FCL's own collide, on the poses CR-RRTC
+# checks on the OMPL.app scenes: per-pose time, whole planning, and that the
+# answers and paths are the same (bench/collision_bench.cpp). About 1 min.
+BENCH_COLLISION_OUT ?= out/bench-collision
+BENCH_COLLISION_ARGS ?=
+
 # Path quality (docs/planning.md "Smoothing"): every generated family with a
 # known path, PATHS_SEEDS seeds each, through the InIState pipeline; the
 # smoothed path's translation and rotation against the known path's
@@ -291,6 +298,12 @@ bench-farr: configure
 	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-farr-bench
 	@$(call quote,$(BUILD)/bin/ausbau-farr-bench) --output-dir $(call quote,$(BENCH_FARR_OUT)) $(BENCH_FARR_ARGS)
 	@printf 'bench-farr: %s/farr-summary.md (printed above), farr-results.csv\n' $(call quote,$(BENCH_FARR_OUT))
+
+.PHONY: bench-collision
+bench-collision: configure
+	@cmake --build $(call quote,$(BUILD)) -j $(call quote,$(JOBS)) --target ausbau-collision-bench
+	@$(call quote,$(BUILD)/bin/ausbau-collision-bench) --output-dir $(call quote,$(BENCH_COLLISION_OUT)) $(BENCH_COLLISION_ARGS)
+	@printf 'bench-collision: %s/collision-summary.md (printed above)\n' $(call quote,$(BENCH_COLLISION_OUT))
 
 # Thesis table 16 on the generated clip scenes clips-ds1 .. clips-ds5:
 # shrink, IV, MLIV and Labeled-MLIV InIState planning (voxelize, label, tau,

@@ -15,10 +15,15 @@ class FclCollisionChecker : public PoseValidity {
   FclCollisionChecker(const TriangleMesh& robot, const TriangleMesh& environment);
   ~FclCollisionChecker() override;
 
-  // True when D at `pose` touches or intersects S's surface. Like FCL (and
+  // True when D at `pose` touches or intersects S's surface: FCL's answer,
+  // by a walk of FCL's trees (collision/fcl_tree_walk.h). Like FCL (and
   // like OMPL.app), a part entirely inside a closed part of S is not
   // detected: only surfaces are intersected.
   bool InCollision(const Pose& pose) const;
+  // The same answer by FCL's own collide: the reference the walk is
+  // measured against (ausbau-collision-bench), and the check OMPL.app's
+  // planners use (ausbau-bench's OMPL side).
+  bool InCollisionByFclCollide(const Pose& pose) const;
 
   // Minimum distance between D at `pose` and S (0 when in collision).
   double Distance(const Pose& pose) const;
