@@ -141,14 +141,16 @@ class FarrCollisionChecker : public PoseValidity {
   void ResetStats() const;
   const FarrOptions& options() const { return options_; }
 
-  // FCL's proof of a whole motion (FclCollisionChecker::SweepClear): the
-  // answers are FCL's, and so is what a sweep proves. Not with
-  // report_containment, which a sweep cannot see.
+  // FCL's proofs of a whole motion (FclCollisionChecker::SweepClear and
+  // ApartAlong): the answers are FCL's, and so is what a proof shows. Not
+  // with report_containment, which neither can see.
   bool ProvesMotions() const override { return !options_.report_containment; }
+  bool ProvesMotionsByClearance() const override { return !options_.report_containment; }
 
  protected:
   bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }
   bool MotionFree(const Pose& a, const Pose& b) const override { return fcl_.SweepClear(a, b); }
+  bool MotionFreeByClearance(const Pose& a, const Pose& b) const override { return fcl_.ApartAlong(a, b); }
 
  private:
   struct FieldView;

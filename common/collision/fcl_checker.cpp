@@ -25,6 +25,7 @@ struct FclCollisionChecker::Models {
   std::shared_ptr<FclModel> robot;
   std::shared_ptr<FclModel> environment;
   std::unique_ptr<FclTreeWalk> walk;
+  double robot_radius = 0;  // D's farthest vertex from its reference point
   // SweepClear's, built on its first call (from the FCL models' own
   // copies of the meshes): most checkers never sweep.
   std::once_flag sweep_once;
@@ -38,6 +39,7 @@ FclCollisionChecker::FclCollisionChecker(const TriangleMesh& robot, const Triang
   models_->robot = BuildFclModel(robot);
   models_->environment = BuildFclModel(environment);
   models_->walk = std::make_unique<FclTreeWalk>(models_->robot, models_->environment);
+  for (const Eigen::Vector3d& v : robot.vertices) models_->robot_radius = std::max(models_->robot_radius, v.norm());
 }
 
 FclCollisionChecker::~FclCollisionChecker() = default;
@@ -76,6 +78,14 @@ bool FclCollisionChecker::SweepClear(const Pose& a, const Pose& b) const {
     models_->sweep_margin = 1e-3 * (models_->robot_sphere.centre.norm() + models_->robot_sphere.radius);
   });
   return SweptSphereClear(models_->robot_sphere, *models_->environment_tree, a, b, models_->sweep_margin);
+}
+
+bool FclCollisionChecker::ApartAlong(const Pose& a, const Pose& b) const {
+  // From the middle pose every pose of the motion is within half of its
+  // displacement bound (translation and turn angle are both linear in s).
+  const double margin = 1e-3 * models_->robot_radius;  // as SweepClear's: far above FCL's tolerances
+  const double reach = 0.5 * MaxDisplacement(a, b, models_->robot_radius);
+  return models_->walk->Apart(Interpolate(a, b, 0.5), reach + margin);
 }
 
 double FclCollisionChecker::Distance(const Pose& pose) const {

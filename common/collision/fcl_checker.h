@@ -54,11 +54,22 @@ class FclCollisionChecker : public PoseValidity {
   // long the motion: what makes a long edge through open space cheap.
   bool SweepClear(const Pose& a, const Pose& b) const;
 
+  // True when D at the middle pose of the straight motion a -> b is farther
+  // from S than any point of D moves from there along it (half the
+  // motion's MaxDisplacement) plus SweepClear's margin
+  // (FclTreeWalk::Apart): so no pose of the motion touches S. D's own
+  // shape, not its bounding sphere: what proves short motions close to S
+  // (a smoothed path keeping its clearance; the certification's 0.25%
+  // steps). False says nothing.
+  bool ApartAlong(const Pose& a, const Pose& b) const;
+
   bool ProvesMotions() const override { return true; }
+  bool ProvesMotionsByClearance() const override { return true; }
 
  protected:
   bool CheckValid(const Pose& pose) const override { return !InCollision(pose); }
   bool MotionFree(const Pose& a, const Pose& b) const override { return SweepClear(a, b); }
+  bool MotionFreeByClearance(const Pose& a, const Pose& b) const override { return ApartAlong(a, b); }
 
  private:
   struct Models;

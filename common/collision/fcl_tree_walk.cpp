@@ -1,6 +1,7 @@
 #include "collision/fcl_tree_walk.h"
 
 #include <fcl/math/geometry.h>
+#include <fcl/narrowphase/detail/primitive_shape_algorithm/triangle_distance.h>
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 
 #include <cmath>
@@ -58,10 +59,9 @@ FclTreeWalk::FclTreeWalk(std::shared_ptr<const FclModel> robot, std::shared_ptr<
   }
 }
 
-bool FclTreeWalk::Collide(const Pose& pose) const {
+template <typename LeafHit>
+bool FclTreeWalk::AnyLeafPair(const Pose& pose, double widen, const LeafHit& hit) const {
   if (robot_nodes_.empty() || environment_nodes_.empty()) return false;
-  const FclModel& robot = *robot_;
-  const FclModel& environment = *environment_;
   // S's frame into D's, as FCL's OBBRSS traversal computes it for
   // (D at pose, S at the identity): what its leaf test is given.
   const Eigen::Matrix3d rotation = pose.q.toRotationMatrix();
@@ -82,6 +82,7 @@ bool FclTreeWalk::Collide(const Pose& pose) const {
   };
   constexpr int kCache = 16;
   Turned cache[kCache];
+  const Eigen::Vector3d widening = Eigen::Vector3d::Constant(widen);
 
   // Depth first, left child first: FCL's order. At most two entries per
   // level of the two trees at a time.
@@ -101,16 +102,14 @@ bool FclTreeWalk::Collide(const Pose& pose) const {
     }
     const Eigen::Matrix3d B = turned.axes_r * node2.axis;
     const Eigen::Vector3d centre = turned.axes_r * node2.centre + turned.offset;
-    if (BoxesDisjoint(B, centre, node1.extent, node2.extent)) continue;
+    if (BoxesDisjoint(B, centre, node1.extent + widening, node2.extent)) continue;
     const bool leaf1 = node1.first_child < 0, leaf2 = node2.first_child < 0;
     if (leaf1 && leaf2) {
-      const fcl::Triangle& p = robot.tri_indices[-(node1.first_child + 1)];
-      const fcl::Triangle& q = environment.tri_indices[-(node2.first_child + 1)];
-      if (fcl::detail::Intersect<double>::intersect_Triangle(
-              robot.vertices[p[0]], robot.vertices[p[1]], robot.vertices[p[2]], environment.vertices[q[0]],
-              environment.vertices[q[1]], environment.vertices[q[2]], R, T)) {
-        return true;
-      }
+      const fcl::Triangle& p = robot_->tri_indices[-(node1.first_child + 1)];
+      const fcl::Triangle& q = environment_->tri_indices[-(node2.first_child + 1)];
+      const Eigen::Vector3d* u = robot_->vertices;
+      const Eigen::Vector3d* v = environment_->vertices;
+      if (hit(u[p[0]], u[p[1]], u[p[2]], v[q[0]], v[q[1]], v[q[2]], R, T)) return true;
       continue;
     }
     if (leaf2 || (!leaf1 && node1.size > node2.size)) {
@@ -122,6 +121,30 @@ bool FclTreeWalk::Collide(const Pose& pose) const {
     }
   }
   return false;
+}
+
+bool FclTreeWalk::Collide(const Pose& pose) const {
+  return AnyLeafPair(
+      pose, 0.0,
+      [](const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3, const Eigen::Vector3d& q1,
+         const Eigen::Vector3d& q2, const Eigen::Vector3d& q3, const Eigen::Matrix3d& R, const Eigen::Vector3d& T) {
+        return fcl::detail::Intersect<double>::intersect_Triangle(p1, p2, p3, q1, q2, q3, R, T);
+      });
+}
+
+bool FclTreeWalk::Apart(const Pose& pose, double margin) const {
+  // D's boxes widened by the margin along their axes hold D's points and
+  // everything within the margin of them; a pair of leaves counts when its
+  // triangles come within the margin (FCL's triangle distance, 0 where they
+  // cross).
+  return !AnyLeafPair(
+      pose, margin,
+      [margin](const Eigen::Vector3d& p1, const Eigen::Vector3d& p2, const Eigen::Vector3d& p3,
+               const Eigen::Vector3d& q1, const Eigen::Vector3d& q2, const Eigen::Vector3d& q3,
+               const Eigen::Matrix3d& R, const Eigen::Vector3d& T) {
+        Eigen::Vector3d on_p, on_q;
+        return !(fcl::detail::TriangleDistance<double>::triDistance(p1, p2, p3, q1, q2, q3, R, T, on_p, on_q) > margin);
+      });
 }
 
 }  // namespace ausbau

@@ -44,8 +44,19 @@ class FclTreeWalk {
   FclTreeWalk(std::shared_ptr<const FclModel> robot, std::shared_ptr<const FclModel> environment);
   // D placed at `pose`. False when either has no triangles.
   bool Collide(const Pose& pose) const;
+  // Whether every triangle of D placed at `pose` is farther than `margin`
+  // (> 0) from every triangle of S (FCL's triangle distance at the leaves;
+  // D's boxes widened by the margin). True when either has no triangles.
+  // What proves a whole motion free (FclCollisionChecker::MotionFree): no
+  // point of D moves farther than the margin from where it is here.
+  bool Apart(const Pose& pose, double margin) const;
 
  private:
+  // The walk: whether `hit` is true for some pair of triangles (D's placed
+  // at pose) whose boxes, D's widened by `widen` along its axes, overlap.
+  template <typename LeafHit>
+  bool AnyLeafPair(const Pose& pose, double widen, const LeafHit& hit) const;
+
   // A node's oriented box, copied out of FCL's nodes (a third of their
   // size: the walk reads fewer cache lines).
   struct Node {

@@ -37,10 +37,24 @@ class PoseValidity {
   }
   virtual bool ProvesMotions() const { return false; }
 
+  // The same kind of proof by how far D is from S at the motion's middle
+  // pose (D's own shape widened by how far its points move from there),
+  // where ProvesMotionsByClearance(). It proves short motions close to S,
+  // which a bound over D's whole sweep cannot, at the cost of a few checks
+  // (MotionChecker tries it only where the step is fine). Counted as one
+  // (valid) check.
+  bool ProveMotionByClearance(const Pose& a, const Pose& b) const {
+    const bool proved = MotionFreeByClearance(a, b);
+    CountCheck(true);
+    return proved;
+  }
+  virtual bool ProvesMotionsByClearance() const { return false; }
+
  protected:
   // The check itself; must be thread-safe.
   virtual bool CheckValid(const Pose& pose) const = 0;
   virtual bool MotionFree(const Pose& /*a*/, const Pose& /*b*/) const { return false; }
+  virtual bool MotionFreeByClearance(const Pose& /*a*/, const Pose& /*b*/) const { return false; }
   void CountCheck(bool valid) const {
     checks_.fetch_add(1, std::memory_order_relaxed);
     if (!valid) invalid_.fetch_add(1, std::memory_order_relaxed);

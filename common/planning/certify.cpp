@@ -15,7 +15,8 @@ CertifyReport CertifyPath(const PlanningProblem& problem, const PoseValidity& va
                           const PlannerOptions& options, std::vector<Pose>* path,
                           std::chrono::steady_clock::time_point deadline) {
   CertifyReport report;
-  const MotionChecker fine(problem, validity, fine_step, deadline);
+  MotionChecker fine(problem, validity, fine_step, deadline);
+  fine.ProveByClearance();
   std::vector<Pose> certified;
   if (path->empty()) return report;
   certified.push_back(path->front());

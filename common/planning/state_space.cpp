@@ -343,7 +343,9 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
     if (hi - lo < 2) continue;
     if (sweeps && hi - lo >= kShortestSweep && SweepWorthTrying()) {
       const Pose from = pose_at(lo), to = pose_at(hi);
-      const bool proved = StretchInBounds(from, to) && validity_->ProveMotion(from, to);
+      const bool proved =
+          StretchInBounds(from, to) &&
+          (validity_->ProveMotion(from, to) || (clearance_proofs_ && validity_->ProveMotionByClearance(from, to)));
       RecordSweep(proved ? hi - lo - 1 : 0);
       if (proved) continue;
     }

@@ -621,6 +621,39 @@ TEST(MotionChecker, SweepsChangeTheChecksNotTheAnswers) {
   EXPECT_LT(f.checker.checks(), plain.checks() / 2);
 }
 
+// At the certification's step, short motions close to S: proofs by D's
+// clearance at their middle change the checks, not the answers.
+TEST(MotionChecker, ProofsByClearanceChangeTheChecksNotTheAnswers) {
+  Fixture f("peg-in-plate");
+  const CheckerWithoutSweeps plain(f.checker);
+  const FclCollisionChecker sweeps_only(f.problem.robot, f.problem.environment);
+  ASSERT_TRUE(f.checker.ProvesMotionsByClearance());
+  const double step = kCertificationResolution * f.problem.robot_diagonal;
+  MotionChecker by_clearance(f.problem, f.checker, step);
+  by_clearance.ProveByClearance();
+  const MotionChecker sweeping(f.problem, sweeps_only, step), walking(f.problem, plain, step);
+  Random random(11);
+  int valid = 0, blocked = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Pose a = f.problem.SampleUniform(random);
+    while (!walking.IsValid(a)) a = f.problem.SampleUniform(random);
+    // A motion of up to 0.4 of D's diagonal and 0.2 rad from a.
+    Pose b = a;
+    b.t += 0.4 * f.problem.robot_diagonal *
+           Eigen::Vector3d(random.Uniform(-1, 1), random.Uniform(-1, 1), random.Uniform(-1, 1)) / std::sqrt(3.0);
+    b.q =
+        (a.q * Eigen::Quaterniond(Eigen::AngleAxisd(random.Uniform(-0.2, 0.2), Eigen::Vector3d::UnitX()))).normalized();
+    const bool answer = walking.MotionValid(a, b);
+    EXPECT_EQ(answer, by_clearance.MotionValid(a, b)) << "trial " << trial;
+    EXPECT_EQ(answer, sweeping.MotionValid(a, b)) << "trial " << trial;
+    valid += answer;
+    blocked += !answer;
+  }
+  EXPECT_GT(valid, 30);  // both kinds of motion are exercised
+  EXPECT_GT(blocked, 30);
+  EXPECT_LT(f.checker.checks(), sweeps_only.checks());
+}
+
 TEST(MotionChecker, SweepsKeepATurningBoundedPointInBounds) {
   // The bounds hold a point two diagonals off D's reference point (as where
   // a scene's mesh origin lies far from its part): while D turns, that point
