@@ -5,7 +5,8 @@
 // Why: with --validity collision about 80% of a plan's time was in
 // fcl::collide, and most of that not in the geometric tests but around
 // them: a traversal object set up per query, virtual calls per node pair,
-// the box test out of line, nodes four times the size of their box. The
+// the box test out of line, nodes twice the bytes of their box (each also
+// carries an RSS). The
 // loop here walks the same trees in the same order (FCL's collisionRecurse:
 // depth first, left child first, the larger box split unless it is a leaf;
 // the boxes copied into a compact array) with the same tests:
@@ -18,7 +19,8 @@
 //     relative transform as FCL's OBBRSS traversal.
 // So the answer is FCL's: `ausbau-collision-bench` replays every pose a
 // planner checked through both (0 differing answers on the OMPL.app scenes,
-// the same paths) and times them side by side: 1.6-1.9x faster per pose.
+// the same paths) and times them side by side: 1.5-2.4x faster per pose
+// (docs/benchmarks.md, "The collision check").
 //
 // Tried first, not kept: trees of axis-aligned boxes (D's in its frame, S's
 // in the world) separated on 6 of the 15 axes: on cubicles no faster than
@@ -47,8 +49,8 @@ class FclTreeWalk {
   // Whether every triangle of D placed at `pose` is farther than `margin`
   // (> 0) from every triangle of S (FCL's triangle distance at the leaves;
   // D's boxes widened by the margin). True when either has no triangles.
-  // What proves a whole motion free (FclCollisionChecker::MotionFree): no
-  // point of D moves farther than the margin from where it is here.
+  // What proves a whole motion free (FclCollisionChecker::ApartAlong) when
+  // no point of D moves farther than the margin from where it is here.
   bool Apart(const Pose& pose, double margin) const;
 
  private:
@@ -57,8 +59,8 @@ class FclTreeWalk {
   template <typename LeafHit>
   bool AnyLeafPair(const Pose& pose, double widen, const LeafHit& hit) const;
 
-  // A node's oriented box, copied out of FCL's nodes (a third of their
-  // size: the walk reads fewer cache lines).
+  // A node's oriented box, copied out of FCL's nodes (half their bytes: the
+  // walk reads fewer cache lines; 5% faster on the bench).
   struct Node {
     Eigen::Matrix3d axis;
     Eigen::Vector3d centre, extent;

@@ -40,9 +40,9 @@ class PoseValidity {
   // The same kind of proof by how far D is from S at the motion's middle
   // pose (D's own shape widened by how far its points move from there),
   // where ProvesMotionsByClearance(). It proves short motions close to S,
-  // which a bound over D's whole sweep cannot, at the cost of a few checks
-  // (MotionChecker tries it only where the step is fine). Counted as one
-  // (valid) check.
+  // which a bound over D's whole sweep cannot, at the cost of a few checks'
+  // time (MotionChecker tries it only where asked: the certification's fine
+  // step, MotionChecker::ProveByClearance). Counted as one (valid) check.
   bool ProveMotionByClearance(const Pose& a, const Pose& b) const {
     const bool proved = MotionFreeByClearance(a, b);
     CountCheck(true);
