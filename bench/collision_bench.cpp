@@ -19,7 +19,7 @@
 //                          [--output-dir out/bench-collision]
 //
 // Scene names: OMPL.app scenes by name (../shared/benchmarks/ompl/<name>.yaml),
-// parasol-flange-1.0 (../shared/benchmarks/parasol/flange-1.0/).
+// parasol-flange-1.0, flange-<scale> (generated; bench/bench_scenes.h).
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -27,14 +27,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_scenes.h"
 #include "collision/fcl_checker.h"
 #include "core/format.h"
 #include "core/log.h"
+#include "fcl_collide_validity.h"
 #include "machine.h"
 #include "parse_args.h"
 #include "planning/planner.h"
@@ -49,31 +50,18 @@ namespace fs = std::filesystem;
 
 double Seconds(Clock::time_point from) { return std::chrono::duration<double>(Clock::now() - from).count(); }
 
-// Each check alone as the validity: no sweeps (FclCollisionChecker also
-// proves whole motions by them), which would hide the per-pose cost.
-// Records the poses checked and the answers where asked.
-class CheckOnly : public PoseValidity {
+// The walk alone as the validity: no proofs of whole motions (which
+// FclCollisionChecker also makes), which would hide the per-pose cost.
+// FclCollideValidity (fcl_collide_validity.h) is the same for fcl::collide.
+class WalkOnly : public PoseValidity {
  public:
-  CheckOnly(const FclCollisionChecker& checker, bool fcl_collide) : checker_(checker), fcl_collide_(fcl_collide) {}
-  mutable std::vector<Pose> poses;
-  mutable std::vector<char> collides;
-  bool record = false;
+  explicit WalkOnly(const FclCollisionChecker& checker) : checker_(checker) {}
 
  protected:
-  bool CheckValid(const Pose& pose) const override {
-    const bool collision = fcl_collide_ ? checker_.InCollisionByFclCollide(pose) : checker_.InCollision(pose);
-    if (record) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      poses.push_back(pose);
-      collides.push_back(collision);
-    }
-    return !collision;
-  }
+  bool CheckValid(const Pose& pose) const override { return !checker_.InCollision(pose); }
 
  private:
   const FclCollisionChecker& checker_;
-  const bool fcl_collide_;
-  mutable std::mutex mutex_;
 };
 
 struct BenchOptions {
@@ -94,41 +82,10 @@ struct SceneResult {
   bool fcl_solved = false, walk_solved = false, same_path = false;
 };
 
-fs::path SceneFile(const std::string& name, std::string* skipped) {
-  const char* source = std::getenv("AUSBAU_SOURCE_DIR");
-  const fs::path root = source ? fs::path(source) : fs::path(AUSBAU_SOURCE_DIR);
-  const fs::path path = name == "parasol-flange-1.0"
-                            ? root / ".." / "shared" / "benchmarks" / "parasol" / "flange-1.0" / "flange-1.0.yaml"
-                            : root / ".." / "shared" / "benchmarks" / "ompl" / (name + ".yaml");
-  if (!fs::exists(path)) {
-    *skipped = "not present (" + path.string() + ")";
-    return {};
-  }
-  return path;
-}
-
-bool SamePath(const PlanResult& a, const PlanResult& b) {
-  if (a.solved() != b.solved() || a.path.size() != b.path.size()) return false;
-  for (std::size_t i = 0; i < a.path.size(); ++i) {
-    if (a.path[i].t != b.path[i].t || a.path[i].q.coeffs() != b.path[i].q.coeffs()) return false;
-  }
-  return true;
-}
-
-template <typename Check>
-double TimeChunk(const std::vector<Pose>& poses, std::size_t begin, std::size_t end, Check&& check) {
-  int sink = 0;
-  const auto start = Clock::now();
-  for (std::size_t i = begin; i < end; ++i) sink += check(poses[i]);
-  const double s = Seconds(start);
-  if (sink < 0) std::printf(" ");  // keep the calls
-  return s;
-}
-
 SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   SceneResult r;
   r.name = name;
-  const fs::path yaml = SceneFile(name, &r.skipped);
+  const fs::path yaml = bench::BenchSceneFile(name, options.output_dir, &r.skipped);
   if (yaml.empty()) return r;
   const PlanningProblem problem = MakePlanningProblem(LoadScene(yaml));
   r.robot_triangles = problem.robot.triangles.size();
@@ -141,25 +98,24 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   planner.seed = options.seed;
   planner.time_limit_s = options.time_limit_s;
   planner.coarse_iterations = CoarseFirstIterationsFor(planner.planner);
-  CheckOnly fcl_validity(checker, true);
-  fcl_validity.record = true;
+  const bench::FclCollideValidity fcl_collide(checker);
+  bench::RecordingValidity fcl_validity(fcl_collide);
   auto start = Clock::now();
   const PlanResult fcl_result = Plan(problem, fcl_validity, planner);
   r.fcl_plan_s = Seconds(start);
   r.fcl_solved = fcl_result.solved();
-  fcl_validity.record = false;
   // The same work for the second plan (FCL's iterations where it ran out of time).
   PlannerOptions same = planner;
   if (!r.fcl_solved) {
     same.max_iterations = fcl_result.stats.iterations;
     same.time_limit_s = 1e6;
   }
-  const CheckOnly walk_validity(checker, false);
+  const WalkOnly walk_validity(checker);
   start = Clock::now();
   const PlanResult walk_result = Plan(problem, walk_validity, same);
   r.walk_plan_s = Seconds(start);
   r.walk_solved = walk_result.solved();
-  r.same_path = SamePath(fcl_result, walk_result);
+  r.same_path = bench::SamePath(fcl_result, walk_result);
   std::fprintf(stderr, "   plan: FCL %.2f s, tree walk %.2f s, %s path; %zu poses checked\n", r.fcl_plan_s,
                r.walk_plan_s, r.same_path ? "same" : "DIFFERENT", fcl_validity.poses.size());
 
@@ -168,21 +124,23 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   const double stride = std::max(1.0, static_cast<double>(fcl_validity.poses.size()) / options.max_samples);
   for (double x = 0; x < fcl_validity.poses.size(); x += stride) {
     poses.push_back(fcl_validity.poses[static_cast<std::size_t>(x)]);
-    collides.push_back(fcl_validity.collides[static_cast<std::size_t>(x)]);
+    collides.push_back(fcl_validity.invalid[static_cast<std::size_t>(x)]);
   }
   r.samples = static_cast<std::int64_t>(poses.size());
   for (std::size_t i = 0; i < poses.size(); ++i) {
     r.invalid += collides[i];
     r.disagreements += checker.InCollision(poses[i]) != static_cast<bool>(collides[i]);
   }
+  std::vector<std::size_t> order(poses.size());  // the planner's order
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   auto fcl_check = [&](const Pose& p) { return static_cast<int>(checker.InCollisionByFclCollide(p)); };
   auto walk_check = [&](const Pose& p) { return static_cast<int>(checker.InCollision(p)); };
   constexpr std::size_t kChunk = 2000;
   for (int rep = 0; rep < options.reps; ++rep) {
     for (std::size_t b = 0; b < poses.size(); b += kChunk) {
       const std::size_t e = std::min(poses.size(), b + kChunk);
-      r.fcl_s += TimeChunk(poses, b, e, fcl_check);
-      r.walk_s += TimeChunk(poses, b, e, walk_check);
+      r.fcl_s += bench::TimeChunk(poses, order, b, e, fcl_check);
+      r.walk_s += bench::TimeChunk(poses, order, b, e, walk_check);
     }
   }
   r.fcl_s /= options.reps;

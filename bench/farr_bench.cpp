@@ -35,11 +35,11 @@
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
-#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_scenes.h"
 #include "cli/stage_main.h"
 #include "collision/distance_field.h"
 #include "collision/farr_checker.h"
@@ -47,7 +47,6 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/log.h"
-#include "fixtures/flange.h"
 #include "machine.h"
 #include "parse_args.h"
 #include "planning/planner.h"
@@ -60,27 +59,6 @@ using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 
 double Seconds(Clock::time_point from) { return std::chrono::duration<double>(Clock::now() - from).count(); }
-
-// Records every pose the planner checks, with the inner checker's answer.
-class RecordingValidity : public PoseValidity {
- public:
-  explicit RecordingValidity(const PoseValidity& inner) : inner_(inner) {}
-  mutable std::vector<Pose> poses;
-  mutable std::vector<char> invalid;
-
- protected:
-  bool CheckValid(const Pose& pose) const override {
-    const bool valid = inner_.IsValid(pose);
-    std::lock_guard<std::mutex> lock(mutex_);
-    poses.push_back(pose);
-    invalid.push_back(!valid);
-    return valid;
-  }
-
- private:
-  const PoseValidity& inner_;
-  mutable std::mutex mutex_;
-};
 
 struct BenchOptions {
   std::vector<std::string> scenes = {"alpha-1.2",   "alpha-1.5",   "Twistycool",        "flange-1.00",
@@ -117,48 +95,10 @@ struct SceneResult {
   std::int64_t valid_count = 0;
 };
 
-fs::path SceneFile(const std::string& name, const fs::path& out_dir, std::string* skipped) {
-  const char* source = std::getenv("AUSBAU_SOURCE_DIR");
-  const fs::path root = source ? fs::path(source) : fs::path(AUSBAU_SOURCE_DIR);
-  if (name.rfind("flange-", 0) == 0) {
-    const double scale = std::atof(name.c_str() + 7);
-    return GenerateFlangeScene(scale, out_dir / "scenes" / name);
-  }
-  fs::path path = name == "parasol-flange-1.0"
-                      ? root / ".." / "shared" / "benchmarks" / "parasol" / "flange-1.0" / "flange-1.0.yaml"
-                      : root / ".." / "shared" / "benchmarks" / "ompl" / (name + ".yaml");
-  if (!fs::exists(path)) {
-    *skipped = "not present (" + path.string() + ")";
-    return {};
-  }
-  return path;
-}
-
-bool SamePath(const PlanResult& a, const PlanResult& b) {
-  if (a.solved() != b.solved() || a.path.size() != b.path.size()) return false;
-  for (std::size_t i = 0; i < a.path.size(); ++i) {
-    if (a.path[i].t != b.path[i].t || a.path[i].q.coeffs() != b.path[i].q.coeffs()) return false;
-  }
-  return true;
-}
-
-// Times `check` over poses[indices] in chunks interleaved with the other
-// methods by the caller.
-template <typename Check>
-double TimeChunk(const std::vector<Pose>& poses, const std::vector<std::size_t>& indices, std::size_t begin,
-                 std::size_t end, Check&& check) {
-  int sink = 0;
-  const auto start = Clock::now();
-  for (std::size_t i = begin; i < end; ++i) sink += check(poses[indices[i]]);
-  const double s = Seconds(start);
-  if (sink < 0) std::printf(" ");  // keep the calls
-  return s;
-}
-
 SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   SceneResult r;
   r.name = name;
-  const fs::path yaml = SceneFile(name, options.output_dir, &r.skipped);
+  const fs::path yaml = bench::BenchSceneFile(name, options.output_dir, &r.skipped);
   if (yaml.empty()) return r;
   const Scene scene = LoadScene(yaml);
   const PlanningProblem problem = MakePlanningProblem(scene);
@@ -174,7 +114,7 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   planner.planner = options.planner;
   planner.seed = options.seed;
   planner.time_limit_s = options.time_limit_s;
-  RecordingValidity recorder(fcl);
+  bench::RecordingValidity recorder(fcl);
   start = Clock::now();
   const PlanResult fcl_result = Plan(problem, recorder, planner);
   r.fcl_plan_s = Seconds(start);
@@ -212,7 +152,7 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
     const PlanResult result = Plan(problem, farr, same);
     r.farr_plan_s = Seconds(start);
     r.farr_solved = result.solved();
-    r.same_path = SamePath(fcl_result, result);
+    r.same_path = bench::SamePath(fcl_result, result);
     r.adaptive_rays_end = farr.stats().rays_now;
   }
   {
@@ -222,7 +162,7 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
     const PlanResult result = Plan(problem, farr, same);
     r.farr30_plan_s = Seconds(start);
     r.farr30_solved = result.solved();
-    r.same_path30 = SamePath(fcl_result, result);
+    r.same_path30 = bench::SamePath(fcl_result, result);
   }
   std::fprintf(stderr, "   FARR plan: %.2f s (adaptive, %s path), %.2f s (30 rays, %s path)\n", r.farr_plan_s,
                r.same_path ? "same" : "DIFFERENT", r.farr30_plan_s, r.same_path30 ? "same" : "DIFFERENT");
@@ -275,14 +215,14 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
   for (int rep = 0; rep < options.reps; ++rep) {
     for (std::size_t b = 0; b < valid_idx.size(); b += kChunk) {
       const std::size_t e = std::min(valid_idx.size(), b + kChunk);
-      r.fcl_valid_s += TimeChunk(poses, valid_idx, b, e, fcl_check);
-      r.farr30_valid_s += TimeChunk(poses, valid_idx, b, e, farr_check);
-      r.rays_valid_s += TimeChunk(poses, valid_idx, b, e, rays_check);
+      r.fcl_valid_s += bench::TimeChunk(poses, valid_idx, b, e, fcl_check);
+      r.farr30_valid_s += bench::TimeChunk(poses, valid_idx, b, e, farr_check);
+      r.rays_valid_s += bench::TimeChunk(poses, valid_idx, b, e, rays_check);
     }
     for (std::size_t b = 0; b < invalid_idx.size(); b += kChunk) {
       const std::size_t e = std::min(invalid_idx.size(), b + kChunk);
-      r.fcl_invalid_s += TimeChunk(poses, invalid_idx, b, e, fcl_check);
-      r.farr30_invalid_s += TimeChunk(poses, invalid_idx, b, e, farr_check);
+      r.fcl_invalid_s += bench::TimeChunk(poses, invalid_idx, b, e, fcl_check);
+      r.farr30_invalid_s += bench::TimeChunk(poses, invalid_idx, b, e, farr_check);
     }
     // Adaptive FARR learns along the way: a fresh checker per repetition,
     // the samples in the planner's order, interleaved with FCL.
@@ -290,8 +230,8 @@ SceneResult RunScene(const std::string& name, const BenchOptions& options) {
     auto adaptive_check = [&](const Pose& p) { return static_cast<int>(adaptive.InCollision(p)); };
     for (std::size_t b = 0; b < all_idx.size(); b += kChunk) {
       const std::size_t e = std::min(all_idx.size(), b + kChunk);
-      r.fcl_all_s += TimeChunk(poses, all_idx, b, e, fcl_check);
-      r.adaptive_all_s += TimeChunk(poses, all_idx, b, e, adaptive_check);
+      r.fcl_all_s += bench::TimeChunk(poses, all_idx, b, e, fcl_check);
+      r.adaptive_all_s += bench::TimeChunk(poses, all_idx, b, e, adaptive_check);
     }
   }
   for (double* t : {&r.fcl_valid_s, &r.fcl_invalid_s, &r.rays_valid_s, &r.farr30_valid_s, &r.farr30_invalid_s,
