@@ -112,14 +112,19 @@ struct BlockingProbe {
   int steps = 0;     // depth measurements made (the work it cost)
   double depth = 0;  // the rigid penetration that stopped it
   int rigid_shell = -1, static_shell = -1;
+  // The scene's part of S that static_shell belongs to ("" where S is one
+  // part or the shell was not matched to a triangle of it).
+  std::string static_part_name;
 };
-// The work one pull may do: a count, so the report is the same under any
-// load. A pull that slides in contact (a bolt in its bore, coincident
-// tessellated faces) may advance by only a tenth of the tolerance per step
-// (0.005 mm at the default): unbounded, such a pull measured for minutes.
-// 2,048 steps carry D at least 200 tolerances (10 mm at the default), and
-// the whole reach where nothing is within the tolerance (steps of 5% of D's
-// diagonal, which pass S's box in about 20 + 20 x S's size / D's).
+// The work one pull may do (depth measurements and proofs of stretches): a
+// count, so the report is the same under any load. A pull that slides in
+// contact (a bolt in its bore, coincident tessellated faces) may advance by
+// only a tenth of the tolerance per step (0.005 mm at the default) where no
+// stretch of it can be proved whole: unbounded, such a pull measured for
+// minutes. 2,048 steps carry D at least 200 tolerances (10 mm at the
+// default), and the whole reach where nothing is within the tolerance
+// (steps of 5% of D's diagonal, which pass S's box in about 20 + 20 x S's
+// size / D's).
 inline constexpr int kMaxPullSteps = 2048;
 struct BlockingReport {
   std::vector<BlockingProbe> probes;  // +axis 0, -axis 0, +axis 1, ... (largest spread first)

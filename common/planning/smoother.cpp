@@ -122,11 +122,18 @@ int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion,
     std::vector<Eigen::Vector3d> directions = AxisDirections();
     directions.push_back(path.back().t - from.t);
     directions.push_back(path[segment + 1].t - path[segment].t);
+    // Whether `from` is valid, asked once per point, not once per direction
+    // (each a check; in rigid-exact a surface-depth search).
+    std::optional<bool> from_valid;
+    const auto valid_from = [&] {
+      if (!from_valid) from_valid = motion.IsValid(from);
+      return *from_valid;
+    };
     for (const Eigen::Vector3d& direction : directions) {
       const std::optional<Pose> end = StraightExitPose(problem, from, direction);
       if (!end) continue;
       const double cost = at + problem.metric.Distance(from, *end, 0.5);
-      if (cost < best_cost && motion.IsValid(from) && motion.MotionValid(from, *end) &&
+      if (cost < best_cost && valid_from() && motion.MotionValid(from, *end) &&
           KeepsGuard(guard, path, from, segment, *end)) {
         best_from = from;
         best_end = end;

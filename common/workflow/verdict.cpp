@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -137,6 +138,22 @@ Scene WithoutStaticPart(const Scene& scene, int part) {
   return reduced;
 }
 
+namespace {
+
+// Whether D comes out of S along a straight pull from the installed pose
+// (ProbeWhatBlocks) once part `part` of S is taken away; none where S is
+// nothing else.
+std::optional<bool> PullFreesWithout(const Scene& scene, int part, double tolerance,
+                                     UnmeasuredInterference unmeasured) {
+  const Scene reduced = WithoutStaticPart(scene, part);
+  if (reduced.static_mesh.triangles.empty()) return std::nullopt;
+  const BlockingReport probe = ProbeWhatBlocks(reduced, tolerance, unmeasured, nullptr, true);
+  return probe.parts->rigid_interference.empty() &&
+         std::any_of(probe.probes.begin(), probe.probes.end(), [](const BlockingProbe& p) { return p.separated; });
+}
+
+}  // namespace
+
 std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose, double tolerance,
                                            UnmeasuredInterference unmeasured) {
   TriangleMesh robot = scene.dynamic_mesh;
@@ -154,18 +171,38 @@ std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose,
   const std::set<int> parts(scene.static_part_of_triangle.begin(), scene.static_part_of_triangle.end());
   if (parts.size() < 2 || !(tolerance > 0)) return contacts;
   for (PartContact& contact : contacts) {
-    const Scene reduced = WithoutStaticPart(scene, contact.part);
-    if (reduced.static_mesh.triangles.empty()) continue;
-    const BlockingReport probe = ProbeWhatBlocks(reduced, tolerance, unmeasured, nullptr, true);
-    contact.frees =
-        probe.parts->rigid_interference.empty() &&
-        std::any_of(probe.probes.begin(), probe.probes.end(), [](const BlockingProbe& p) { return p.separated; });
+    const std::optional<bool> frees = PullFreesWithout(scene, contact.part, tolerance, unmeasured);
+    if (!frees) continue;
+    contact.frees = *frees;
     LogInfo("what blocks: without %s, %s", contact.name.c_str(),
             contact.frees ? "D comes out along a straight pull" : "D is still held");
   }
   std::stable_partition(contacts.begin(), contacts.end(), [](const PartContact& c) { return c.frees; });
   return contacts;
 }
+
+namespace {
+
+// Verdict::pull_stopper: the part of S that stopped the farthest straight
+// pull, where D's contacts (FindBlockingParts) do not include it.
+void FindPullStopper(const Scene& scene, UnmeasuredInterference unmeasured, Verdict* v) {
+  if (!v->blocking || v->blocking->farthest < 0) return;
+  const std::string& name = v->blocking->probes[v->blocking->farthest].static_part_name;
+  if (name.empty()) return;
+  for (const PartContact& c : v->blockers)
+    if (c.name == name) return;  // among the contacts, taken away there already
+  const auto named = std::find(scene.static_part_names.begin(), scene.static_part_names.end(), name);
+  if (named == scene.static_part_names.end()) return;
+  const std::optional<bool> frees =
+      PullFreesWithout(scene, static_cast<int>(named - scene.static_part_names.begin()), v->tolerance, unmeasured);
+  if (!frees) return;
+  v->pull_stopper = name;
+  v->pull_stopper_frees = *frees;
+  LogInfo("what blocks: without %s, which stops the farthest straight pull, %s", name.c_str(),
+          v->pull_stopper_frees ? "D comes out along a straight pull" : "D is still held");
+}
+
+}  // namespace
 
 std::string VerdictStatusDetail(const Verdict& v) {
   if (v.removable) return "removable";
@@ -228,6 +265,7 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     v.blocked_at_partial_end = !path.success && !path.partial_waypoints.empty();
     v.blocked_at = v.blocked_at_partial_end ? path.partial_waypoints.back() : scene.start;
     v.blockers = FindBlockingParts(scene, v.blocked_at, v.tolerance, unmeasured);
+    FindPullStopper(scene, unmeasured, &v);
   }
   v.max_volume = FindMaxVolume(path);
   JudgePathQuality(scene, &v);
@@ -348,10 +386,18 @@ void AddWhatBlocks(const Verdict& v, JsonWriter& json) {
                     .Number("depth", blocked ? p.depth : std::nan(""))
                     .String("rigid_part", blocked ? parts.Describe(p.rigid_shell, true) : "")
                     .String("static_part", blocked ? parts.Describe(p.static_shell, false) : "")
+                    .String("static_part_name", blocked ? p.static_part_name : "")
                     .Text();
     }
     probes += "]";
-    json.Add("what_blocks", JsonWriter().String("summary", blocking->summary).Add("straight_pulls", probes).Text());
+    JsonWriter what;
+    what.String("summary", blocking->summary).Add("straight_pulls", probes);
+    if (v.pull_stopper.empty()) {
+      what.Null("pull_stopper");
+    } else {
+      what.Add("pull_stopper", JsonWriter().String("part", v.pull_stopper).Bool("frees", v.pull_stopper_frees).Text());
+    }
+    json.Add("what_blocks", what.Text());
   } else {
     json.Null("what_blocks");
   }
@@ -483,6 +529,10 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
     std::fprintf(out, "  blocked by (at the %s): %s\n",
                  v.blocked_at_partial_end ? "end of the best partial path" : "installed pose",
                  DescribePartContact(c).c_str());
+  }
+  if (!v.pull_stopper.empty()) {
+    std::fprintf(out, "  the farthest straight pull is stopped by %s; without it, %s\n", v.pull_stopper.c_str(),
+                 v.pull_stopper_frees ? "D comes out along a straight pull" : "D is still held");
   }
   std::fprintf(out, "  time: %.2f s%s", v.total_seconds, options.times.empty() ? " (planner only)" : "");
   if (options.budget >= 0)

@@ -69,6 +69,13 @@ struct Verdict {
   Pose blocked_at;
   bool blocked_at_partial_end = false;
   std::vector<PartContact> blockers;
+  // Not removable, S of several parts: the part of S that stopped the
+  // straight pull that got farthest (what_blocks), where it is another
+  // than D's contacts above (a rod over a bolt's head: the bolt slides in
+  // its bore until the rod stops it), and whether D comes out along a
+  // straight pull without it. Empty where no such part.
+  std::string pull_stopper;
+  bool pull_stopper_frees = false;
 };
 
 // "removable", "not-removable (budget)", "not-removable (no path)" or
