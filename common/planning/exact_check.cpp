@@ -79,6 +79,10 @@ double TravelInside(const Aabb& robot_box, const Aabb& inside, const Eigen::Vect
   return travel;
 }
 
+// Steps a pull walks before it tries a stretch: most pulls are blocked
+// within a few, as most of the planner's motions are.
+constexpr int kPullStepsBeforeStretches = 4;
+
 // One straight pull of ProbeWhatBlocks from `start` along `direction`:
 // conservative steps (the slack, at least a tenth of the tolerance, at most
 // `largest_step`) until a rigid shell goes deeper than the tolerance (then
@@ -101,7 +105,6 @@ double TravelInside(const Aabb& robot_box, const Aabb& inside, const Eigen::Vect
 // stretch is valid under the checker's rules (no rigid shell deeper than
 // the tolerance, a fit no deeper than installed), so the pull may only go
 // further where that was so all the way.
-constexpr int kPullStepsBeforeStretches = 4;  // most pulls are blocked within a few, as the planner's motions
 BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const RigidDepthChecker& checker,
                    const Aabb& robot_box, const Aabb& static_box, const ReachCrop* crop, double tolerance, double reach,
                    double largest_step, bool measure_depth) {
