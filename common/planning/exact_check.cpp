@@ -57,24 +57,19 @@ std::string DepthInWords(double depth, const std::string& units) {
   return LengthInWords(depth, units) + " deep";
 }
 
-// How far D's box `robot_box` moves along unit `direction` until it is
-// clear of `static_box` (separated along one axis): where a proved stretch
-// of a pull may end.
-double TravelUntilClear(const Aabb& robot_box, const Aabb& static_box, const Eigen::Vector3d& direction) {
+// How far `box` moves along unit `direction` until one of its faces reaches
+// the far side of `limit` along some axis: its trailing faces (`trailing`:
+// the box is then clear of `limit`, separated along that axis) or its
+// leading ones (it is then about to leave `limit`; negative where it is not
+// inside). Where a proved stretch of a pull may end.
+double TravelUntilFaceReaches(const Aabb& box, const Aabb& limit, const Eigen::Vector3d& direction, bool trailing) {
   double travel = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i) {
-    if (direction[i] > 0) travel = std::min(travel, (static_box.max[i] - robot_box.min[i]) / direction[i]);
-    if (direction[i] < 0) travel = std::min(travel, (static_box.min[i] - robot_box.max[i]) / direction[i]);
-  }
-  return travel;
-}
-// How far it moves until it leaves `inside` (a crop's box; negative where
-// it is not inside).
-double TravelInside(const Aabb& robot_box, const Aabb& inside, const Eigen::Vector3d& direction) {
-  double travel = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i) {
-    if (direction[i] > 0) travel = std::min(travel, (inside.max[i] - robot_box.max[i]) / direction[i]);
-    if (direction[i] < 0) travel = std::min(travel, (inside.min[i] - robot_box.min[i]) / direction[i]);
+    if (direction[i] > 0) {
+      travel = std::min(travel, (limit.max[i] - (trailing ? box.min[i] : box.max[i])) / direction[i]);
+    } else if (direction[i] < 0) {
+      travel = std::min(travel, (limit.min[i] - (trailing ? box.max[i] : box.min[i])) / direction[i]);
+    }
   }
   return travel;
 }
@@ -134,8 +129,8 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
   };
   // The farthest a proved stretch may end: D's box clear of S's (or out of
   // the crop's box), within the reach.
-  const double last = std::min(
-      reach, crop ? TravelInside(robot_box, crop->box, direction) : TravelUntilClear(robot_box, static_box, direction));
+  const double last = std::min(reach, crop ? TravelUntilFaceReaches(robot_box, crop->box, direction, false)
+                                           : TravelUntilFaceReaches(robot_box, static_box, direction, true));
   double stretch = last;
   double s = 0;
   for (int step = 0; step < kMaxPullSteps && s <= reach; ++step) {
