@@ -109,7 +109,7 @@ struct BlockingProbe {
   // Neither: the pull used its kMaxPullSteps (sliding in contact, where a
   // conservative step is a tenth of the tolerance) or left the crop's box.
   bool unfinished = false;
-  int steps = 0;     // depth measurements made (the work it cost)
+  int steps = 0;     // depth measurements and proofs of stretches made (the work it cost)
   double depth = 0;  // the rigid penetration that stopped it
   int rigid_shell = -1, static_shell = -1;
   // The scene's part of S that static_shell belongs to ("" where S is one

@@ -107,6 +107,19 @@ TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
   EXPECT_NE(report.summary.find("5 of 6 straight pulls"), std::string::npos) << report.summary;
 }
 
+// A bar 2 x 2 x `length` in a channel as long as it,
+// whose walls it overlaps by 0.03 (within a 0.05 tolerance), a floor 0.3
+// under it; S one part.
+Scene BarInChannel(double length) {
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, length});
+  scene.static_mesh = MakeBox({0.97, -5, 0}, {5, 5, length});
+  scene.static_mesh.Append(MakeBox({-5, -5, 0}, {-0.97, 5, length}));
+  scene.static_mesh.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  return scene;
+}
+
 TEST(WhatBlocks, ALongSlideInContactIsProvedInStretchesNotWalked) {
   // A bar 2 x 2 x 400 in a channel as long as it whose walls it overlaps
   // by 0.03 (within the 0.05 tolerance), a floor 0.3 under it. Pulled up,
@@ -114,13 +127,7 @@ TEST(WhatBlocks, ALongSlideInContactIsProvedInStretchesNotWalked) {
   // 20,000 steps, more than kMaxPullSteps; proved in stretches it comes out
   // in a few dozen measurements. Sideways along the walls (y) it comes out
   // after 6; across them (x) and down it is blocked.
-  Scene scene;
-  scene.units = "mm";
-  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 400});
-  TriangleMesh s = MakeBox({0.97, -5, 0}, {5, 5, 400});
-  s.Append(MakeBox({-5, -5, 0}, {-0.97, 5, 400}));
-  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
-  scene.static_mesh = s;
+  Scene scene = BarInChannel(400);
   const double tolerance = 0.05;
   const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
   ASSERT_EQ(report.probes.size(), 6u);
@@ -157,15 +164,10 @@ TEST(WhatBlocks, APullThatSlidesInContactReachesThePartAboveAndNamesIt) {
   // "channel"), and a cap over the channel 5 above the bar (part "cap").
   // Pulled up, the bar slides in contact for 5, then meets the cap: the
   // pull is blocked there, by the cap, not cut short in the channel.
-  Scene scene;
-  scene.units = "mm";
-  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 40});
-  TriangleMesh s = MakeBox({0.97, -5, 0}, {5, 5, 40});
-  s.Append(MakeBox({-5, -5, 0}, {-0.97, 5, 40}));
-  s.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+  Scene scene = BarInChannel(40);
+  TriangleMesh& s = scene.static_mesh;
   const std::size_t channel_triangles = s.triangles.size();
   s.Append(MakeBox({-5, -5, 45}, {5, 5, 48}));
-  scene.static_mesh = s;
   scene.static_part_names = {"channel", "cap"};
   scene.static_part_entry = {0, 1};
   for (std::size_t t = 0; t < s.triangles.size(); ++t)
