@@ -93,10 +93,10 @@ bool KeepsGuard(const ReplacementGuard* guard, const std::vector<Pose>& path, co
 
 // Step 2: of 64 points evenly spread along the path from waypoint `first`
 // on (by its metric length), the one from which one straight translation
-// leaves S and makes the whole path shortest. Directions: the axes and
-// diagonals, the way to the current end, and the path's own direction
-// there. A candidate is motion-checked only when it would beat the best so
-// far, so blocked directions cost little. Returns the segment the retreat
+// leaves S and makes the whole path shortest. Directions: the way to the
+// current end, the path's own direction there, the axes and diagonals. A
+// candidate is motion-checked only when it would beat the best so far (by
+// more than rounding), so blocked directions cost little. Returns the segment the retreat
 // leaves from (the path then ends with the pose it leaves from, unless that
 // is the segment's start, and the retreat's end), or -1.
 int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
@@ -119,21 +119,27 @@ int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion,
     const double span = cost_to[segment + 1] - cost_to[segment];
     const Pose from =
         span > 0 ? Interpolate(path[segment], path[segment + 1], (at - cost_to[segment]) / span) : path[segment];
-    std::vector<Eigen::Vector3d> directions = AxisDirections();
-    directions.push_back(path.back().t - from.t);
-    directions.push_back(path[segment + 1].t - path[segment].t);
-    // Whether `from` is valid, asked once per point, not once per direction
-    // (each a check; in rigid-exact a surface-depth search).
-    std::optional<bool> from_valid;
+    // The path's own ways first: of retreats equally short (a peg through
+    // a block, out at either end), the first tried is kept, and the
+    // planner's way is the one its user saw.
+    std::vector<Eigen::Vector3d> directions = {path.back().t - from.t, path[segment + 1].t - path[segment].t};
+    for (const Eigen::Vector3d& axis : AxisDirections()) directions.push_back(axis);
+    // Whether `from` is valid, and its slack, measured once per point, not
+    // once per direction (each a check; in rigid-exact a surface-depth
+    // search, and in a part held in bores every sideways retreat is blocked
+    // after one step: half of its cost was measuring `from` again).
+    std::optional<double> from_slack;
     const auto valid_from = [&] {
-      if (!from_valid) from_valid = motion.IsValid(from);
-      return *from_valid;
+      if (!from_slack) from_slack = motion.StartSlack(from);
+      return *from_slack >= 0;
     };
     for (const Eigen::Vector3d& direction : directions) {
       const std::optional<Pose> end = StraightExitPose(problem, from, direction);
       if (!end) continue;
+      // Better by more than rounding: along a straight path, every point's
+      // retreat along the path costs the same, and each is a long motion.
       const double cost = at + problem.metric.Distance(from, *end, 0.5);
-      if (cost < best_cost && valid_from() && motion.MotionValid(from, *end) &&
+      if (cost < best_cost * (1 - 1e-9) && valid_from() && motion.MotionValidFrom(from, *from_slack, *end) &&
           KeepsGuard(guard, path, from, segment, *end)) {
         best_from = from;
         best_end = end;
@@ -206,6 +212,13 @@ void FreezeTailRotation(const PlanningProblem& problem, const MotionChecker& mot
   const bool frozen = FirstFreezeThatWorks([&](double fraction) {
     std::size_t from = 0;
     std::vector<Pose> candidate = WithWaypointAt(problem, path, path.size() - 1, fraction, &from);
+    // A tail that does not turn cannot be shortened by freezing its
+    // rotation (PartialShortcut's cost test); asked first, because the
+    // motion check below is of a stretch of the path, long where the path
+    // is one straight pull (a rod pulled through bores: 16 tries of seconds).
+    const bool turns = std::any_of(candidate.begin() + from + 1, candidate.end(),
+                                   [&](const Pose& pose) { return pose.q.coeffs() != candidate[from].q.coeffs(); });
+    if (!turns) return false;
     if (candidate.size() > path.size() && !motion.MotionValid(candidate[from - 1], candidate[from])) return false;
     if (!PartialShortcut(problem, motion, guard, &candidate, from, candidate.size() - 1, 3, true)) return false;
     frozen_path = std::move(candidate);

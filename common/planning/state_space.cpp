@@ -221,7 +221,7 @@ MotionChecker::MotionChecker(const PlanningProblem& problem, const PoseValidity&
       step_(step),
       deadline_(deadline) {}
 
-double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) const {
+double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, double a_slack) const {
   // Conservative advancement: from a pose with slack d, any motion in which
   // no point of D moves farther than d stays valid; the straight motion
   // moves a point at most MaxDisplacement per unit of s (slerp turns at a
@@ -243,9 +243,13 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid) co
   bool proved = false;                    // `pose` ends a proved stretch (valid; its slack not measured)
   double s = 0, valid = -1.0, slack = 0;  // valid: the last valid pose's s
   Pose pose = a;
-  while (true) {
+  for (bool pose_is_a = true;; pose_is_a = false) {
     if (!proved) {
-      slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
+      if (pose_is_a && !std::isnan(a_slack)) {
+        slack = a_slack;  // measured by the caller (StartSlack)
+      } else {
+        slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
+      }
       if (slack < 0) return valid;
     }
     valid = s;
@@ -355,6 +359,19 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
     intervals.emplace(mid, hi);
   }
   return true;
+}
+
+double MotionChecker::StartSlack(const Pose& a) const {
+  if (!problem_->InBounds(a)) return -1.0;
+  if (slack_) return slack_->MeasureSlack(a);
+  return validity_->IsValid(a) ? 0.0 : -1.0;
+}
+
+bool MotionChecker::MotionValidFrom(const Pose& a, double start_slack, const Pose& b) const {
+  if (!slack_) return MotionValid(a, b);                                // the walk without slack does not check a
+  const double length = MaxDisplacement(a, b, problem_->robot_radius);  // of D's farthest point
+  if (length > step_ && !IsValid(Interpolate(a, b, step_ / length))) return false;  // see the header
+  return Advance(a, b, nullptr, start_slack) >= 1.0;
 }
 
 double MotionChecker::ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const {

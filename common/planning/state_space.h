@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -151,6 +152,23 @@ class MotionChecker {
   std::int64_t Steps(const Pose& a, const Pose& b) const;
   // Whole motion valid (a is assumed valid and not re-checked; b is checked).
   bool MotionValid(const Pose& a, const Pose& b) const;
+  // For several motions from one pose (the smoother's straight retreats try
+  // up to 28 directions from each point): whether `a` is valid, measured
+  // once; with a validity that measures slack, that slack, which
+  // MotionValidFrom then reuses instead of measuring it again for each
+  // motion (in rigid-exact, a blocked retreat is two depth searches, one
+  // of them at `a`). Negative: `a` is invalid or out of bounds.
+  double StartSlack(const Pose& a) const;
+  // MotionValid(a, b) with `a`'s StartSlack (>= 0) known. With slack, the
+  // pose one step (step()) along is checked first: a retreat that runs
+  // into S from a contact is blocked there, at a depth the check decides
+  // at once, where the walk's first step (MinStep, a pose just beyond the
+  // tolerance) is the slowest pose to decide (as1's rod in its bores: 29 s
+  // -> 7 s of retreats). A motion through an invalid pose is blocked, so
+  // this answers as MotionValid does, except that a motion the walk would
+  // pass by stepping over such a pose (a step of MinStep allows the
+  // tolerance plus MinStep, collision/rigid_depth.h) is blocked too.
+  bool MotionValidFrom(const Pose& a, double start_slack, const Pose& b) const;
   // Walks from a towards b and returns the fraction in [0, 1] of the last
   // valid checked pose (0 = no progress), and that pose in *last_valid.
   double ValidPrefix(const Pose& a, const Pose& b, Pose* last_valid) const;
@@ -169,7 +187,9 @@ class MotionChecker {
   // With a SlackValidity: walks from a towards b by conservative
   // advancement; returns how far it got in [0, 1] (1 when every pose was
   // valid, -1 when a is invalid) and the last valid pose.
-  double Advance(const Pose& a, const Pose& b, Pose* last_valid) const;
+  // `a_slack`: a's slack where already measured (StartSlack), else NaN.
+  double Advance(const Pose& a, const Pose& b, Pose* last_valid,
+                 double a_slack = std::numeric_limits<double>::quiet_NaN()) const;
   // Past the deadline, or cancelled.
   bool OutOfTime() const;
 

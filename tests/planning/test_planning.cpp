@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "collision/fcl_checker.h"
+#include "collision/rigid_depth.h"
 #include "core/atomic_file.h"
 #include "core/cancel.h"
 #include "core/error.h"
@@ -498,6 +499,109 @@ TEST(Smoother, TheTimeLimitIsOnlyASafetyNetAndSaysWhenItFires) {
   EXPECT_TRUE(cut.cut_short);
   EXPECT_TRUE(cut.path.front().t.isApprox(plan.path.front().t));
   ExpectValidPath(f, cut.path);
+}
+
+// A bar 2 x 2 x 40 in a channel whose walls it overlaps by 0.02 (with
+// `bore`, a square bore: walls on all four sides), a floor 0.3 under it,
+// checked as rigid-exact smooths (collision/rigid_depth.h: half the
+// tolerance 0.05, new contacts collide). In contact, every retreat into a
+// wall is blocked after one step.
+struct BarInChannel {
+  static Scene Make(bool bore) {
+    Scene scene;
+    scene.units = "mm";
+    scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 40});
+    scene.static_mesh = MakeBox({0.98, -5, 0}, {5, 5, 40});
+    scene.static_mesh.Append(MakeBox({-5, -5, 0}, {-0.98, 5, 40}));
+    if (bore) {
+      scene.static_mesh.Append(MakeBox({-0.98, 0.98, 0}, {0.98, 5, 40}));
+      scene.static_mesh.Append(MakeBox({-0.98, -5, 0}, {0.98, -0.98, 40}));
+    }
+    scene.static_mesh.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
+    return scene;
+  }
+  explicit BarInChannel(bool bore = false) : scene(Make(bore)) {}
+  Scene scene;
+  PlanningProblem problem = MakePlanningProblem(scene);
+  RigidDepthChecker checker{ClassifyParts(problem.robot, problem.environment, problem.start, 0.05), 0.025, 0.0125,
+                            NewContacts::kCollide};
+};
+
+// Motions from one pose that share its measured slack give MotionValid's
+// answers; one into a wall it touches is decided by one check (the pose
+// one step along, 0.1 into the wall), where MotionValid measures the start
+// again and then the pose at its first step (MinStep along).
+TEST(MotionChecker, MotionsFromOnePoseShareItsSlackAndGiveTheSameAnswers) {
+  const BarInChannel f;
+  const MotionChecker motion(f.problem, f.checker, 0.0025 * f.problem.robot_diagonal);
+  const Pose& from = f.problem.start;
+  const std::int64_t before_slack = f.checker.checks();
+  const double slack = motion.StartSlack(from);
+  ASSERT_GE(slack, 0);
+  EXPECT_EQ(f.checker.checks(), before_slack + 1);
+  int valid = 0, into_walls = 0;
+  for (int x = -1; x <= 1; ++x) {
+    for (int y = -1; y <= 1; ++y) {
+      for (int z = -1; z <= 1; ++z) {
+        if (x == 0 && y == 0 && z == 0) continue;
+        Pose to = from;
+        to.t += 10 * Eigen::Vector3d(x, y, z).normalized();
+        std::int64_t checks = f.checker.checks();
+        const bool answer = motion.MotionValidFrom(from, slack, to);
+        const std::int64_t shared = f.checker.checks() - checks;
+        checks = f.checker.checks();
+        EXPECT_EQ(answer, motion.MotionValid(from, to)) << x << " " << y << " " << z;
+        const std::int64_t alone = f.checker.checks() - checks;
+        valid += answer;
+        // Out along the walls (y) or up; into a wall or the floor: blocked.
+        EXPECT_EQ(answer, x == 0 && z >= 0) << x << " " << y << " " << z;
+        if (x != 0) {
+          ++into_walls;
+          EXPECT_EQ(shared, 1) << x << " " << y << " " << z;
+          EXPECT_EQ(alone, 2) << x << " " << y << " " << z;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(valid, 5);
+  EXPECT_EQ(into_walls, 18);
+}
+
+// A bar pulled straight up out of a channel (60): the channel is open
+// along y, so the smoother's retreat leaves that way instead, a straight
+// translation without turning. Out of a bore it can only go up: the path
+// stays a straight pull, its end no farther, and the retreats the smoother
+// tries (64 points along the path, 28 directions each) are blocked within
+// the bore at one check each. Neither is cut short (their work is counted).
+TEST(Smoother, AStraightPullInContactStaysAStraightTranslation) {
+  const auto straight_pull = [](const BarInChannel& f) {
+    Pose out = f.problem.start;
+    out.t.z() += 60;
+    EXPECT_TRUE(f.problem.InGoalRegion(out));
+    EXPECT_TRUE(
+        MotionChecker(f.problem, f.checker, 0.0025 * f.problem.robot_diagonal).MotionValid(f.problem.start, out));
+    const SmoothResult result = SmoothPath(f.problem, f.checker, {f.problem.start, out}, SmoothOptions{});
+    EXPECT_FALSE(result.cut_short);
+    EXPECT_EQ(result.after.rotation, 0.0);
+    EXPECT_TRUE(f.problem.InGoalRegion(result.path.back()));
+    return result;
+  };
+  const BarInChannel channel;
+  const SmoothResult sideways = straight_pull(channel);
+  ASSERT_EQ(sideways.path.size(), 2u);
+  const Eigen::Vector3d move = sideways.path[1].t - sideways.path[0].t;
+  EXPECT_LT(std::abs(move.x()) + std::abs(move.z()), 1e-9) << move.transpose();
+  EXPECT_LT(std::abs(move.y()), 10.0);  // out of S's box (+-5) along y, against 60 up
+
+  const BarInChannel bore(true);
+  const std::int64_t before = bore.checker.checks();
+  const SmoothResult up = straight_pull(bore);
+  const std::int64_t checks = bore.checker.checks() - before;
+  for (const Pose& pose : up.path) EXPECT_LT((pose.t - bore.problem.start.t).head<2>().norm(), 1e-9);
+  EXPECT_LE(up.after.translation, 60.0);
+  // 891: about one per retreat tried; 1,703 when each measured its start
+  // again and then the pose at its first step (MinStep along).
+  EXPECT_LT(checks, 1000) << checks;
 }
 
 TEST(Smoother, WithWaypointAtInsertsAPoseInsideASegmentOnly) {
