@@ -442,7 +442,8 @@ std::string BuildReportHtml(const ReportOptions& options, const ReportAssets& as
   const PartNamer namer(scene, parts);
   if (!paths.empty()) {
     const PoseMeter meter(problem, parts, tolerance);
-    for (PathEntry& e : paths) MeasurePath(&e, meter, options.clearance_samples);
+    for (PathEntry& e : paths)
+      MeasurePath(&e, meter, options.clearance_samples, ShowProgress("measuring the " + e.key + " path"));
   }
   const PathEntry* shown = nullptr;
   for (const PathEntry& e : paths) {

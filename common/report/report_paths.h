@@ -11,6 +11,7 @@
 
 #include "collision/fcl_checker.h"
 #include "collision/rigid_depth.h"
+#include "core/log.h"
 #include "geometry/mesh.h"
 #include "planning/path_io.h"
 #include "planning/state_space.h"
@@ -70,8 +71,10 @@ class PoseMeter {
 };
 
 // Measures at every waypoint and at `samples` + 1 poses evenly spread over
-// the animation time.
-void MeasurePath(PathEntry* entry, const PoseMeter& meter, int samples);
+// the animation time, on every core (each pose is measured alone, so the
+// numbers do not depend on how many); `progress` (may be empty) gets the
+// poses measured so far and their number.
+void MeasurePath(PathEntry* entry, const PoseMeter& meter, int samples, const ProgressCallback& progress = {});
 
 // The path's CSV for the download: the CSV file next to the artifact
 // (<stem>.csv, or `also` where given) when it holds the same waypoints,
