@@ -135,7 +135,9 @@ struct BlockingReport {
 // `parts`: D's solids as ClassifySceneParts(scene, tolerance, unmeasured)
 // gives them, when the caller has them already (null: classified here).
 // `until_out`: stop at the first pull that gets D out (the caller asks only
-// whether one does; the pulls not made are not in `probes`).
+// whether one does; the pulls not made are not in `probes`), and a pull
+// that is too deep one largest step along is blocked at once (its
+// free_distance 0, not measured).
 BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance,
                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
                                std::shared_ptr<const PartModel> parts = nullptr, bool until_out = false);

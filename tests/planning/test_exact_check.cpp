@@ -188,5 +188,38 @@ TEST(WhatBlocks, APullThatSlidesInContactReachesThePartAboveAndNamesIt) {
   EXPECT_NE(report.summary.find("of S, part cap"), std::string::npos) << report.summary;
 }
 
+// Asked only whether D gets out (what-blocks with a part of S taken away),
+// a pull that is too deep one largest step along (5% of D's diagonal) is
+// blocked at one depth search; the others are walked as in the report, and
+// every pull made gives the report's answer.
+TEST(WhatBlocks, AskedOnlyWhetherDGetsOutAPullIntoAWallIsBlockedAtOnce) {
+  Scene scene = BarInChannel(40);
+  scene.static_mesh.Append(MakeBox({-5, -5, 45}, {5, 5, 48}));  // a cap 5 above the bar
+  const double tolerance = 0.05;
+  const BlockingReport full = ProbeWhatBlocks(scene, tolerance);
+  const BlockingReport quick = ProbeWhatBlocks(scene, tolerance, UnmeasuredInterference::kRigid, nullptr, true);
+  ASSERT_EQ(full.probes.size(), 6u);
+  ASSERT_FALSE(quick.probes.empty());
+  EXPECT_TRUE(quick.probes.back().separated);  // along the walls (y)
+  int at_once = 0;
+  for (std::size_t i = 0; i < quick.probes.size(); ++i) {
+    const BlockingProbe& q = quick.probes[i];
+    const BlockingProbe& f = full.probes[i];
+    EXPECT_EQ(q.separated, f.separated) << i;
+    if (q.separated) continue;
+    if (q.direction.z() > 0.99) {  // up: free for 5 (more than a step), then the cap
+      EXPECT_NEAR(q.free_distance, 5 + tolerance, tolerance);
+      continue;
+    }
+    // Down onto the floor (0.3 under) or into a wall the bar overlaps.
+    EXPECT_EQ(q.steps, 1) << q.direction.transpose();
+    EXPECT_EQ(q.free_distance, 0.0);
+    EXPECT_GT(q.depth, tolerance);
+    EXPECT_GT(f.steps, 5) << f.direction.transpose();
+    ++at_once;
+  }
+  EXPECT_GE(at_once, 1);
+}
+
 }  // namespace
 }  // namespace ausbau
