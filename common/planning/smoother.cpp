@@ -96,9 +96,10 @@ bool KeepsGuard(const ReplacementGuard* guard, const std::vector<Pose>& path, co
 // leaves S and makes the whole path shortest. Directions: the way to the
 // current end, the path's own direction there, the axes and diagonals. A
 // candidate is motion-checked only when it would beat the best so far (by
-// more than rounding), so blocked directions cost little. Returns the segment the retreat
-// leaves from (the path then ends with the pose it leaves from, unless that
-// is the segment's start, and the retreat's end), or -1.
+// more than rounding), so blocked directions cost little. Returns the
+// segment the retreat leaves from (the path then ends with the pose it
+// leaves from, unless that is the segment's start, and the retreat's end),
+// or -1.
 int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion, const ReplacementGuard* guard,
                     std::size_t first, std::vector<Pose>* path_in) {
   std::vector<Pose>& path = *path_in;
