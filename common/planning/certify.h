@@ -9,7 +9,10 @@
 // the fine step, half of its samples near the segment:
 // PlanningProblem::sampling_guide) and spliced in. Rare at the thesis's
 // step of 1% (a few segments a path at 4%); without it a grazing path can
-// fail a later dense check.
+// fail a later dense check. A validity that measures slack
+// (collision/validity.h SlackValidity: rigid-exact) is walked by
+// conservative advancement, whose poses do not depend on the step: its
+// paths are certified as planned.
 #pragma once
 
 #include <chrono>

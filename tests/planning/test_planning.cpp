@@ -604,6 +604,24 @@ TEST(Smoother, AStraightPullInContactStaysAStraightTranslation) {
   EXPECT_LT(checks, 1000) << checks;
 }
 
+// Under a validity that measures slack (rigid-exact), a motion is walked
+// by conservative advancement whatever the step: certification takes the
+// path as planned and checks nothing again (a fine re-check walked the same
+// poses and, on a long slide in contact, ran into the time limit).
+TEST(Certify, APathUnderASlackValidityIsCertifiedAsPlannedWithoutCheckingAgain) {
+  const BarInChannel f(true);
+  Pose out = f.problem.start;
+  out.t.z() += 60;
+  std::vector<Pose> path = {f.problem.start, out};
+  const std::int64_t before = f.checker.checks();
+  const CertifyReport report = CertifyPath(f.problem, f.checker, 1e-4, PlannerOptions{}, &path);
+  EXPECT_TRUE(report.certified);
+  EXPECT_EQ(report.repaired_segments, 0);
+  ASSERT_EQ(path.size(), 2u);
+  EXPECT_EQ(path[1].t, out.t);
+  EXPECT_EQ(f.checker.checks(), before);
+}
+
 TEST(Smoother, WithWaypointAtInsertsAPoseInsideASegmentOnly) {
   // Three waypoints 10 apart along x, no turning: with the metric's nu = 1
   // and u = 1/2 each segment has length 5, the path up to waypoint 2 has 10.
