@@ -11,6 +11,7 @@
 #include "geometry/primitives.h"
 #include "planning/exact_check.h"
 #include "scene/scene.h"
+#include "test_bar_in_channel.h"
 #include "test_key_scene.h"
 #include "test_poses.h"
 
@@ -107,18 +108,9 @@ TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
   EXPECT_NE(report.summary.find("5 of 6 straight pulls"), std::string::npos) << report.summary;
 }
 
-// A bar 2 x 2 x `length` in a channel as long as it,
-// whose walls it overlaps by 0.03 (within a 0.05 tolerance), a floor 0.3
-// under it; S one part.
-Scene BarInChannel(double length) {
-  Scene scene;
-  scene.units = "mm";
-  scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, length});
-  scene.static_mesh = MakeBox({0.97, -5, 0}, {5, 5, length});
-  scene.static_mesh.Append(MakeBox({-5, -5, 0}, {-0.97, 5, length}));
-  scene.static_mesh.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
-  return scene;
-}
+// A bar 2 x 2 x `length` in its channel, overlapping the walls by 0.03
+// (within a 0.05 tolerance; test_bar_in_channel.h).
+Scene BarInChannel(double length) { return testing::BarInChannelScene(length, 0.03); }
 
 TEST(WhatBlocks, ALongSlideInContactIsProvedInStretchesNotWalked) {
   // A bar 2 x 2 x 400 in a channel as long as it whose walls it overlaps

@@ -22,6 +22,7 @@
 #include "planning/smoother.h"
 #include "scene/mesh_io.h"
 #include "scene/scene.h"
+#include "test_bar_in_channel.h"
 #include "test_scenes.h"
 
 namespace ausbau {
@@ -506,21 +507,10 @@ TEST(Smoother, TheTimeLimitIsOnlyASafetyNetAndSaysWhenItFires) {
 // checked as rigid-exact smooths (collision/rigid_depth.h: half the
 // tolerance 0.05, new contacts collide). In contact, every retreat into a
 // wall is blocked after one step.
+// (test_bar_in_channel.h; the exact-check tests' 0.03 would exceed the
+// smoother's limit at the start.)
 struct BarInChannel {
-  static Scene Make(bool bore) {
-    Scene scene;
-    scene.units = "mm";
-    scene.dynamic_mesh = MakeBox({-1, -1, 0}, {1, 1, 40});
-    scene.static_mesh = MakeBox({0.98, -5, 0}, {5, 5, 40});
-    scene.static_mesh.Append(MakeBox({-5, -5, 0}, {-0.98, 5, 40}));
-    if (bore) {
-      scene.static_mesh.Append(MakeBox({-0.98, 0.98, 0}, {0.98, 5, 40}));
-      scene.static_mesh.Append(MakeBox({-0.98, -5, 0}, {0.98, -0.98, 40}));
-    }
-    scene.static_mesh.Append(MakeBox({-5, -5, -3}, {5, 5, -0.3}));
-    return scene;
-  }
-  explicit BarInChannel(bool bore = false) : scene(Make(bore)) {}
+  explicit BarInChannel(bool bore = false) : scene(testing::BarInChannelScene(40, 0.02, bore)) {}
   Scene scene;
   PlanningProblem problem = MakePlanningProblem(scene);
   RigidDepthChecker checker{ClassifyParts(problem.robot, problem.environment, problem.start, 0.05), 0.025, 0.0125,
