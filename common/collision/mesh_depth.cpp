@@ -311,6 +311,7 @@ DepthSurface::DepthSurface(const Shell& shell)
   for (const auto& tri : triangles_)
     signed_volume += (vertices_[tri[0]] - c).dot((vertices_[tri[1]] - c).cross(vertices_[tri[2]] - c));
   const double outward = signed_volume < 0 ? -1.0 : 1.0;
+  outward_ = outward;
   convex_ = shell.convex;
   face_normal_.resize(n);
   vertex_normal_.assign(vertices_.size(), Eigen::Vector3d::Zero());
@@ -657,13 +658,14 @@ Eigen::Vector3d DepthSurface::NormalAtNearest(const Eigen::Vector3d& p, const Tr
 }
 
 double DepthSurface::ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest,
-                                   double shift, double gap) const {
+                                   double shift, double gap, const Eigen::Vector3d& into_own_shell) const {
   constexpr double kNone = std::numeric_limits<double>::infinity();
   if (!oriented_ || !solid_ || nearest.triangle < 0 || !(shift > gap)) return kNone;
   const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
-  const Eigen::Vector3d directions[2] = {face_normal_[nearest.triangle], NormalAtNearest(centre, nearest)};
-  for (int k = 0; k < 2; ++k) {
-    if (k == 1 && directions[1].isApprox(directions[0])) break;
+  const Eigen::Vector3d directions[3] = {into_own_shell, face_normal_[nearest.triangle],
+                                         NormalAtNearest(centre, nearest)};
+  for (int k = 0; k < 3; ++k) {
+    if (k == 2 && directions[2].isApprox(directions[1])) break;
     const double length = directions[k].norm();
     if (!(length > 0)) continue;
     const Eigen::Vector3d move = (shift / length) * directions[k];
@@ -706,6 +708,7 @@ class SurfaceDepthSearch {
                     const DepthMask* target_mask = nullptr, const Eigen::Vector3d& sweep = Eigen::Vector3d::Zero()) {
     target_[k] = &b;
     mask_[k] = target_mask;
+    source_outward_[k] = a.oriented_ && a.solid_ ? a.outward_ : 0.0;
     to_world_[k] = b_to_world;
     const Eigen::Isometry3d b_to_a = a_to_b.inverse();
     // b's box in a's coordinates, at both ends of the sweep.
@@ -760,6 +763,20 @@ class SurfaceDepthSearch {
   };
   static bool ByPriority(const Node& x, const Node& y) { return x.priority < y.priority; }
 
+  // The unit direction into the shell a sub-triangle belongs to (against
+  // its outward normal); zero where that shell is not closed and oriented.
+  // Where two surfaces are in contact, a piece of one moved that way leaves
+  // the other, whatever the other's nearest feature to its centre (a long
+  // facet of a pin through its bore: the nearest feature to its middle is
+  // a rim or a face of the bore's part, whose normal does not free it).
+  Eigen::Vector3d IntoOwnShell(const Node& node) const {
+    const double sign = source_outward_[node.direction];
+    const Eigen::Vector3d cross = (node.t[1] - node.t[0]).cross(node.t[2] - node.t[0]);
+    const double norm = cross.norm();
+    if (sign == 0 || !(norm > 0)) return Eigen::Vector3d::Zero();
+    return (-sign / norm) * cross;
+  }
+
   void Push(Node node) {
     heap_.push_back(std::move(node));
     std::push_heap(heap_.begin(), heap_.end(), ByPriority);
@@ -803,7 +820,7 @@ class SurfaceDepthSearch {
       if (result_.lower > options_.decide) return false;
     }
     const bool measuring_region = std::isfinite(options_.region_depth);
-    const double upper = TriangleUpper(b, t, nearest, inside, d, radius, measuring_region, 0.0);
+    const double upper = TriangleUpper(b, t, nearest, inside, d, radius, measuring_region, 0.0, IntoOwnShell(node));
     if (Settled(upper) || radius < floor_ || ++made_ > max_sub_triangles_) {
       result_.upper = std::max(result_.upper, upper);
       if (deep) {
@@ -864,7 +881,8 @@ class SurfaceDepthSearch {
   // whole; a region's area (a fit's layer) is measured with the patch bound
   // alone, as before they were added.
   double TriangleUpper(const DepthSurface& b, const Corners& t, const TriangleBvh::Nearest& nearest, bool inside,
-                       double d, double radius, bool measuring_region, double offset) const {
+                       double d, double radius, bool measuring_region, double offset,
+                       const Eigen::Vector3d& into_own_shell) const {
     double upper = inside ? d + radius : radius;
     upper = std::min(upper, FaceBound(b, t, nearest.triangle, !measuring_region));
     // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
@@ -874,7 +892,7 @@ class SurfaceDepthSearch {
     if (!measuring_region && !Settled(upper + offset))
       upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
     if (!measuring_region && !Settled(upper + offset))
-      upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_));
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_, into_own_shell));
     // A yes/no question (a validity check) settles a sub-triangle that moved
     // off b by as much as the depth allowed lies wholly outside: no point of
     // it is deeper (a fit or a tessellation overlap: each polygon's corners
@@ -883,7 +901,7 @@ class SurfaceDepthSearch {
     // faces cross: dm1's bolt in its bore, 0.2 s a check before).
     const double allowed = options_.decide - offset;
     if (!measuring_region && !Settled(upper + offset) && std::isfinite(allowed) && allowed > shift_)
-      upper = std::min(upper, b.ShiftOffBound(t, nearest, allowed, floor_));
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, allowed, floor_, into_own_shell));
     return upper;
   }
 
@@ -908,13 +926,15 @@ class SurfaceDepthSearch {
   // wholly outside b, so every point of it is within `shift` of a point
   // outside. Infinite where neither normal frees it.
   double PrismShiftOffBound(const DepthSurface& b, const Corners& t, const Eigen::Vector3d& w,
-                            const TriangleBvh::Nearest& nearest, double shift) const {
+                            const TriangleBvh::Nearest& nearest, double shift,
+                            const Eigen::Vector3d& into_own_shell) const {
     constexpr double kNone = std::numeric_limits<double>::infinity();
     if (!b.oriented_ || !b.solid_ || nearest.triangle < 0 || !(shift > floor_)) return kNone;
     const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0 + 0.5 * w;
-    const Eigen::Vector3d directions[2] = {b.face_normal_[nearest.triangle], b.NormalAtNearest(centre, nearest)};
-    for (int k = 0; k < 2; ++k) {
-      if (k == 1 && directions[1].isApprox(directions[0])) break;
+    const Eigen::Vector3d directions[3] = {into_own_shell, b.face_normal_[nearest.triangle],
+                                           b.NormalAtNearest(centre, nearest)};
+    for (int k = 0; k < 3; ++k) {
+      if (k == 2 && directions[2].isApprox(directions[1])) break;
       const double length = directions[k].norm();
       if (!(length > 0)) continue;
       const Eigen::Vector3d move = (shift / length) * directions[k];
@@ -1045,7 +1065,7 @@ class SurfaceDepthSearch {
     // Bounds of the prism itself.
     double upper = inside ? d + radius : radius;
     upper = std::min(upper, FaceBound(b, corners, nearest.triangle, true));
-    if (!Settled(upper)) upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, shift_));
+    if (!Settled(upper)) upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, shift_, IntoOwnShell(node)));
     // A yes/no question settles a prism that moved off b by as much as the
     // depth allowed lies wholly outside: no point of it is deeper (a part
     // drawn along a fit or a tessellation overlap: each polygon's corners
@@ -1053,7 +1073,7 @@ class SurfaceDepthSearch {
     // and this settles them whole, where every other bound refines along
     // each line where the faces cross).
     if (!Settled(upper) && std::isfinite(options_.decide))
-      upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, options_.decide));
+      upper = std::min(upper, PrismShiftOffBound(b, t, w, nearest, options_.decide, IntoOwnShell(node)));
     if (!Settled(upper)) upper = std::min(upper, PrismStraddleBound(b, t, w, nearest));
     // And of the triangle half way, t + w / 2, whose centre is m: every
     // point of the prism is within |w| / 2 of one of it, and the depth is
@@ -1064,9 +1084,10 @@ class SurfaceDepthSearch {
       const Corners middle = {t[0] + 0.5 * w, t[1] + 0.5 * w, t[2] + 0.5 * w};
       double middle_radius = 0;
       for (const auto& c : middle) middle_radius = std::max(middle_radius, (c - m).norm());
-      const double middle_upper = !inside && (d >= middle_radius || !b.MayMeet(middle, floor_))
-                                      ? 0.0
-                                      : TriangleUpper(b, middle, nearest, inside, d, middle_radius, false, half);
+      const double middle_upper =
+          !inside && (d >= middle_radius || !b.MayMeet(middle, floor_))
+              ? 0.0
+              : TriangleUpper(b, middle, nearest, inside, d, middle_radius, false, half, IntoOwnShell(node));
       upper = std::min(upper, middle_upper + half);
     }
     if (Settled(upper) || radius < floor_ || ++made_ > max_sub_triangles_) {
@@ -1099,6 +1120,11 @@ class SurfaceDepthSearch {
   double shift_;
   const DepthSurface* target_[2] = {nullptr, nullptr};
   const DepthMask* mask_[2] = {nullptr, nullptr};
+  // Per direction: the sign that turns a sub-triangle's corner order into
+  // its own shell's outward normal (the corners keep the order of the
+  // shell's triangles: bisection and the rigid move to b keep it); 0 where
+  // the shell is not closed and oriented.
+  double source_outward_[2] = {0, 0};
   Eigen::Isometry3d to_world_[2];
   std::vector<Node> heap_;
   SurfaceDepth result_;

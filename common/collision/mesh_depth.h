@@ -122,8 +122,10 @@ class DepthSurface {
   // move frees t. Surfaces in contact (a pin's facets lying on its bore's,
   // the same polygon from one tessellator) are settled whole, instead of
   // being refined along every edge where a facet meets the bore's rim.
+  // `into_own_shell` (zero: none): a unit direction tried first, into the
+  // shell t belongs to; the argument holds for any direction of the move.
   double ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest, double shift,
-                       double gap) const;
+                       double gap, const Eigen::Vector3d& into_own_shell = Eigen::Vector3d::Zero()) const;
 
   // A convex planar patch (see below).
   struct Patch {
@@ -145,6 +147,9 @@ class DepthSurface {
   bool oriented_ = false;
   bool solid_ = true;
   bool convex_ = false;  // a convex shell (oriented): every face plane supports it
+  // +1 where the triangles' corner order gives the outward normal, -1 where
+  // it gives the inward one (oriented shells; 0 otherwise).
+  double outward_ = 0;
   // Its face planes (outward normal, offset), at most kMaxConvexPlanes
   // (none beyond: the patch bound alone).
   static constexpr int kMaxConvexPlanes = 64;

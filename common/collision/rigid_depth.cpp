@@ -122,6 +122,8 @@ struct PairMeasure {
   };
   std::vector<std::shared_ptr<const RestSurface>> rigid_rest;
   std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
+  // Per convex shell: the face normals SlabGap bounds along (SlabAxes).
+  std::vector<std::vector<int>> robot_slab_axes, static_slab_axes;
   double resolution = 0;  // of the surface depth
   // Per robot shell, the boxes of its moulded fasteners (PartModel::masks);
   // null: none anywhere.
@@ -155,15 +157,16 @@ struct PairMeasure {
 
   // A lower bound on the distance of a pair where one shell is convex and
   // the other a solid that is not, without FCL: each face direction of the
-  // convex shell bounds it by a slab, and a triangle outside a slab is at
-  // least that far from it (the separating-axis bound along the convex
-  // shell's face normals, per triangle of the other). Only the triangles
-  // whose box meets the box about the convex shell's bounding sphere grown
-  // by `reach` are looked at; the others are at least `reach` away. 0 (no
-  // bound) where a near triangle meets every slab, where the convex shell
-  // may lie inside the other (its first corner is inside), and for any
-  // other kind of pair; else min(reach, the bound) > 0, and the two solids
-  // are that far apart at least. Cheap where they are near but apart (a
+  // convex shell (at most kMaxSlabAxes of them, SlabAxes) bounds it by a
+  // slab, and a triangle outside a slab is at least that far from it (the
+  // separating-axis bound along the convex shell's face normals, per
+  // triangle of the other). Only the triangles whose box meets the box
+  // about the convex shell's bounding sphere grown by `reach` are looked
+  // at; the others are at least `reach` away. 0 (no bound) where a near
+  // triangle meets every slab, where the convex shell may lie inside the
+  // other (its first corner is inside), and for any other kind of pair;
+  // else min(reach, the bound) > 0, and the two solids are that far apart
+  // at least. Cheap where they are near but apart (a
   // moulded panel over S's boxes, a T-key in its channel), which is most of
   // what a planner asks; where it says nothing, Meet and FCL decide.
   //
@@ -184,7 +187,7 @@ struct PairMeasure {
     // The other shell's frame from the convex one's.
     const Eigen::Isometry3d other_from_convex = a.convex ? pose : pose.inverse();
     const Eigen::Isometry3d convex_from_other = other_from_convex.inverse();
-    const int n = static_cast<int>(convex.face_normals.size());
+    const std::vector<int>& axes = a.convex ? robot_slab_axes[r] : static_slab_axes[s];
     const std::vector<double>& lo = convex.face_low;
     const std::vector<double>& hi = convex.face_high;
     const Eigen::Vector3d centre = other_from_convex * convex.center;
@@ -196,7 +199,7 @@ struct PairMeasure {
       const Eigen::Vector3d p[3] = {convex_from_other * vertices[tri[0]], convex_from_other * vertices[tri[1]],
                                     convex_from_other * vertices[tri[2]]};
       double outside = -std::numeric_limits<double>::infinity();
-      for (int k = 0; k < n; ++k) {
+      for (const int k : axes) {
         const Eigen::Vector3d& normal = convex.face_normals[k];
         const double d0 = normal.dot(p[0]), d1 = normal.dot(p[1]), d2 = normal.dot(p[2]);
         const double min = std::min({d0, d1, d2}), max = std::max({d0, d1, d2});
@@ -362,6 +365,34 @@ struct RigidDepthChecker::Impl {
 
 namespace {
 
+// The face normals of a convex shell that SlabGap bounds along: all of
+// them when few (a box: 3), else kMaxSlabAxes spread over them (farthest
+// first, from the first). Each slab bounds the distance on its own, so any
+// subset gives a lower bound; spread ones lose little (24 about a cylinder:
+// a bound within 0.2% of all of them). A cylinder's hundreds of facets
+// (as1's rod at a fine tessellation: 151 axes) made the bound cost 151 dot
+// products per triangle of the other shell, most of the time of a check.
+constexpr int kMaxSlabAxes = 24;
+std::vector<int> SlabAxes(const Shell& shell) {
+  const int n = static_cast<int>(shell.face_normals.size());
+  std::vector<int> axes;
+  if (!shell.convex) return axes;
+  if (n <= kMaxSlabAxes) {
+    axes.resize(n);
+    std::iota(axes.begin(), axes.end(), 0);
+    return axes;
+  }
+  // closest[k]: how near normal k is to a chosen one (|cos|, up to sign).
+  std::vector<double> closest(n, -1.0);
+  for (int next = 0; static_cast<int>(axes.size()) < kMaxSlabAxes;) {
+    axes.push_back(next);
+    for (int k = 0; k < n; ++k)
+      closest[k] = std::max(closest[k], std::abs(shell.face_normals[k].dot(shell.face_normals[next])));
+    next = static_cast<int>(std::min_element(closest.begin(), closest.end()) - closest.begin());
+  }
+  return axes;
+}
+
 // FCL models for every shell that is part of a non-convex pair: built for
 // all shells of both sides as soon as either side has a non-convex shell.
 void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
@@ -372,10 +403,12 @@ void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
   for (const auto& s : parts.robot_shells) {
     measure->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
     measure->robot_surface.push_back(std::make_shared<DepthSurface>(s));
+    measure->robot_slab_axes.push_back(SlabAxes(s));
   }
   for (const auto& s : parts.static_shells) {
     measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
     measure->static_surface.push_back(std::make_shared<DepthSurface>(s));
+    measure->static_slab_axes.push_back(SlabAxes(s));
   }
   // The rigid rest of each shell with moulded fasteners (PairMeasure::rigid_bvh).
   measure->rigid_bvh.assign(parts.robot_shells.size(), nullptr);

@@ -88,6 +88,12 @@ ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMes
 
 bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
   if (!(clearance_ > 0)) return true;
+  // The replaced part's walk starts at its first pose. Where D touches S
+  // there (a path out of an installed pose in contact), the part comes
+  // within 0 of S and every replacement is accepted: one query instead of
+  // walking the replacement (as1's rod at a fine tessellation: 384 distance
+  // queries in contact along its 192 mm pull, 21 s, for each retreat).
+  if (!replaced.empty() && meter_.At(replaced.front(), false).clearance <= 0) return true;
   const double kNoStop = -std::numeric_limits<double>::infinity();
   const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;
   if (added >= clearance_) return true;
