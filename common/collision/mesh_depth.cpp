@@ -658,22 +658,35 @@ Eigen::Vector3d DepthSurface::NormalAtNearest(const Eigen::Vector3d& p, const Tr
 }
 
 double DepthSurface::ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest,
-                                   double shift, double gap, const Eigen::Vector3d& into_own_shell) const {
+                                   double shift, double gap, const Eigen::Vector3d& into_own_shell,
+                                   bool corner_directions) const {
   constexpr double kNone = std::numeric_limits<double>::infinity();
   if (!oriented_ || !solid_ || nearest.triangle < 0 || !(shift > gap)) return kNone;
   const Eigen::Vector3d centre = (t[0] + t[1] + t[2]) / 3.0;
-  const Eigen::Vector3d directions[3] = {into_own_shell, face_normal_[nearest.triangle],
-                                         NormalAtNearest(centre, nearest)};
-  for (int k = 0; k < 3; ++k) {
-    if (k == 2 && directions[2].isApprox(directions[1])) break;
-    const double length = directions[k].norm();
-    if (!(length > 0)) continue;
-    const Eigen::Vector3d move = (shift / length) * directions[k];
+  // A centre deeper than the move stays inside whichever way it moves.
+  if (nearest.distance_squared > shift * shift && Inside(centre, nearest)) return kNone;
+  const auto frees = [&](const Eigen::Vector3d& direction) {
+    const double length = direction.norm();
+    if (!(length > 0)) return false;
+    const Eigen::Vector3d move = (shift / length) * direction;
     const std::array<Eigen::Vector3d, 3> moved = {t[0] + move, t[1] + move, t[2] + move};
     const Eigen::Vector3d moved_centre = centre + move;
-    if (Inside(moved_centre, bvh_.NearestPoint(moved_centre, nearest.triangle))) continue;
-    if (MayMeet(moved, gap)) continue;
-    return shift;
+    return !Inside(moved_centre, bvh_.NearestPoint(moved_centre, nearest.triangle)) && !MayMeet(moved, gap);
+  };
+  const Eigen::Vector3d face = face_normal_[nearest.triangle], at_centre = NormalAtNearest(centre, nearest);
+  if (frees(into_own_shell) || frees(face) || (!at_centre.isApprox(face) && frees(at_centre))) return shift;
+  if (!corner_directions || into_own_shell.isZero(0)) return kNone;
+  // Into its own shell and off this one's surface at a corner at once: a
+  // plate's face around a bore, under a bolt's head, moved into the plate
+  // still meets the shank (its polygon reaches past the bore's), and moved
+  // off the head still meets the head; halfway between the plate's inward
+  // normal and the normal at the corner on the rim (the edge between head
+  // and shank) it leaves both.
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d normal = NormalAtNearest(t[k], bvh_.NearestPoint(t[k], nearest.triangle));
+    const double length = normal.norm();
+    if (!(length > 0) || normal.isApprox(face) || normal.isApprox(at_centre)) continue;
+    if (frees(into_own_shell.normalized() + normal / length)) return shift;
   }
   return kNone;
 }
@@ -893,6 +906,15 @@ class SurfaceDepthSearch {
       upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
     if (!measuring_region && !Settled(upper + offset))
       upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_, into_own_shell));
+    // A yes/no question or a slack, where depths below `settle` do not
+    // matter: a move by that much settles a sub-triangle as well, and frees
+    // more, also halfway between its own shell's inward normal and b's
+    // normal at a corner (ShiftOffBound). Not for a measurement: its number
+    // (a report's) would then read `settle` for any depth below it.
+    const double settle = options_.settle - offset;
+    if (!measuring_region && !Settled(upper + offset) && std::isfinite(options_.decide) && settle > shift_ &&
+        std::isfinite(settle))
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, settle, floor_, into_own_shell, true));
     // A yes/no question (a validity check) settles a sub-triangle that moved
     // off b by as much as the depth allowed lies wholly outside: no point of
     // it is deeper (a fit or a tessellation overlap: each polygon's corners

@@ -124,8 +124,12 @@ class DepthSurface {
   // being refined along every edge where a facet meets the bore's rim.
   // `into_own_shell` (zero: none): a unit direction tried first, into the
   // shell t belongs to; the argument holds for any direction of the move.
+  // `corner_directions`: where none of those frees t, also the directions
+  // halfway between into_own_shell and the outward normal at the nearest
+  // point of each corner of t (t at a concave edge of this shell).
   double ShiftOffBound(const std::array<Eigen::Vector3d, 3>& t, const TriangleBvh::Nearest& nearest, double shift,
-                       double gap, const Eigen::Vector3d& into_own_shell = Eigen::Vector3d::Zero()) const;
+                       double gap, const Eigen::Vector3d& into_own_shell = Eigen::Vector3d::Zero(),
+                       bool corner_directions = false) const;
 
   // A convex planar patch (see below).
   struct Patch {
