@@ -148,6 +148,9 @@ class MotionChecker {
                 std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
   bool IsValid(const Pose& pose) const { return problem_->InBounds(pose) && validity_->IsValid(pose); }
+  // Whether motions are walked by conservative advancement (the validity
+  // measures its slack): their poses then do not depend on `step`.
+  bool WalksBySlack() const { return slack_ != nullptr; }
   // Number of equal sub-steps needed between a and b.
   std::int64_t Steps(const Pose& a, const Pose& b) const;
   // Whole motion valid (a is assumed valid and not re-checked; b is checked).
