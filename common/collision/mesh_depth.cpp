@@ -798,10 +798,14 @@ class SurfaceDepthSearch {
   // Measuring (decide infinite): within the resolution of the best lower
   // bound, or below `settle`. Deciding: also below the threshold.
   bool Settled(double upper) const {
+    return upper <= WithinResolution() || upper <= options_.settle ||
+           (std::isfinite(options_.decide) && upper <= options_.decide);
+  }
+  // The bound that is within the resolution of the best lower bound.
+  double WithinResolution() const {
     const double coarse =
         result_.lower > options_.coarse_above ? SurfaceDepthOptions::kCoarseShare * result_.lower : 0.0;
-    return upper <= result_.lower + std::max(options_.resolution, coarse) || upper <= options_.settle ||
-           (std::isfinite(options_.decide) && upper <= options_.decide);
+    return result_.lower + std::max(options_.resolution, coarse);
   }
 
   // Bounds one sub-triangle and splits it when unsettled; false when the
@@ -924,6 +928,19 @@ class SurfaceDepthSearch {
     const double allowed = options_.decide - offset;
     if (!measuring_region && !Settled(upper + offset) && std::isfinite(allowed) && allowed > shift_)
       upper = std::min(upper, b.ShiftOffBound(t, nearest, allowed, floor_, into_own_shell));
+    // A measurement: a move by the resolution above the best lower bound
+    // settles a sub-triangle too (its points are then within the resolution
+    // of the answer), where a move by resolution / 2 (shift_) did not. A
+    // rod in its bores, each a polygon of other corners, is 0.025 mm deep
+    // along all of its length: the bounds above refine each facet along
+    // every line where the polygons cross (as1's rod: 0.5 s a measure), one
+    // such move settles it. Not past `coarse_above` while the lower bound
+    // is below it: a pose's slack would then read too deep where it is not.
+    const double within = WithinResolution();
+    const double measured =
+        (result_.lower > options_.coarse_above ? within : std::min(within, options_.coarse_above)) - offset;
+    if (!measuring_region && !Settled(upper + offset) && !std::isfinite(options_.decide) && measured > shift_)
+      upper = std::min(upper, b.ShiftOffBound(t, nearest, measured, floor_, into_own_shell, true));
     return upper;
   }
 

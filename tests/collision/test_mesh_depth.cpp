@@ -408,6 +408,60 @@ TEST(MeshDepth, ALongRodThroughTwoRingsOfAnotherTessellationIsSettledTriangleByT
   }
 }
 
+TEST(MeshDepth, ARodInBoresOfOtherPolygonsIsMeasuredWithoutRefiningAlongItsLength) {
+  // as1's rod at its default tessellation, by hand: a rod of radius 5 and
+  // 200 long in 40 facets, through two rings 10 long whose bores have
+  // radius 5 in 36 facets. Each polygon's corners stand into the other's
+  // facets, 0.015-0.019 deep, along all of the rings' length: deeper than
+  // half the resolution, so a move by that much (ShiftOffBound) frees
+  // nothing, and a report's measurement refined each facet along every
+  // line where the polygons cross (as1's rod: 0.5 s a pose, 2 x 201 poses
+  // a report). Moved into its own shell by the resolution above the depth
+  // found, each facet leaves the other part whole.
+  const TriangleMesh rod = MakeSolidOfRevolution({{0, -100}, {5, -100}, {5, 100}, {0, 100}}, 40);
+  TriangleMesh rings = MakeSolidOfRevolution({{5, -60}, {12, -60}, {12, -50}, {5, -50}}, 36);
+  const TriangleMesh second = MakeSolidOfRevolution({{5, 40}, {12, 40}, {12, 50}, {5, 50}}, 36);
+  const int offset = static_cast<int>(rings.vertices.size());
+  rings.vertices.insert(rings.vertices.end(), second.vertices.begin(), second.vertices.end());
+  for (auto t : second.triangles) rings.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const auto ring_shells = SplitIntoShells(rings);
+  ASSERT_EQ(ring_shells.size(), 2u);
+  const DepthSurface sa(OneShell(rod));
+  // A report's measurement (collision/rigid_depth.cpp MeasurePairs): a
+  // tolerance of 0.05, measured to a tenth of it.
+  SurfaceDepthOptions options;
+  options.resolution = 5e-3;
+  options.settle = 0.025;
+  options.coarse_above = 0.05;
+  for (const Shell& ring : ring_shells) {
+    const DepthSurface sb(ring);
+    const int triangles = static_cast<int>(rod.triangles.size() + ring.triangles.size());
+    for (const double along : {0.0, 7.3, -33.1}) {
+      const Eigen::Isometry3d pose(Eigen::Translation3d(0, 0, along));
+      // The depth by hand: the deepest points are the polygons' corners
+      // (each one's edge along the axis), the rod's in the ring and the
+      // ring's in the rod; sampled along the ring's length.
+      double depth = 0;
+      for (double z = ring.box.min.z() + 0.25; z < ring.box.max.z(); z += 0.5) {
+        for (int k = 0; k < 40; ++k) {
+          const double angle = 2 * M_PI * k / 40;
+          depth = std::max(depth, sb.SignedDistance({5 * std::cos(angle), 5 * std::sin(angle), z}));
+        }
+        for (int k = 0; k < 36; ++k) {
+          const double angle = 2 * M_PI * k / 36;
+          depth = std::max(depth, sa.SignedDistance({5 * std::cos(angle), 5 * std::sin(angle), z - along}));
+        }
+      }
+      ASSERT_GT(depth, 0.015);
+      ASSERT_LT(depth, 0.02);
+      const SurfaceDepth measured = MeasureSurfaceDepth(sa, pose, sb, options);
+      EXPECT_GE(measured.upper, depth - 1e-9) << "at " << along;
+      EXPECT_LE(measured.upper, depth + options.resolution) << "at " << along;
+      EXPECT_LE(measured.sub_triangles, 4 * triangles) << "at " << along;
+    }
+  }
+}
+
 TEST(MeshDepth, APinLyingOnItsBoresFacetsIsSettledWhole) {
   // A pin in a bore of the same radius, both the same 32-sided polygon (one
   // tessellator, one radius): the facets coincide, the depth is 0. Each
