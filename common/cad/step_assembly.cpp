@@ -6,6 +6,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Poly_Triangulation.hxx>
+#include <STEPCAFControl_ExternFile.hxx>
 #include <STEPCAFControl_Reader.hxx>
 #include <STEPControl_Reader.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
@@ -128,11 +129,15 @@ Prototype Tessellate(const TopoDS_Shape& shape, const StepTessellation& tessella
   return out;
 }
 
-// A name that only says what kind of shape a node is.
-bool IsShapeTypeName(const std::string& name) {
+// A name that says nothing of the part: empty, what kind of shape a node
+// is, or only a number (an instance's index: OpenCASCADE's own export of
+// dm1 names its instances "1", "2", ...).
+bool NamesNothing(const std::string& name) {
+  if (std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+    return true;
   std::string upper;
   for (const char c : name) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  for (const char* kind : {"", "SOLID", "COMPOUND", "COMPSOLID", "SHELL", "FACE", "SHAPE"}) {
+  for (const char* kind : {"SOLID", "COMPOUND", "COMPSOLID", "SHELL", "FACE", "SHAPE"}) {
     if (upper == kind) return true;
   }
   return false;
@@ -184,12 +189,18 @@ class TreeWalker {
     }
     const Prototype& prototype = it->second;
     StepPart part;
-    // Some exporters (Pro/ENGINEER) give a product several representation
-    // items, which XCAF makes components named after their shape type
-    // ("SOLID", "COMPOUND"): the part is then named after the nearest node
-    // above with a name of its own.
-    for (auto it = path.rbegin(); it != path.rend() && part.name.empty(); ++it) {
-      if (!IsShapeTypeName(*it)) part.name = *it;
+    // Named after its instance, else its product. Some exporters
+    // (Pro/ENGINEER) give a product several representation items, which
+    // XCAF makes components named after their shape type ("SOLID",
+    // "COMPOUND"): the part is then named after the nearest node above with
+    // a name of its own.
+    std::vector<std::string> names(path.rbegin(), path.rend());
+    names.insert(names.begin() + 1, product);
+    for (const std::string& name : names) {
+      if (!NamesNothing(name)) {
+        part.name = name;
+        break;
+      }
     }
     part.product = product;
     part.path = std::move(path);
@@ -218,7 +229,11 @@ StepAssembly ReadWithOpenCascade(const fs::path& path, const StepTessellation& t
   XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", document);
   STEPCAFControl_Reader reader;
   reader.SetNameMode(Standard_True);
-  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
+  // An assembly split into several files names the others relative to its
+  // own folder (DOCUMENT_FILE); OpenCASCADE resolves them against the
+  // folder of the path it is given only where that path is absolute (else
+  // against the working folder, where they are not).
+  if (reader.ReadFile(fs::absolute(path).c_str()) != IFSelect_RetDone) {
     throw InputError("not a readable STEP file (OpenCASCADE's STEP reader refused it)");
   }
   StepAssembly out;
@@ -226,6 +241,23 @@ StepAssembly ReadWithOpenCascade(const fs::path& path, const StepTessellation& t
   reader.ChangeReader().FileUnits(lengths, angles, solid_angles);
   if (lengths.Length() > 0) out.file_units = Printable(lengths.Value(1).ToCString());
   if (!reader.Transfer(document)) throw InputError("OpenCASCADE could not translate the STEP file's shapes");
+  // A part in a file that could not be read would be missing from every
+  // scene's S, where it might hold D: no scene is written without it.
+  std::vector<std::string> unread;
+  for (NCollection_DataMap<TCollection_AsciiString, Handle(STEPCAFControl_ExternFile)>::Iterator it(
+           reader.ExternFiles());
+       it.More(); it.Next()) {
+    const Handle(STEPCAFControl_ExternFile)& file = it.Value();
+    if (file.IsNull() || file->GetLoadStatus() != IFSelect_RetDone || !file->GetTransferStatus())
+      unread.push_back(Printable(it.Key().ToCString()));
+  }
+  if (!unread.empty()) {
+    std::sort(unread.begin(), unread.end());
+    std::string list;
+    for (const std::string& file : unread) list += (list.empty() ? "" : ", ") + file;
+    throw InputError("it refers to parts in other STEP files that could not be read (" + list + ", looked for in " +
+                     fs::absolute(path).lexically_normal().parent_path().string() + ")");
+  }
   const Handle(XCAFDoc_ShapeTool) tool = XCAFDoc_DocumentTool::ShapeTool(document->Main());
   TDF_LabelSequence roots;
   tool->GetFreeShapes(roots);

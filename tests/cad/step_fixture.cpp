@@ -63,7 +63,8 @@ void WriteStepFixture(const std::filesystem::path& file, const StepFixtureOption
   const TDF_Label bench = tool->NewShape();
   Name(bench, "bench");
   tool->AddComponent(bench, plate_label, At(0, 0, 0));
-  tool->AddComponent(bench, pin_label, At(30, 30, -5));
+  const TDF_Label pin_instance = tool->AddComponent(bench, pin_label, At(30, 30, -5));
+  if (!options.pin_instance_name.empty()) Name(pin_instance, options.pin_instance_name.c_str());
   Name(tool->AddComponent(bench, pair, At(60, 15, 10)), "pair:1");
   Name(tool->AddComponent(bench, pair, At(60, 45, 10, 90)), "pair:2");
   tool->UpdateAssemblies();
@@ -71,8 +72,11 @@ void WriteStepFixture(const std::filesystem::path& file, const StepFixtureOption
   Interface_Static::SetCVal("write.step.unit", options.unit.c_str());
   STEPCAFControl_Writer writer;
   writer.SetNameMode(Standard_True);
-  const bool transferred = writer.Transfer(document, STEPControl_AsIs);
-  const IFSelect_ReturnStatus status = writer.Write(file.c_str());
+  const bool transferred = options.external_prefix.empty()
+                               ? writer.Transfer(document, STEPControl_AsIs)
+                               : writer.Transfer(document, STEPControl_AsIs, options.external_prefix.c_str());
+  // (The other files go beside an absolute path, named as the file says.)
+  const IFSelect_ReturnStatus status = writer.Write(std::filesystem::absolute(file).c_str());
   Interface_Static::SetCVal("write.step.unit", "MM");
   XCAFApp_Application::GetApplication()->Close(document);
   if (!transferred || status != IFSelect_RetDone) throw std::runtime_error("WriteStepFixture: writing failed");

@@ -13,6 +13,10 @@ struct StepFixtureOptions {
   std::string unit = "MM";           // OpenCASCADE's write.step.unit: MM, INCH, M, CM
   double gap_mm = 0;                 // the pin's radius is the bore's minus this
   std::string plate_name = "plate";  // UTF-8, written as it is (control characters too)
+  std::string pin_instance_name;     // the pin's instance in bench (empty: unnamed)
+  // Non-empty: each part in a STEP file of its own beside `file`, named
+  // with this prefix, which `file` refers to (OpenCASCADE's multi-file mode).
+  std::string external_prefix;
 };
 
 // Writes the assembly; sizes in mm whatever the unit (the writer converts):

@@ -161,6 +161,49 @@ TEST_F(StepAssemblyTest, NamesAreUniqueAndPicksFollowTheTree) {
   EXPECT_THROW(PickStepParts(assembly, names, "lid"), InputError);
 }
 
+TEST_F(StepAssemblyTest, AnInstanceNamedByANumberIsNamedAfterItsProduct) {
+  // OpenCASCADE's own export of dm1 (CAx-IF dm1-oc-214) names its
+  // instances "1", "2", ...: its nuts and bolts were scenes "1", "2-3".
+  const fs::path file = dir_ / "bench.step";
+  testing::StepFixtureOptions options;
+  options.pin_instance_name = "7";
+  testing::WriteStepFixture(file, options);
+  const StepAssembly assembly = ReadStepAssembly(file, {});
+  EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin");
+  EXPECT_EQ(PathText(assembly.parts[1]), "bench/7");
+}
+
+TEST_F(StepAssemblyTest, AnAssemblySplitIntoFilesIsReadWithThemFromAnyFolder) {
+  // Each part in a file of its own beside the assembly's (DOCUMENT_FILE
+  // references, as CAx-IF's s1 from three CAD systems). OpenCASCADE looked
+  // for them in the working folder where the assembly's path is relative:
+  // every part came back empty ("no triangle after tessellation").
+  const fs::path folder = dir_ / "split";
+  fs::create_directories(folder);
+  testing::StepFixtureOptions options;
+  options.external_prefix = "bench-";
+  testing::WriteStepFixture(folder / "bench.step", options);
+  std::string files;
+  for (const auto& entry : fs::directory_iterator(folder)) files += entry.path().filename().string() + " ";
+  ASSERT_NE(files.find("bench-"), std::string::npos) << files;
+  const StepAssembly assembly = ReadStepAssembly(fs::relative(folder / "bench.step"), {});
+  ASSERT_EQ(assembly.parts.size(), 6u);
+  for (const StepPart& part : assembly.parts) EXPECT_FALSE(part.mesh.triangles.empty()) << PathText(part);
+  EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin");
+
+  // Without the other files, no scene: S would lack parts that may hold D.
+  const fs::path alone = dir_ / "alone";
+  fs::create_directories(alone);
+  fs::copy_file(folder / "bench.step", alone / "bench.step");
+  try {
+    ReadStepAssembly(alone / "bench.step", {});
+    ADD_FAILURE() << "read without its parts' files";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("other STEP files that could not be read"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bench-"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(StepAssemblyTest, AssemblyWritesScenesWithTheTessellationAndThePinComesOut) {
   const fs::path file = dir_ / "bench.step", out = dir_ / "scenes";
   testing::WriteStepFixture(file);
