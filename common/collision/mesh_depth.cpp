@@ -304,6 +304,11 @@ DepthSurface::DepthSurface(const Shell& shell)
   }
   if (!oriented_) {
     solid_ = GapShare(directed) <= kMaxGapShare;
+    // Inside by the winding number: by the hierarchy, where each query
+    // summed every triangle (an open or cut shell of 110,000 triangles:
+    // 3 ms a query, 93% of a plan of CAx-IF's s1 with S cropped to D's
+    // reach).
+    if (solid_) winding_ = std::make_shared<const WindingBvh>(TriangleMesh{vertices_, triangles_});
     return;
   }
   double signed_volume = 0;
@@ -623,21 +628,9 @@ double DepthSurface::StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int 
   return bound;
 }
 
-double DepthSurface::WindingNumber(const Eigen::Vector3d& p) const {
-  double sum = 0;
-  for (const auto& tri : triangles_) {
-    const Eigen::Vector3d a = vertices_[tri[0]] - p, b = vertices_[tri[1]] - p, c = vertices_[tri[2]] - p;
-    const double la = a.norm(), lb = b.norm(), lc = c.norm();
-    const double numerator = a.dot(b.cross(c));
-    const double denominator = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-    sum += 2 * std::atan2(numerator, denominator);  // Van Oosterom and Strackee
-  }
-  return sum / (4 * M_PI);
-}
-
 bool DepthSurface::Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const {
   if (nearest.triangle < 0 || nearest.distance_squared == 0 || !solid_) return false;
-  if (!oriented_) return std::abs(WindingNumber(p)) > 0.5;
+  if (!oriented_) return winding_->AbsoluteWindingExceeds(p, 0.5);
   return (p - nearest.point).dot(NormalAtNearest(p, nearest)) < 0;
 }
 

@@ -41,10 +41,11 @@
 // Inside or outside: for a closed, consistently oriented shell, the sign of
 // the nearest point's angle-weighted pseudo-normal (Baerentzen and Aanaes
 // 2005; exact for such meshes); for an open shell (boundary edges: a hole
-// block exported with a gap), the generalized winding number (Jacobson et
-// al. 2013: inside where it exceeds 1/2), a sum over all its triangles, so
-// open shells cost more. Only where the openings are gaps (at most 1% of the
-// shell's area, DepthSurface::solid): a bowl or a surface model bounds no
+// block exported with a gap, a shell cut by a crop), the generalized
+// winding number (Jacobson et al. 2013: inside where it exceeds 1/2), by a
+// hierarchy that sums exactly where its error bound does not decide
+// (geometry/winding_bvh.h). Only where the openings are gaps (at most 1% of
+// the shell's area, DepthSurface::solid): a bowl or a surface model bounds no
 // volume, and its winding number would make the air it holds material.
 // Two such sheets have no depth at all: the caller decides what their
 // meeting means (collision/rigid_depth.cpp: not measured).
@@ -53,6 +54,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <map>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -60,6 +62,7 @@
 #include "geometry/protrusions.h"
 #include "geometry/shells.h"
 #include "geometry/triangle_bvh.h"
+#include "geometry/winding_bvh.h"
 
 namespace ausbau {
 
@@ -143,11 +146,11 @@ class DepthSurface {
   // The outward pseudo-normal at the nearest point's feature (the face, an
   // edge or a corner of the nearest triangle); oriented shells only.
   Eigen::Vector3d NormalAtNearest(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
-  double WindingNumber(const Eigen::Vector3d& p) const;
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   TriangleBvh bvh_;
+  std::shared_ptr<const WindingBvh> winding_;  // shells not closed and oriented, but solid
   bool oriented_ = false;
   bool solid_ = true;
   bool convex_ = false;  // a convex shell (oriented): every face plane supports it

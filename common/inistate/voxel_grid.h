@@ -58,6 +58,7 @@
 #include "artifact/artifact.h"
 #include "core/log.h"
 #include "geometry/mesh.h"
+#include "geometry/winding_bvh.h"
 
 namespace ausbau {
 
@@ -104,48 +105,6 @@ struct VoxelGrid {
   }
   std::int64_t Count(VoxelState state) const;
   std::int64_t CountOccupied() const { return Count(kVoxelSurface) + Count(kVoxelInside); }
-};
-
-// A bounding volume hierarchy over (some of) a mesh's triangles: the
-// generalized winding number and closest points.
-class WindingBvh {
- public:
-  // All triangles of `mesh`, or those listed; `flip[t]` (optional, per
-  // triangle of the mesh) reverses a triangle's orientation.
-  explicit WindingBvh(const TriangleMesh& mesh, const std::vector<int>* triangles = nullptr,
-                      const std::vector<bool>* flip = nullptr);
-
-  bool empty() const { return tris_.empty(); }
-  // Generalized winding number at p: hierarchical (a BVH node seen from
-  // farther than beta times its radius contributes its dipole term).
-  double WindingNumber(const Eigen::Vector3d& p, double beta = 2.0) const;
-  // The exact sum of signed solid angles / 4 pi (O(n), for tests).
-  double WindingNumberExact(const Eigen::Vector3d& p) const;
-
-  struct Closest {
-    int triangle = -1;            // index into the mesh's triangles
-    Eigen::Vector3d point;        // closest point on it
-    Eigen::Vector3d barycentric;  // of `point` w.r.t. the triangle's vertices (in mesh order)
-    double distance = 0;
-  };
-  Closest ClosestPoint(const Eigen::Vector3d& p) const;
-
- private:
-  struct Tri {
-    Eigen::Vector3d a, b, c;  // as in the mesh
-    int id;                   // index into the mesh's triangles
-    double sign;              // -1 where the orientation is reversed
-  };
-  struct Node {
-    Aabb box;
-    Eigen::Vector3d area_normal = Eigen::Vector3d::Zero();  // sum of the triangles' vector areas
-    Eigen::Vector3d center = Eigen::Vector3d::Zero();       // area-weighted centroid
-    double radius = 0;                                      // of the ball about center holding the triangles
-    int begin = 0, end = 0;                                 // into tris_
-    int left = -1, right = -1;                              // children; -1 for a leaf
-  };
-  std::vector<Tri> tris_;
-  std::vector<Node> nodes_;
 };
 
 struct VoxelizeOptions {
