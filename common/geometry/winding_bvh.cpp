@@ -100,41 +100,10 @@ WindingBvh::WindingBvh(const TriangleMesh& mesh, const std::vector<int>* triangl
   }
 }
 
-double WindingBvh::WindingNumber(const Vec3& p, double beta) const {
-  if (tris_.empty()) return 0.0;
-  double omega = 0;
-  int stack[128];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& n = nodes_[stack[--top]];
-    const Vec3 d = n.center - p;
-    const double dist = d.norm();
-    if (dist > beta * n.radius) {
-      omega += n.area_normal.dot(d) / (dist * dist * dist);
-    } else if (n.left < 0) {
-      for (int t = n.begin; t < n.end; ++t) {
-        const Tri& tri = tris_[t];
-        omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
-      }
-    } else {
-      stack[top++] = n.left;
-      stack[top++] = n.right;
-    }
-  }
-  return omega / (4.0 * M_PI);
-}
-
-double WindingBvh::WindingNumberExact(const Vec3& p) const {
-  double omega = 0;
-  for (const Tri& tri : tris_) omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
-  return omega / (4.0 * M_PI);
-}
-
-WindingBvh::Estimate WindingBvh::EstimateWindingNumber(const Vec3& p, double node_error) const {
+template <typename Far>
+WindingBvh::Estimate WindingBvh::HierarchicalSum(const Vec3& p, const Far& far) const {
   Estimate estimate;
   if (tris_.empty()) return estimate;
-  const double allowed = 4.0 * M_PI * node_error;  // in steradians, as the sums
   double omega = 0, error = 0;
   int stack[128];
   int top = 0;
@@ -144,10 +113,11 @@ WindingBvh::Estimate WindingBvh::EstimateWindingNumber(const Vec3& p, double nod
     const Vec3 d = n.center - p;
     const double dist = d.norm();
     const double gap = dist - n.radius;
+    // How far the dipole term may be off (winding_bvh.h), in steradians.
     const double bound = gap > 0 ? 2 * n.area * n.radius / (gap * gap * gap) : 0.0;
-    if (gap > 0 && bound <= allowed) {
+    if (far(n, dist, gap, bound)) {
       omega += n.area_normal.dot(d) / (dist * dist * dist);
-      error += bound;
+      error += gap > 0 ? bound : std::numeric_limits<double>::infinity();
     } else if (n.left < 0) {
       for (int t = n.begin; t < n.end; ++t) {
         const Tri& tri = tris_[t];
@@ -161,6 +131,23 @@ WindingBvh::Estimate WindingBvh::EstimateWindingNumber(const Vec3& p, double nod
   estimate.value = omega / (4.0 * M_PI);
   estimate.error_bound = error / (4.0 * M_PI);
   return estimate;
+}
+
+double WindingBvh::WindingNumber(const Vec3& p, double beta) const {
+  return HierarchicalSum(p, [beta](const Node& n, double dist, double, double) { return dist > beta * n.radius; })
+      .value;
+}
+
+double WindingBvh::WindingNumberExact(const Vec3& p) const {
+  double omega = 0;
+  for (const Tri& tri : tris_) omega += tri.sign * SolidAngle(tri.a - p, tri.b - p, tri.c - p);
+  return omega / (4.0 * M_PI);
+}
+
+WindingBvh::Estimate WindingBvh::EstimateWindingNumber(const Vec3& p, double node_error) const {
+  const double allowed = 4.0 * M_PI * node_error;  // in steradians, as the sums
+  return HierarchicalSum(
+      p, [allowed](const Node&, double, double gap, double bound) { return gap > 0 && bound <= allowed; });
 }
 
 bool WindingBvh::AbsoluteWindingExceeds(const Vec3& p, double threshold, double node_error) const {

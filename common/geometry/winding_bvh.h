@@ -70,6 +70,12 @@ class WindingBvh {
     int begin = 0, end = 0;                                 // into tris_
     int left = -1, right = -1;                              // children; -1 for a leaf
   };
+  // The sum of the triangles' solid angles at p over 4 pi: a node that
+  // far(node, distance, distance - radius, error bound of its dipole term
+  // in steradians) accepts counts as its dipole term, others are opened.
+  template <typename Far>
+  Estimate HierarchicalSum(const Eigen::Vector3d& p, const Far& far) const;
+
   std::vector<Tri> tris_;
   std::vector<Node> nodes_;
 };

@@ -366,6 +366,17 @@ TEST(MeshDepth, APlateUnderABoltsHeadAroundItsShankIsSettledWithoutRefiningItsRi
   EXPECT_GT(pressed.lower, 0.05);
 }
 
+// Two rings 10 long about z, bore radius 5, outer 12, at z -60..-50 and
+// 40..50, in `segments` facets: as1's two brackets' bores for its rod.
+TriangleMesh TwoRings(int segments) {
+  TriangleMesh rings = MakeSolidOfRevolution({{5, -60}, {12, -60}, {12, -50}, {5, -50}}, segments);
+  const TriangleMesh second = MakeSolidOfRevolution({{5, 40}, {12, 40}, {12, 50}, {5, 50}}, segments);
+  const int offset = static_cast<int>(rings.vertices.size());
+  rings.vertices.insert(rings.vertices.end(), second.vertices.begin(), second.vertices.end());
+  for (auto t : second.triangles) rings.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  return rings;
+}
+
 TEST(MeshDepth, ALongRodThroughTwoRingsOfAnotherTessellationIsSettledTriangleByTriangle) {
   // as1's rod at a fine tessellation, by hand: a rod of radius 5 and 200
   // long, 300 facets, through two rings 10 long whose bores have radius 5
@@ -377,12 +388,7 @@ TEST(MeshDepth, ALongRodThroughTwoRingsOfAnotherTessellationIsSettledTriangleByT
   // ring and 0.06-0.3 s a pose. Moved into the rod, each facet leaves the
   // rings at once.
   const TriangleMesh rod = MakeSolidOfRevolution({{0, -100}, {5, -100}, {5, 100}, {0, 100}}, 300);
-  TriangleMesh rings = MakeSolidOfRevolution({{5, -60}, {12, -60}, {12, -50}, {5, -50}}, 256);
-  const TriangleMesh second = MakeSolidOfRevolution({{5, 40}, {12, 40}, {12, 50}, {5, 50}}, 256);
-  const int offset = static_cast<int>(rings.vertices.size());
-  rings.vertices.insert(rings.vertices.end(), second.vertices.begin(), second.vertices.end());
-  for (auto t : second.triangles) rings.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-  const auto ring_shells = SplitIntoShells(rings);
+  const auto ring_shells = SplitIntoShells(TwoRings(256));
   ASSERT_EQ(ring_shells.size(), 2u);
   const DepthSurface sa(OneShell(rod));
   // A validity check's question (collision/rigid_depth.cpp): a tolerance
@@ -419,12 +425,7 @@ TEST(MeshDepth, ARodInBoresOfOtherPolygonsIsMeasuredWithoutRefiningAlongItsLengt
   // a report). Moved into its own shell by the resolution above the depth
   // found, each facet leaves the other part whole.
   const TriangleMesh rod = MakeSolidOfRevolution({{0, -100}, {5, -100}, {5, 100}, {0, 100}}, 40);
-  TriangleMesh rings = MakeSolidOfRevolution({{5, -60}, {12, -60}, {12, -50}, {5, -50}}, 36);
-  const TriangleMesh second = MakeSolidOfRevolution({{5, 40}, {12, 40}, {12, 50}, {5, 50}}, 36);
-  const int offset = static_cast<int>(rings.vertices.size());
-  rings.vertices.insert(rings.vertices.end(), second.vertices.begin(), second.vertices.end());
-  for (auto t : second.triangles) rings.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-  const auto ring_shells = SplitIntoShells(rings);
+  const auto ring_shells = SplitIntoShells(TwoRings(36));
   ASSERT_EQ(ring_shells.size(), 2u);
   const DepthSurface sa(OneShell(rod));
   // A report's measurement (collision/rigid_depth.cpp MeasurePairs): a
