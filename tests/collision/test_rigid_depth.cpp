@@ -32,6 +32,22 @@ TEST(Shells, BoxSoupSplitsIntoConvexBoxes) {
   EXPECT_NEAR(shells[1].volume, 4.5, 1e-9);
 }
 
+TEST(Shells, AFineCylindersFacetsAreFacesOfTheirOwn) {
+  // 2048 facets: neighbouring normals 3.1e-3 rad apart, more than the 1e-3
+  // that makes two directions one, so every facet is a face (up to sign:
+  // 1024 side directions and the caps' one) and every rim edge a feature
+  // edge (1024 directions and the axis). Found through a grid of
+  // directions, where a search through all of them made a curved shell's
+  // analysis quadratic in its triangles.
+  const auto shells = SplitIntoShells(MakeSolidOfRevolution({{0, 0}, {5, 0}, {5, 10}, {0, 10}}, 2048));
+  ASSERT_EQ(shells.size(), 1u);
+  EXPECT_TRUE(shells[0].convex);
+  EXPECT_EQ(shells[0].face_normals.size(), 1025u);
+  EXPECT_EQ(shells[0].edge_directions.size(), 1025u);
+  EXPECT_EQ(shells[0].corners.size(), 2u * 2048);
+  for (const Eigen::Vector3d& normal : shells[0].face_normals) EXPECT_NEAR(normal.norm(), 1, 1e-12);
+}
+
 TEST(Shells, FineTessellationHasTheSameAxesAndDepth) {
   const auto coarse = SplitIntoShells(MakeBox({0, 0, 0}, {4, 2, 1}));
   OrientedBox box;  // the generators' finely tessellated box: 4 x 4 squares and more per face
