@@ -895,22 +895,22 @@ class SurfaceDepthSearch {
                        const Eigen::Vector3d& into_own_shell) const {
     double upper = inside ? d + radius : radius;
     upper = std::min(upper, FaceBound(b, t, nearest.triangle, !measuring_region));
-    // A sub-triangle across a face of b (mesh_depth.h, StraddleBound); like
-    // the plane bounds, not where a region's area is measured.
-    if (!measuring_region && !Settled(upper + offset))
-      upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
-    if (!measuring_region && !Settled(upper + offset))
-      upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
-    if (!measuring_region && !Settled(upper + offset))
-      upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_, into_own_shell));
+    // A region's area (a fit's layer) is measured with the patch bound
+    // alone, as before the bounds below were added.
+    if (measuring_region) return upper;
+    const auto unsettled = [&] { return !Settled(upper + offset); };
+    // A sub-triangle across a face of b (mesh_depth.h, StraddleBound).
+    if (unsettled()) upper = std::min(upper, b.FaceRegionBound(t, nearest.triangle, floor_, upper));
+    if (unsettled()) upper = std::min(upper, b.StraddleBound(t, nearest.triangle, floor_));
+    if (unsettled()) upper = std::min(upper, b.ShiftOffBound(t, nearest, shift_, floor_, into_own_shell));
+    const bool deciding = std::isfinite(options_.decide);
     // A yes/no question or a slack, where depths below `settle` do not
     // matter: a move by that much settles a sub-triangle as well, and frees
     // more, also halfway between its own shell's inward normal and b's
     // normal at a corner (ShiftOffBound). Not for a measurement: its number
     // (a report's) would then read `settle` for any depth below it.
     const double settle = options_.settle - offset;
-    if (!measuring_region && !Settled(upper + offset) && std::isfinite(options_.decide) && settle > shift_ &&
-        std::isfinite(settle))
+    if (unsettled() && deciding && settle > shift_ && std::isfinite(settle))
       upper = std::min(upper, b.ShiftOffBound(t, nearest, settle, floor_, into_own_shell, true));
     // A yes/no question (a validity check) settles a sub-triangle that moved
     // off b by as much as the depth allowed lies wholly outside: no point of
@@ -919,7 +919,7 @@ class SurfaceDepthSearch {
     // whole, where every other bound refines along each line where the
     // faces cross: dm1's bolt in its bore, 0.2 s a check before).
     const double allowed = options_.decide - offset;
-    if (!measuring_region && !Settled(upper + offset) && std::isfinite(allowed) && allowed > shift_)
+    if (unsettled() && deciding && allowed > shift_)
       upper = std::min(upper, b.ShiftOffBound(t, nearest, allowed, floor_, into_own_shell));
     // A measurement: a move by the resolution above the best lower bound
     // settles a sub-triangle too (its points are then within the resolution
@@ -929,11 +929,13 @@ class SurfaceDepthSearch {
     // every line where the polygons cross (as1's rod: 0.5 s a measure), one
     // such move settles it. Not past `coarse_above` while the lower bound
     // is below it: a pose's slack would then read too deep where it is not.
-    const double within = WithinResolution();
-    const double measured =
-        (result_.lower > options_.coarse_above ? within : std::min(within, options_.coarse_above)) - offset;
-    if (!measuring_region && !Settled(upper + offset) && !std::isfinite(options_.decide) && measured > shift_)
-      upper = std::min(upper, b.ShiftOffBound(t, nearest, measured, floor_, into_own_shell, true));
+    if (unsettled() && !deciding) {
+      const double within = WithinResolution();
+      const double measured =
+          (result_.lower > options_.coarse_above ? within : std::min(within, options_.coarse_above)) - offset;
+      if (measured > shift_)
+        upper = std::min(upper, b.ShiftOffBound(t, nearest, measured, floor_, into_own_shell, true));
+    }
     return upper;
   }
 
