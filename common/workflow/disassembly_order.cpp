@@ -4,10 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "artifact/run_files.h"
+#include "collision/part_contacts.h"
 #include "collision/scene_parts.h"
 #include "core/error.h"
 #include "core/json_writer.h"
@@ -63,10 +66,35 @@ Scene AttemptScene(const AssemblyPart& part, const std::vector<const AssemblyPar
   return scene;
 }
 
+// The part that stops one of D's straight pulls, is none of the parts D
+// touches at `at` and frees D when taken away (FindPullStopper: a cover
+// over a post that touches only its base), with its distance there, after
+// the contacts that free D and before the rest: the order points the part
+// at what holds it where it stands, not where a search got in its seconds.
+void AddFreeingPullStopper(const Scene& scene, const Pose& at, double tolerance, std::vector<PartContact>* blocked_by) {
+  if (std::set<int>(scene.static_part_of_triangle.begin(), scene.static_part_of_triangle.end()).size() < 2) return;
+  const std::optional<PullStopper> stopper =
+      FindPullStopper(scene, ProbeWhatBlocks(scene, tolerance), *blocked_by, tolerance);
+  if (!stopper || !stopper->frees) return;
+  TriangleMesh robot = scene.dynamic_mesh;
+  for (auto& vertex : robot.vertices) vertex -= scene.dynamic_origin;
+  const int parts = static_cast<int>(scene.static_part_names.size());
+  for (PartContact contact :
+       MeasurePartContacts(robot, at, scene.static_mesh, scene.static_part_of_triangle, scene.static_part_names,
+                           std::numeric_limits<double>::infinity(), parts)) {
+    if (contact.part != stopper->part) continue;
+    contact.frees = true;
+    const auto first_held =
+        std::find_if(blocked_by->begin(), blocked_by->end(), [](const PartContact& c) { return !c.frees; });
+    blocked_by->insert(first_held, contact);
+    return;
+  }
+}
+
 // One attempt: plan under rigid-exact within the part's budget, then the
 // verdict's judgement of the result (the exact check of the path as
-// written; where it is not removable, the parts that block D at the end of
-// its best partial path).
+// written; where it is not removable, the parts that block D where it got
+// to, WhereBlocked, and the part that stops a straight pull and frees it).
 PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPart*>& others, int round,
                     const DisassemblyOrderOptions& options) {
   const double begin = Now();
@@ -108,8 +136,9 @@ PartAttempt TryPart(const AssemblyPart& part, const std::vector<const AssemblyPa
     attempt.status_detail = path.success             ? "not-removable (exact check failed)"
                             : path.stopped_by_budget ? "not-removable (budget)"
                                                      : "not-removable (no path)";
-    const Pose at = path.partial_waypoints.empty() ? scene.start : path.partial_waypoints.back();
+    const Pose at = WhereBlocked(path, scene);
     attempt.blocked_by = FindBlockingParts(scene, at, tolerance);
+    AddFreeingPullStopper(scene, at, tolerance, &attempt.blocked_by);
   }
   attempt.seconds = Now() - begin;
   LogInfo("round %d: %s %s (%.1f s)%s%s", round, part.name.c_str(), attempt.status_detail.c_str(), attempt.seconds,

@@ -154,6 +154,52 @@ std::optional<bool> PullFreesWithout(const Scene& scene, int part, double tolera
 
 }  // namespace
 
+bool BlockedAtPartialEnd(const PathArtifact& path) {
+  return !path.success && !path.partial_waypoints.empty() && !path.stopped_by_budget;
+}
+
+Pose WhereBlocked(const PathArtifact& path, const Scene& scene) {
+  return BlockedAtPartialEnd(path) ? path.partial_waypoints.back() : scene.start;
+}
+
+std::optional<PullStopper> FindPullStopper(const Scene& scene, const BlockingReport& pulls,
+                                           const std::vector<PartContact>& contacts, double tolerance,
+                                           UnmeasuredInterference unmeasured) {
+  // The blocked pulls, farthest first (ties: the probes' order, as
+  // `farthest` picks): the part that stops a pull far from D's contacts (a
+  // cap over a post that slid up to it) is tried before one that stops a
+  // pull at once.
+  std::vector<int> blocked;
+  for (int i = 0; i < static_cast<int>(pulls.probes.size()); ++i) {
+    const BlockingProbe& p = pulls.probes[i];
+    if (!p.separated && !p.unfinished && !p.static_part_name.empty()) blocked.push_back(i);
+  }
+  std::stable_sort(blocked.begin(), blocked.end(),
+                   [&](int a, int b) { return pulls.probes[a].free_distance > pulls.probes[b].free_distance; });
+  if (pulls.farthest >= 0) {  // the report's farthest first, whatever the sort made of ties
+    const auto at = std::find(blocked.begin(), blocked.end(), pulls.farthest);
+    if (at != blocked.end()) std::rotate(blocked.begin(), at, at + 1);
+  }
+  std::optional<PullStopper> first;
+  std::set<std::string> tried;
+  for (const int i : blocked) {
+    const std::string& name = pulls.probes[i].static_part_name;
+    if (!tried.insert(name).second) continue;
+    if (std::any_of(contacts.begin(), contacts.end(), [&](const PartContact& c) { return c.name == name; }))
+      continue;  // among the contacts, taken away there already
+    const auto named = std::find(scene.static_part_names.begin(), scene.static_part_names.end(), name);
+    if (named == scene.static_part_names.end()) continue;
+    const int part = static_cast<int>(named - scene.static_part_names.begin());
+    const std::optional<bool> frees = PullFreesWithout(scene, part, tolerance, unmeasured);
+    if (!frees) continue;
+    LogInfo("what blocks: without %s, which stops a straight pull after %.4g, %s", name.c_str(),
+            pulls.probes[i].free_distance, *frees ? "D comes out along a straight pull" : "D is still held");
+    if (*frees) return PullStopper{part, name, true};
+    if (!first) first = PullStopper{part, name, false};
+  }
+  return first;
+}
+
 std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose, double tolerance,
                                            UnmeasuredInterference unmeasured) {
   TriangleMesh robot = scene.dynamic_mesh;
@@ -183,23 +229,15 @@ std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose,
 
 namespace {
 
-// Verdict::pull_stopper: the part of S that stopped the farthest straight
-// pull, where D's contacts (FindBlockingParts) do not include it.
-void FindPullStopper(const Scene& scene, UnmeasuredInterference unmeasured, Verdict* v) {
-  if (!v->blocking || v->blocking->farthest < 0) return;
-  const std::string& name = v->blocking->probes[v->blocking->farthest].static_part_name;
-  if (name.empty()) return;
-  for (const PartContact& c : v->blockers)
-    if (c.name == name) return;  // among the contacts, taken away there already
-  const auto named = std::find(scene.static_part_names.begin(), scene.static_part_names.end(), name);
-  if (named == scene.static_part_names.end()) return;
-  const std::optional<bool> frees =
-      PullFreesWithout(scene, static_cast<int>(named - scene.static_part_names.begin()), v->tolerance, unmeasured);
-  if (!frees) return;
-  v->pull_stopper = name;
-  v->pull_stopper_frees = *frees;
-  LogInfo("what blocks: without %s, which stops the farthest straight pull, %s", name.c_str(),
-          v->pull_stopper_frees ? "D comes out along a straight pull" : "D is still held");
+// Verdict::pull_stopper (FindPullStopper), where D's blocked straight pulls
+// are stopped by parts its contacts do not include.
+void AddPullStopper(const Scene& scene, UnmeasuredInterference unmeasured, Verdict* v) {
+  if (!v->blocking) return;
+  const std::optional<PullStopper> stopper =
+      FindPullStopper(scene, *v->blocking, v->blockers, v->tolerance, unmeasured);
+  if (!stopper) return;
+  v->pull_stopper = stopper->name;
+  v->pull_stopper_frees = stopper->frees;
 }
 
 }  // namespace
@@ -262,10 +300,11 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     // The exact check classified D's solids the same way: reused.
     v.blocking = ProbeWhatBlocks(scene, v.tolerance, unmeasured, exact ? exact->parts : nullptr);
     v.stopped_by_budget = !path.success && path.stopped_by_budget;
-    v.blocked_at_partial_end = !path.success && !path.partial_waypoints.empty();
-    v.blocked_at = v.blocked_at_partial_end ? path.partial_waypoints.back() : scene.start;
+    // The partial path itself is still written, labelled cut short.
+    v.blocked_at_partial_end = BlockedAtPartialEnd(path);
+    v.blocked_at = WhereBlocked(path, scene);
     v.blockers = FindBlockingParts(scene, v.blocked_at, v.tolerance, unmeasured);
-    FindPullStopper(scene, unmeasured, &v);
+    AddPullStopper(scene, unmeasured, &v);
   }
   v.max_volume = FindMaxVolume(path);
   JudgePathQuality(scene, &v);
@@ -531,7 +570,7 @@ void PrintVerdictSummary(const Verdict& v, const std::string& verdict_file, std:
                  DescribePartContact(c).c_str());
   }
   if (!v.pull_stopper.empty()) {
-    std::fprintf(out, "  the farthest straight pull is stopped by %s; without it, %s\n", v.pull_stopper.c_str(),
+    std::fprintf(out, "  a straight pull is stopped by %s; without it, %s\n", v.pull_stopper.c_str(),
                  v.pull_stopper_frees ? "D comes out along a straight pull" : "D is still held");
   }
   std::fprintf(out, "  time: %.2f s%s", v.total_seconds, options.times.empty() ? " (planner only)" : "");

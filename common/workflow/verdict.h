@@ -63,17 +63,18 @@ struct Verdict {
   // Not removable: the time budget ended the search (the path artifact's
   // stopped_by_budget): "not-removable (budget)".
   bool stopped_by_budget = false;
-  // Not removable: where D got to (the best partial path's last pose, else
-  // the installed pose; scene convention) and what of S is there: the parts
+  // Not removable: where D got to (the best partial path's last pose where
+  // counted work ended the search, else the installed pose: never a pose
+  // the clock chose; scene convention) and what of S is there: the parts
   // D intersects or comes within reach of (collision/part_contacts.h).
   Pose blocked_at;
   bool blocked_at_partial_end = false;
   std::vector<PartContact> blockers;
-  // Not removable, S of several parts: the part of S that stopped the
-  // straight pull that got farthest (what_blocks), where it is another
-  // than D's contacts above (a rod over a bolt's head: the bolt slides in
-  // its bore until the rod stops it), and whether D comes out along a
-  // straight pull without it. Empty where no such part.
+  // Not removable, S of several parts: a part of S that stopped a
+  // straight pull (what_blocks) and is none of D's contacts above (a rod
+  // over a bolt's head: the bolt slides in its bore until the rod stops
+  // it; FindPullStopper), and whether D comes out along a straight pull
+  // without it. Empty where no such part.
   std::string pull_stopper;
   bool pull_stopper_frees = false;
 };
@@ -82,6 +83,14 @@ struct Verdict {
 // "not-removable (exact check failed)": the status with its reason.
 std::string VerdictStatusDetail(const Verdict& verdict);
 
+// Where to ask what blocks a D that was not removed: the end of the
+// search's best partial path where counted work ended the search (the same
+// end on any machine), else the installed pose (scene convention). Never
+// the end of a search the clock stopped: how far it got depends on the
+// machine and its load (docs/pipelines.md, "Work budgets").
+bool BlockedAtPartialEnd(const PathArtifact& path);
+Pose WhereBlocked(const PathArtifact& path, const Scene& scene);
+
 // The parts of S at `pose` of D (scene convention): those D intersects or
 // comes within 5% of its AABB diagonal of, at most 8, at least the nearest
 // part. Where S has several parts, each is also taken away alone and D
@@ -89,6 +98,23 @@ std::string VerdictStatusDetail(const Verdict& verdict);
 // `tolerance`, scene units): the parts whose removal frees D
 // (PartContact::frees) come first, then deepest contact, then nearest.
 std::vector<PartContact> FindBlockingParts(const Scene& scene, const Pose& pose, double tolerance,
+                                           UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
+
+// Of the parts of S that stopped D's blocked straight pulls (`pulls`,
+// ProbeWhatBlocks from the installed pose) and are none of `contacts`
+// (FindBlockingParts, already taken away there), the first, farthest pull
+// first, whose removal alone lets D out along a straight pull (frees), else
+// the farthest pull's (frees false); none where no such part. A post under
+// a cap touches only its base: its pull up slides to the cap, and without
+// the cap it comes out. Each part tried costs a ProbeWhatBlocks of S
+// without it (work, not seconds).
+struct PullStopper {
+  int part = -1;  // index of static_part_names
+  std::string name;
+  bool frees = false;
+};
+std::optional<PullStopper> FindPullStopper(const Scene& scene, const BlockingReport& pulls,
+                                           const std::vector<PartContact>& contacts, double tolerance,
                                            UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid);
 
 // `scene` with part `part` of S (an index of static_part_names) taken out.

@@ -27,10 +27,13 @@ class JudgeRunTest : public ::testing::Test {
 
   // Writes a path artifact (as ausbau-plan would, without recorded inputs:
   // nothing for the verdict's made-from check to compare) and judges it.
-  Verdict Judge(const std::vector<Pose>& waypoints, bool success = true) {
+  Verdict Judge(const std::vector<Pose>& waypoints, bool success = true, const std::vector<Pose>& partial = {},
+                bool stopped_by_budget = false) {
     PathArtifact path;
     path.waypoints = waypoints;
     path.success = success;
+    path.partial_waypoints = partial;
+    path.stopped_by_budget = stopped_by_budget;
     path.planner = "by hand";
     path.units = "mm";
     const std::string file = (dir_ / "path.h5").string();
@@ -99,6 +102,26 @@ TEST_F(JudgeRunTest, NoPathIsNotRemovableWithoutAnExactCheck) {
   EXPECT_FALSE(v.exact.has_value());
   EXPECT_FALSE(v.blocked_at_partial_end);  // no partial path: blocked where installed
   EXPECT_TRUE(v.blocked_at.t.isZero());
+}
+
+TEST_F(JudgeRunTest, WhatBlocksIsAskedAtTheEndOfAPartialPathThatCountedWorkEnded) {
+  // The search ended by its iterations (--max-iterations) with D raised by
+  // 0.2: the same end on any machine, so what blocks D is asked there.
+  const Verdict v = Judge({}, /*success=*/false, {PoseAt(0, 0, 0), PoseAt(0, 0, 0.2)});
+  EXPECT_EQ(VerdictStatusDetail(v), "not-removable (no path)");
+  EXPECT_TRUE(v.blocked_at_partial_end);
+  EXPECT_DOUBLE_EQ(v.blocked_at.t.z(), 0.2);
+}
+
+TEST_F(JudgeRunTest, WhatBlocksIsAskedAtTheInstalledPoseWhereTheClockEndedTheSearch) {
+  // The same partial path, but the time limit ended the search: how far it
+  // got depends on the machine and its load, so what blocks D is asked at
+  // the installed pose, and the partial path is only reported.
+  const Verdict v = Judge({}, /*success=*/false, {PoseAt(0, 0, 0), PoseAt(0, 0, 0.2)}, /*stopped_by_budget=*/true);
+  EXPECT_EQ(VerdictStatusDetail(v), "not-removable (budget)");
+  EXPECT_FALSE(v.blocked_at_partial_end);
+  EXPECT_TRUE(v.blocked_at.t.isZero());
+  EXPECT_EQ(v.path.partial_waypoints.size(), 2u);
 }
 
 }  // namespace
