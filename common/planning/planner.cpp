@@ -301,6 +301,24 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
   return axes;
 }
 
+namespace {
+
+// Whether D moves validly from the start along `way` (unit) to the last
+// pose within the bounds, probing in steps of `probe` up to `reach`.
+bool FreeToTheBounds(const PlanningProblem& problem, const MotionChecker& motion, const Eigen::Vector3d& way,
+                     double probe, double reach) {
+  Pose end = problem.start;
+  for (double s = probe; s <= reach; s += probe) {
+    Pose next = problem.start;
+    next.t = problem.start.t + s * way;
+    if (!problem.InBounds(next)) break;
+    end = next;
+  }
+  return end.t != problem.start.t && motion.MotionValid(problem.start, end);
+}
+
+}  // namespace
+
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options) {
   PlanResult result;
@@ -339,7 +357,17 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
         end.t = problem.start.t + s * sign * axis;
         reached = problem.InGoalRegion(end) && problem.InBounds(end);
       }
-      if (!reached || !motion.MotionValid(problem.start, end)) continue;
+      if (!reached) {
+        // No goal within the bounds along this way: where S is cropped to
+        // D's reach, a pull that is free up to the crop's edge (a pin in a
+        // long tube, a rail that runs out of the box) may get D out of a
+        // larger crop: said, so that the crop grows before any sampling
+        // (PlanResult::pull_left_crop).
+        if (problem.crop && !result.pull_left_crop)
+          result.pull_left_crop = FreeToTheBounds(problem, motion, sign * axis, probe, reach);
+        continue;
+      }
+      if (!motion.MotionValid(problem.start, end)) continue;
       ThrowIfCancelled();  // a pull stopped by a cancel is no answer
       std::vector<Pose> path = {problem.start, end};
       PlannerOptions repair = options;

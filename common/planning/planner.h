@@ -102,6 +102,10 @@ struct PlanResult {
   std::vector<Pose> partial;
   double partial_progress = -std::numeric_limits<double>::infinity();
   PlanStats stats;
+  // Unsolved straight pulls (TryStraightPulls) where S is cropped to D's
+  // reach: one moved D validly up to the crop's edge without reaching the
+  // goal, so a larger crop may let it out.
+  bool pull_left_crop = false;
   bool solved() const { return status == PlanStatus::kSolved; }
 };
 
@@ -175,7 +179,9 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
 // the world's axes, both ways, each as far as D needs to reach the goal
 // region, checked as a planner's edge (and certified). Solved with the
 // two-pose path of the first pull that is valid, in that order; otherwise
-// not solved (kIterationLimit), with the checks counted. Nothing is tried
+// not solved (kIterationLimit), with the checks counted, and where S is
+// cropped and a pull's goal lies beyond the crop, whether that pull is free
+// up to the crop's edge (PlanResult::pull_left_crop). Nothing is tried
 // where the problem has a goal pose.
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);

@@ -134,10 +134,14 @@ double PlannerClearance(const PlanSceneOptions& options, double clearance) {
 // a path, `plan` as asked, with its whole time limit. A start in contact (clearance 0) leaves nothing
 // to keep: the clearance is then the smoother's (workflow/smooth_path.h).
 // Never less valid: the first try's validity only adds a condition.
+// `grow_crop_on_free_pull` (a crop level that is not the last): where a
+// straight pull is free up to the crop's edge, return unsolved before any
+// sampling, so that the next level is tried at once.
 PlanResult PlanKeepingClearance(
     const PlanningProblem& problem, const PoseValidity& validity, const PlannerOptions& planner,
     const TriangleMesh& robot, double clearance, const std::string& units,
-    const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan_as_asked) {
+    const std::function<PlanResult(const PoseValidity&, const PlannerOptions&)>& plan_as_asked,
+    bool grow_crop_on_free_pull = false) {
   const auto plan = [&](const PoseValidity& validity, const PlannerOptions& options) {
     PlanResult result = plan_as_asked(validity, options);
     ThrowIfCancelled();  // a cancelled search is no answer (core/cancel.h)
@@ -158,6 +162,14 @@ PlanResult PlanKeepingClearance(
     LogInfo("straight pulls: none of %lld gets D out (%lld checks, %.1f s)",
             static_cast<long long>(pulled.stats.iterations), static_cast<long long>(pulled.stats.collision_checks),
             pulled.stats.time_s);
+  }
+  // A pull free up to the edge of S's crop: the next, larger crop first,
+  // before this one's sampling iterations (a pin in a tube longer than the
+  // crop comes out only beyond it; each level's sampling would cost its
+  // whole share of work first).
+  if (grow_crop_on_free_pull && pulled.pull_left_crop && pulled.status != PlanStatus::kTimeLimit) {
+    LogInfo("straight pulls: one moves D freely to the edge of S's crop: growing the crop before sampling");
+    return pulled;
   }
   const auto with_pulls = [&](PlanResult result) {
     result.stats.time_s += pulled.stats.time_s;
@@ -430,7 +442,8 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
   const PlanResult result = PlanKeepingClearance(
       problem, checker, planner, ClearanceRobot(problem, parts.get()), PlannerClearance(options, clearance),
       scene.units,
-      [&](const PoseValidity& validity, const PlannerOptions& p) { return PlanWithRestarts(problem, validity, p); });
+      [&](const PoseValidity& validity, const PlannerOptions& p) { return PlanWithRestarts(problem, validity, p); },
+      work_iterations > 0);
   artifact.planner = planner.planner;
   artifact.stats = result.stats;
   artifact.success = result.solved();
@@ -464,6 +477,8 @@ PlannedPath PlanRigidExactAt(const PlanSceneOptions& options, const Scene& scene
 // restarts together), the last level (the uncropped scene, or the level
 // --max-crop-level allows) no cap: counted in work, not in a share of the
 // time limit, so which level answers does not depend on the machine's load.
+// A level where a straight pull moves D freely to the crop's edge grows at
+// once, without sampling (PlanKeepingClearance).
 // The time limit is the whole stage's safety net: every level gets what is
 // left of it, and when it fires the path artifact says so (stopped_by_budget).
 PlannedPath PlanRigidExact(const PlanSceneOptions& options, const Scene& scene) {

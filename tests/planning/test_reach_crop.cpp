@@ -8,6 +8,7 @@
 
 #include "fixtures/generators.h"
 #include "fixtures/vehicle.h"
+#include "geometry/primitives.h"
 #include "geometry/triangle_box.h"
 #include "planning/exact_check.h"
 #include "planning/reach_crop.h"
@@ -159,6 +160,41 @@ TEST(ReachCrop, PlannedPathIsValidAgainstTheWholeS) {
   ASSERT_TRUE(crop.has_value());
   EXPECT_TRUE(ClearOfAll(scene, scene.static_mesh, path.back(), crop->clearance));
   EXPECT_FALSE(ClearOfAll(scene, scene.static_mesh, path.front(), crop->clearance));
+}
+
+// A pin (radius 4.9, 20 long) in the middle of a tube (bore radius 5, 600
+// long, 205k triangles): it comes out by sliding 310 along the axis, far
+// beyond the level-0 crop (about 46 either side), which holds only a piece
+// of the tube around it. Its straight pull is free up to each crop's edge,
+// so the crop grows at once (levels 0-2 without sampling) until the whole
+// tube is in, where the pull gets it out. Before, each level sampled its
+// 61,440 iterations first, in a bore of 0.1 clearance: no path in 60 s.
+TEST(ReachCrop, APinInATubeLongerThanTheCropComesOutAlongIt) {
+  std::vector<Eigen::Vector2d> profile;  // (r, z): the bore up, the outside down
+  constexpr int kRings = 800;
+  for (int i = 0; i <= kRings; ++i) profile.emplace_back(5.0, -300.0 + 600.0 * i / kRings);
+  for (int i = kRings; i >= 0; --i) profile.emplace_back(10.0, -300.0 + 600.0 * i / kRings);
+  Scene scene;
+  scene.file = "pin-in-tube/scene.yaml";
+  scene.name = "pin-in-tube";
+  scene.units = "mm";
+  scene.static_mesh = MakeSolidOfRevolution(profile, 64);
+  ASSERT_GT(static_cast<std::int64_t>(scene.static_mesh.triangles.size()), kCropMinTriangles);
+  scene.dynamic_mesh = MakeSolidOfRevolution({{0, -10}, {4.9, -10}, {4.9, 10}, {0, 10}}, 64);
+  ASSERT_TRUE(ChooseReachCrop(scene, 0).has_value());
+  PlanSceneOptions options;
+  options.validity = ValidityMode::kRigidExact;
+  options.planner.time_limit_s = 600;  // a safety net only: the answer is the work's
+  options.planner.seed = 1;
+  const PlannedPath planned = PlanScene(scene, options);
+  ASSERT_TRUE(planned.artifact.success);
+  const std::vector<Pose>& path = planned.artifact.waypoints;
+  ASSERT_GE(path.size(), 2u);
+  EXPECT_GT(std::abs(path.back().t.z()), 300.0);  // out of the tube along its axis
+  EXPECT_NEAR(path.back().t.x(), 0.0, 1e-9);
+  EXPECT_LT(planned.artifact.stats.iterations, 100);  // pulls only, no sampling
+  const ExactCheckReport check = ExactCheckPath(scene, path, 0.05);
+  EXPECT_TRUE(check.valid) << check.reason;
 }
 
 TEST(ReachCrop, RivetedPartStaysBlocked) {
