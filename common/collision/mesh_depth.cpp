@@ -259,6 +259,14 @@ void BuildConvexPlanarPatches(const std::vector<Eigen::Vector3d>& vertices,
     });
     if (members.size() < 2) continue;
     std::map<std::pair<int, int>, int> uses = EdgeUses(triangles, members);
+    // A region with more boundary edges than a patch may have is no patch:
+    // not checked for convexity, which costs its edges times its vertices
+    // (a cylinder's facet, one coplanar strip of 1,600 triangles along a
+    // tube of 600 mm, took seconds a shell).
+    int boundary = 0;
+    for (const auto& [edge, count] : uses)
+      boundary += count == 1 && nn.cross(vertices[edge.second] - vertices[edge.first]).norm() != 0;
+    if (boundary > max_edges) continue;
     DepthSurface::Patch patch;
     patch.normal = nn;
     patch.origin = origin;
@@ -309,15 +317,34 @@ DepthSurface::DepthSurface(const Shell& shell)
     // 3 ms a query, 93% of a plan of CAx-IF's s1 with S cropped to D's
     // reach).
     if (solid_) winding_ = std::make_shared<const WindingBvh>(TriangleMesh{vertices_, triangles_});
+    if (solid_ && shell.complete_within) InsideByNormalWithinCrop(directed, *shell.complete_within);
     return;
   }
   double signed_volume = 0;
   const Eigen::Vector3d c = box_.Center();
   for (const auto& tri : triangles_)
     signed_volume += (vertices_[tri[0]] - c).dot((vertices_[tri[1]] - c).cross(vertices_[tri[2]] - c));
-  const double outward = signed_volume < 0 ? -1.0 : 1.0;
-  outward_ = outward;
+  outward_ = signed_volume < 0 ? -1.0 : 1.0;
   convex_ = shell.convex;
+  BuildPseudoNormals();
+  BuildFaceRegions(by_edge);
+  // A convex shell's face planes (coplanar triangles once), when few.
+  if (convex_) {
+    for (int t = 0; t < n && static_cast<int>(planes_.size()) <= kMaxConvexPlanes; ++t) {
+      const Eigen::Vector3d& normal = face_normal_[t];
+      if (normal.squaredNorm() == 0) continue;
+      const double offset = normal.dot(vertices_[triangles_[t][0]]);
+      const bool seen = std::any_of(planes_.begin(), planes_.end(), [&](const auto& plane) {
+        return plane.first.dot(normal) >= 1 - 1e-12 && std::abs(plane.second - offset) <= 1e-9 * box_.Diagonal();
+      });
+      if (!seen) planes_.emplace_back(normal, offset);
+    }
+    if (static_cast<int>(planes_.size()) > kMaxConvexPlanes) planes_.clear();
+  }
+}
+
+void DepthSurface::BuildPseudoNormals() {
+  const int n = static_cast<int>(triangles_.size());
   face_normal_.resize(n);
   vertex_normal_.assign(vertices_.size(), Eigen::Vector3d::Zero());
   std::map<std::pair<int, int>, Eigen::Vector3d> edge_sum;
@@ -328,7 +355,7 @@ DepthSurface::DepthSurface(const Shell& shell)
     const Eigen::Vector3d& cc = vertices_[tri[2]];
     const Eigen::Vector3d cross = (b - a).cross(cc - a);
     const double norm = cross.norm();
-    face_normal_[t] = norm > 0 ? Eigen::Vector3d(outward * cross / norm) : Eigen::Vector3d::Zero();
+    face_normal_[t] = norm > 0 ? Eigen::Vector3d(outward_ * cross / norm) : Eigen::Vector3d::Zero();
     for (int k = 0; k < 3; ++k) {
       const int i = tri[k], j = tri[(k + 1) % 3], l = tri[(k + 2) % 3];
       vertex_normal_[i] += AngleAt(vertices_[i], vertices_[j], vertices_[l]) * face_normal_[t];
@@ -344,20 +371,48 @@ DepthSurface::DepthSurface(const Shell& shell)
       edge_normal_[t][k] = edge_sum[{std::min(j, l), std::max(j, l)}];
     }
   }
-  BuildFaceRegions(by_edge);
-  // A convex shell's face planes (coplanar triangles once), when few.
-  if (convex_) {
-    for (int t = 0; t < n && static_cast<int>(planes_.size()) <= kMaxConvexPlanes; ++t) {
-      const Eigen::Vector3d& normal = face_normal_[t];
-      if (normal.squaredNorm() == 0) continue;
-      const double offset = normal.dot(vertices_[triangles_[t][0]]);
-      const bool seen = std::any_of(planes_.begin(), planes_.end(), [&](const auto& plane) {
-        return plane.first.dot(normal) >= 1 - 1e-12 && std::abs(plane.second - offset) <= 1e-9 * box_.Diagonal();
-      });
-      if (!seen) planes_.emplace_back(normal, offset);
+}
+
+void DepthSurface::InsideByNormalWithinCrop(const std::map<std::pair<int, int>, int>& directed, const Aabb& box) {
+  // Consistently oriented, and open only where the crop cut it: every
+  // boundary edge (one without its reverse) lies outside the box, as the
+  // triangles the crop dropped do.
+  for (const auto& [edge, count] : directed) {
+    if (count != 1) return;
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (reverse != directed.end()) {
+      if (reverse->second != 1) return;
+      continue;
     }
-    if (static_cast<int>(planes_.size()) > kMaxConvexPlanes) planes_.clear();
+    Aabb segment;
+    segment.Extend(vertices_[edge.first]);
+    segment.Extend(vertices_[edge.second]);
+    if (!segment.SeparatedFrom(box)) return;
   }
+  // Which side is inside: the winding number's answer just off triangles
+  // spread over the shell, where it decides clearly (each triangle's two
+  // sides differ by one winding). Every decided sample must agree.
+  constexpr int kSamples = 16;
+  const int n = static_cast<int>(triangles_.size());
+  int outward = 0, inward = 0;
+  for (int i = 0; i < kSamples && i < n; ++i) {
+    const auto& tri = triangles_[static_cast<std::size_t>(i) * n / std::min(n, kSamples)];
+    const Eigen::Vector3d& a = vertices_[tri[0]];
+    const Eigen::Vector3d& b = vertices_[tri[1]];
+    const Eigen::Vector3d& c = vertices_[tri[2]];
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double shortest = std::min({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    if (!(cross.norm() > 0) || !(shortest > 0)) continue;
+    const Eigen::Vector3d centre = (a + b + c) / 3.0, off = 1e-3 * shortest * cross.normalized();
+    const bool front = winding_->AbsoluteWindingExceeds(centre + off, 0.5);
+    const bool back = winding_->AbsoluteWindingExceeds(centre - off, 0.5);
+    if (back && !front) ++outward;  // the corner order's normal points out
+    if (front && !back) ++inward;
+  }
+  if ((outward > 0) == (inward > 0)) return;  // none decided, or they disagree
+  outward_ = outward > 0 ? 1.0 : -1.0;
+  BuildPseudoNormals();
+  complete_within_ = box;
 }
 
 // The boundary loops' area (each loop filled: the norm of its vector area,
@@ -630,7 +685,20 @@ double DepthSurface::StraddleBound(const std::array<Eigen::Vector3d, 3>& t, int 
 
 bool DepthSurface::Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const {
   if (nearest.triangle < 0 || nearest.distance_squared == 0 || !solid_) return false;
-  if (!oriented_) return winding_->AbsoluteWindingExceeds(p, 0.5);
+  if (!oriented_) {
+    // A shell the crop cut: where its nearest point is nearer than the
+    // crop's edge, every triangle the crop dropped is farther, so the
+    // nearest point is the whole shell's, and its pseudo-normal decides as
+    // for a closed shell. (The winding number of the cut shell alone cost
+    // most of every stage on CAx-IF's s1.)
+    if (complete_within_) {
+      const Aabb& box = *complete_within_;
+      const double slack = std::min((p - box.min).minCoeff(), (box.max - p).minCoeff());
+      if (slack > 0 && nearest.distance_squared < slack * slack)
+        return (p - nearest.point).dot(NormalAtNearest(p, nearest)) < 0;
+    }
+    return winding_->AbsoluteWindingExceeds(p, 0.5);
+  }
   return (p - nearest.point).dot(NormalAtNearest(p, nearest)) < 0;
 }
 

@@ -44,7 +44,12 @@
 // block exported with a gap, a shell cut by a crop), the generalized
 // winding number (Jacobson et al. 2013: inside where it exceeds 1/2), by a
 // hierarchy that sums exactly where its error bound does not decide
-// (geometry/winding_bvh.h). Only where the openings are gaps (at most 1% of
+// (geometry/winding_bvh.h); a shell the reach crop cut open, consistently
+// oriented and open only outside the crop's box, answers by the
+// pseudo-normal wherever its nearest point is nearer than the box's faces
+// (no triangle the crop dropped can be nearer: the whole shell's nearest
+// point), with the side the winding number calls inside (InsideByNormalWithinCrop).
+// Only where the openings are gaps (at most 1% of
 // the shell's area, DepthSurface::solid): a bowl or a surface model bounds no
 // volume, and its winding number would make the air it holds material.
 // Two such sheets have no depth at all: the caller decides what their
@@ -55,6 +60,7 @@
 #include <Eigen/Geometry>
 #include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -82,6 +88,9 @@ class DepthSurface {
   // depth against it comes from the other shell's volume alone.
   static constexpr double kMaxGapShare = 0.01;
   bool solid() const { return solid_; }
+  // A solid shell the reach crop cut open, answering inside-or-outside by
+  // its pseudo-normals within the crop's box (InsideByNormalWithinCrop).
+  bool inside_by_normal_within_crop() const { return complete_within_.has_value(); }
   const Aabb& box() const { return box_; }
   // The shell's triangles (indices into its vertices) and their tree.
   const std::vector<Eigen::Vector3d>& vertices() const { return vertices_; }
@@ -143,14 +152,27 @@ class DepthSurface {
  private:
   friend class SurfaceDepthSearch;
   bool Inside(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
+  // face_normal_, edge_normal_, vertex_normal_ with outward_.
+  void BuildPseudoNormals();
+  // A solid shell the reach crop cut open (Shell::complete_within): where it
+  // is consistently oriented and open only outside the crop's box, its
+  // pseudo-normals with the side the winding number calls inside, and
+  // complete_within_ set; otherwise nothing changes.
+  void InsideByNormalWithinCrop(const std::map<std::pair<int, int>, int>& directed, const Aabb& box);
   // The outward pseudo-normal at the nearest point's feature (the face, an
-  // edge or a corner of the nearest triangle); oriented shells only.
+  // edge or a corner of the nearest triangle); oriented shells, and shells
+  // the crop cut (complete_within_), only.
   Eigen::Vector3d NormalAtNearest(const Eigen::Vector3d& p, const TriangleBvh::Nearest& nearest) const;
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   TriangleBvh bvh_;
   std::shared_ptr<const WindingBvh> winding_;  // shells not closed and oriented, but solid
+  // Set for a shell the crop cut (InsideByNormalWithinCrop): within this
+  // box no triangle of the whole shell is missing, so a point whose nearest
+  // point is nearer than the box's faces is inside or not by its
+  // pseudo-normal (outward_ then set), as for a closed shell.
+  std::optional<Aabb> complete_within_;
   bool oriented_ = false;
   bool solid_ = true;
   bool convex_ = false;  // a convex shell (oriented): every face plane supports it

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,13 @@ struct Aabb {
 struct TriangleMesh {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<std::array<int, 3>> triangles;
+  // Set by CropMesh: this mesh is the part of a larger one whose triangles
+  // reach into this box; every triangle of the larger mesh that does is
+  // here. (What lets a shell the crop cut open answer inside-or-outside
+  // near its surface as a closed one does: collision/mesh_depth.h.) A copy
+  // keeps it; Append and KeepTriangles, which change the set of
+  // triangles, do not; whoever moves the vertices must reset it.
+  std::optional<Aabb> cropped_to;
 
   Aabb Bounds() const {
     Aabb box;
@@ -46,6 +54,7 @@ struct TriangleMesh {
   }
   // Appends another mesh, keeping indices valid.
   void Append(const TriangleMesh& other) {
+    cropped_to.reset();  // the other mesh's triangles are no crop of the same one
     const int offset = static_cast<int>(vertices.size());
     vertices.insert(vertices.end(), other.vertices.begin(), other.vertices.end());
     for (auto tri : other.triangles) {
@@ -82,13 +91,21 @@ struct TriangleMesh {
 // (planning/reach_crop.h) and what the contacts are measured on
 // (collision/part_contacts.h).
 inline TriangleMesh CropMesh(const TriangleMesh& mesh, const Aabb& box, std::vector<Aabb>* triangle_boxes = nullptr) {
-  return mesh.KeepTriangles([&](std::size_t t) {
+  TriangleMesh cropped = mesh.KeepTriangles([&](std::size_t t) {
     Aabb triangle;
     for (int i : mesh.triangles[t]) triangle.Extend(mesh.vertices[i]);
     if (triangle.SeparatedFrom(box)) return false;
     if (triangle_boxes) triangle_boxes->push_back(triangle);
     return true;
   });
+  // A crop of a crop is complete within both boxes.
+  Aabb within = box;
+  if (mesh.cropped_to) {
+    within.min = within.min.cwiseMax(mesh.cropped_to->min);
+    within.max = within.max.cwiseMin(mesh.cropped_to->max);
+  }
+  if (!within.Empty()) cropped.cropped_to = within;
+  return cropped;
 }
 
 }  // namespace ausbau

@@ -336,7 +336,10 @@ std::vector<Shell> SplitIntoShells(const TriangleMesh& mesh, double stored_magni
     shell.triangles.push_back(out);
     shell.source_triangles.push_back(t);
   }
-  for (auto& shell : shells) Analyse(shell, stored_magnitude);
+  for (auto& shell : shells) {
+    Analyse(shell, stored_magnitude);
+    shell.complete_within = mesh.cropped_to;
+  }
   return shells;
 }
 

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
 #include <vector>
 
 #include "geometry/mesh.h"
@@ -45,6 +46,9 @@ struct Shell {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  // centre of `box`
   double radius = 0;                                 // max distance of a vertex from `center`
   double volume = 0;                                 // |signed volume| when closed, else 0
+  // The mesh's TriangleMesh::cropped_to: within this box no triangle of the
+  // shell the mesh was cropped from is missing (empty: an uncropped mesh).
+  std::optional<Aabb> complete_within;
 };
 
 // Splits `mesh` into shells, in the order of their first triangle. Triangles

@@ -5,7 +5,14 @@
 // every side by kCropMargin x D's AABB diagonal x 2^L (level 0: 1.5
 // diagonals, the margin of the derived bounds). A planner that finds no path
 // at level L tries L + 1, until the box holds S's whole AABB: then the scene
-// is planned uncropped, as before.
+// is planned uncropped, as before. A straight pull that is free up to the
+// crop's edge grows it at once, before the level's sampling (a pin in a
+// tube longer than the crop; workflow/plan_scene.cpp).
+//
+// The cropped mesh remembers its box (TriangleMesh::cropped_to): a closed
+// shell of S the crop cut open is complete within it, so near its surface
+// it answers inside-or-outside as the closed shell does
+// (collision/mesh_depth.h).
 //
 // Why a cropped answer holds for the full S:
 //  - D never leaves the box: the translation bounds of the reference point

@@ -520,6 +520,57 @@ TEST(MeshDepth, PinInABlockWithAHoleClosedAndWithBoundaryEdges) {
   EXPECT_NEAR(depth.upper, std::sqrt(0.5), 1e-3 + 1e-12);
 }
 
+// A sphere (radius 10) cut by a crop just below its top (z < 9.85: the cut
+// is 0.7% of its area, so the cut shell is still a solid) answers inside or
+// outside as the whole sphere does at every point of the crop's box, by its
+// pseudo-normals where its nearest point is nearer than the box's faces.
+// With a triangle missing inside the box (a crack the crop did not make)
+// the pseudo-normals are not trusted: the winding number answers.
+TEST(MeshDepth, AShellTheCropCutAnswersInsideAsTheWholeShellDoes) {
+  std::vector<Eigen::Vector2d> profile;
+  constexpr int kRings = 48;
+  for (int i = 0; i <= kRings; ++i) {
+    const double angle = M_PI * i / kRings;
+    profile.emplace_back(i == 0 || i == kRings ? 0.0 : 10 * std::sin(angle), -10 * std::cos(angle));
+  }
+  const TriangleMesh sphere = MakeSolidOfRevolution(profile, 48);
+  Aabb box;
+  box.min = Eigen::Vector3d(-20, -20, -20);
+  box.max = Eigen::Vector3d(20, 20, 9.85);
+  const TriangleMesh cut = CropMesh(sphere, box);
+  ASSERT_LT(cut.triangles.size(), sphere.triangles.size());
+  const DepthSurface whole(OneShell(sphere)), cropped(OneShell(cut));
+  ASSERT_TRUE(whole.oriented());
+  ASSERT_FALSE(cropped.oriented());
+  ASSERT_TRUE(cropped.solid());
+  EXPECT_TRUE(cropped.inside_by_normal_within_crop());
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> xy(-12, 12), z(-12, 9.85);
+  int checked = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Eigen::Vector3d p(xy(random), xy(random), z(random));
+    const double expected = whole.SignedDistance(p);
+    if (std::abs(expected) < 1e-6) continue;
+    ++checked;
+    EXPECT_EQ(cropped.SignedDistance(p) > 0, expected > 0) << p.transpose();
+  }
+  EXPECT_GT(checked, 3900);
+  // The same cut with one more triangle missing, at the equator.
+  TriangleMesh cracked = cut;
+  for (std::size_t t = 0; t < cracked.triangles.size(); ++t) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int v : cracked.triangles[t]) centre += cracked.vertices[v] / 3;
+    if (std::abs(centre.z()) < 0.5) {
+      cracked.triangles.erase(cracked.triangles.begin() + static_cast<std::ptrdiff_t>(t));
+      break;
+    }
+  }
+  ASSERT_EQ(cracked.triangles.size() + 1, cut.triangles.size());
+  const DepthSurface with_crack(OneShell(cracked));
+  ASSERT_TRUE(with_crack.solid());
+  EXPECT_FALSE(with_crack.inside_by_normal_within_crop());
+}
+
 TEST(MeshDepth, ABowlIsASheetNotASolid) {
   // A sphere of radius 10 open above 35 degrees from the pole (9% of it
   // missing: more than a gap): the air it holds is not material, a rod in
