@@ -130,10 +130,16 @@ Prototype Tessellate(const TopoDS_Shape& shape, const StepTessellation& tessella
 }
 
 // A name that says nothing of the part: empty, what kind of shape a node
-// is, or only a number (an instance's index: OpenCASCADE's own export of
-// dm1 names its instances "1", "2", ...).
+// is, only a number (an instance's index: OpenCASCADE's own export of dm1
+// names its instances "1", "2", ...), or an identifier CATIA V5 made up
+// ("*DIT33", "*MASTER": CAx-IF s1-c5's instances, whose products are
+// FOOT_FRONT_000, TAIL_TURBINE, ...).
 bool NamesNothing(const std::string& name) {
   if (std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+    return true;
+  if (name.size() > 1 && name[0] == '*' && std::all_of(name.begin() + 1, name.end(), [](char c) {
+        return std::isupper(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c));
+      }))
     return true;
   std::string upper;
   for (const char c : name) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));

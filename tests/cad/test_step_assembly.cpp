@@ -173,6 +173,18 @@ TEST_F(StepAssemblyTest, AnInstanceNamedByANumberIsNamedAfterItsProduct) {
   EXPECT_EQ(PathText(assembly.parts[1]), "bench/7");
 }
 
+TEST_F(StepAssemblyTest, AnInstanceNamedByCatiasMadeUpIdentifierIsNamedAfterItsProduct) {
+  // CATIA V5 (CAx-IF s1-c5-214) names its instances "*DIT33", "*DIT34":
+  // the scenes were "_DIT33", "_DIT34" where the products say FOOT_FRONT_000.
+  const fs::path file = dir_ / "bench.step";
+  testing::StepFixtureOptions options;
+  options.pin_instance_name = "*DIT33";
+  testing::WriteStepFixture(file, options);
+  const StepAssembly assembly = ReadStepAssembly(file, {});
+  EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin");
+  EXPECT_EQ(PathText(assembly.parts[1]), "bench/*DIT33");
+}
+
 TEST_F(StepAssemblyTest, AnAssemblySplitIntoFilesIsReadWithThemFromAnyFolder) {
   // Each part in a file of its own beside the assembly's (DOCUMENT_FILE
   // references, as CAx-IF's s1 from three CAD systems). OpenCASCADE looked
