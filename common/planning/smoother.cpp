@@ -152,26 +152,7 @@ int StraightRetreat(const PlanningProblem& problem, const MotionChecker& motion,
       // Better by more than rounding: along a straight path, every point's
       // retreat along the path costs the same, and each is a long motion.
       const double cost = at + problem.metric.Distance(from, *end, 0.5);
-      if (!(cost < best_cost * (1 - 1e-9))) continue;
-      // Forward along a translation segment to a pose on it: the retreat is
-      // a piece of the path's own motion, as valid as the path and never
-      // nearer S, so neither the motion nor the guard is walked (a pin
-      // pulled 310 mm out of a tube: the exit pose lies 0.3 mm short of the
-      // planner's end, and walking that slide in contact again took a
-      // minute).
-      // (Off the segment's line by rounding only: a billionth of D's size.)
-      const Eigen::Vector3d way = end->t - from.t;
-      const bool on_segment = translation && way.dot(along) > 0 &&
-                              way.cross(along.normalized()).norm() <= 1e-9 * problem.robot_diagonal &&
-                              way.norm() <= (path[segment + 1].t - from.t).norm();
-      if (on_segment) {
-        best_from = from;
-        best_end = end;
-        best_cost = cost;
-        best_segment = segment;
-        continue;
-      }
-      if (!valid_from()) continue;
+      if (!(cost < best_cost * (1 - 1e-9)) || !valid_from()) continue;
       if (!motion.MotionValidFrom(from, *from_slack, *end)) {
         if (back) blocked_back_on = segment;
         continue;
