@@ -161,28 +161,20 @@ TEST_F(StepAssemblyTest, NamesAreUniqueAndPicksFollowTheTree) {
   EXPECT_THROW(PickStepParts(assembly, names, "lid"), InputError);
 }
 
-TEST_F(StepAssemblyTest, AnInstanceNamedByANumberIsNamedAfterItsProduct) {
+TEST_F(StepAssemblyTest, AnInstanceNamedByNothingOfItsOwnIsNamedAfterItsProduct) {
   // OpenCASCADE's own export of dm1 (CAx-IF dm1-oc-214) names its
   // instances "1", "2", ...: its nuts and bolts were scenes "1", "2-3".
-  const fs::path file = dir_ / "bench.step";
-  testing::StepFixtureOptions options;
-  options.pin_instance_name = "7";
-  testing::WriteStepFixture(file, options);
-  const StepAssembly assembly = ReadStepAssembly(file, {});
-  EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin");
-  EXPECT_EQ(PathText(assembly.parts[1]), "bench/7");
-}
-
-TEST_F(StepAssemblyTest, AnInstanceNamedByCatiasMadeUpIdentifierIsNamedAfterItsProduct) {
-  // CATIA V5 (CAx-IF s1-c5-214) names its instances "*DIT33", "*DIT34":
-  // the scenes were "_DIT33", "_DIT34" where the products say FOOT_FRONT_000.
-  const fs::path file = dir_ / "bench.step";
-  testing::StepFixtureOptions options;
-  options.pin_instance_name = "*DIT33";
-  testing::WriteStepFixture(file, options);
-  const StepAssembly assembly = ReadStepAssembly(file, {});
-  EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin");
-  EXPECT_EQ(PathText(assembly.parts[1]), "bench/*DIT33");
+  // CATIA V5 (CAx-IF s1-c5-214) names them "*DIT33", "*DIT34": the scenes
+  // were "_DIT33", "_DIT34" where the products say FOOT_FRONT_000.
+  for (const std::string instance : {"7", "*DIT33"}) {
+    const fs::path file = dir_ / "bench.step";
+    testing::StepFixtureOptions options;
+    options.pin_instance_name = instance;
+    testing::WriteStepFixture(file, options);
+    const StepAssembly assembly = ReadStepAssembly(file, {});
+    EXPECT_EQ(StepPartNames(assembly, "bench.tessellated.obj")[1], "pin") << instance;
+    EXPECT_EQ(PathText(assembly.parts[1]), "bench/" + instance);
+  }
 }
 
 TEST_F(StepAssemblyTest, AnAssemblySplitIntoFilesIsReadWithThemFromAnyFolder) {
