@@ -301,24 +301,6 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
   return axes;
 }
 
-namespace {
-
-// Whether D moves validly from the start along `way` (unit) to the last
-// pose within the bounds, probing in steps of `probe` up to `reach`.
-bool FreeToTheBounds(const PlanningProblem& problem, const MotionChecker& motion, const Eigen::Vector3d& way,
-                     double probe, double reach) {
-  Pose end = problem.start;
-  for (double s = probe; s <= reach; s += probe) {
-    Pose next = problem.start;
-    next.t = problem.start.t + s * way;
-    if (!problem.InBounds(next)) break;
-    end = next;
-  }
-  return end.t != problem.start.t && motion.MotionValid(problem.start, end);
-}
-
-}  // namespace
-
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options) {
   PlanResult result;
@@ -348,6 +330,10 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
       // The shortest pull (to a probe's step) that reaches the goal region.
       Pose end = problem.start;
       bool reached = false;
+      // Where S is cropped, also the last probe within the bounds (convex:
+      // the ray leaves them once).
+      Pose last_in_bounds = problem.start;
+      bool left_bounds = !problem.crop;
       // Reach over probe is about 100 (1 + S's size / D's) steps; for a D
       // of 1e-6 mm in S of tens it was billions, so the clock is read
       // every 4096 of them (past the deadline the pull counts as blocked).
@@ -356,6 +342,10 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
         if (++probes % 4096 == 0 && std::chrono::steady_clock::now() >= deadline) break;
         end.t = problem.start.t + s * sign * axis;
         reached = problem.InGoalRegion(end) && problem.InBounds(end);
+        if (!left_bounds) {
+          left_bounds = !problem.InBounds(end);
+          if (!left_bounds) last_in_bounds = end;
+        }
       }
       if (!reached) {
         // No goal within the bounds along this way: where S is cropped to
@@ -363,8 +353,8 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
         // long tube, a rail that runs out of the box) may get D out of a
         // larger crop: said, so that the crop grows before any sampling
         // (PlanResult::pull_left_crop).
-        if (problem.crop && !result.pull_left_crop)
-          result.pull_left_crop = FreeToTheBounds(problem, motion, sign * axis, probe, reach);
+        if (problem.crop && !result.pull_left_crop && last_in_bounds.t != problem.start.t)
+          result.pull_left_crop = motion.MotionValid(problem.start, last_in_bounds);
         continue;
       }
       if (!motion.MotionValid(problem.start, end)) continue;
