@@ -103,8 +103,9 @@ constexpr int kPullStepsBeforeStretches = 32;
 // tolerance), stretches of the pull are proved whole as the planner's
 // translations are (SlackValidity::ProveTranslation, docs/rigid-exact.md
 // "Translations proved swept"): after kPullStepsBeforeStretches steps, the
-// first stretch is the rest of the way out; one proved doubles the next,
-// one not proved halves it, and no longer than a step it is not tried.
+// first stretch is the rest of the way out, then as StretchLength says
+// (one proved doubles the next, one not proved halves it), and no longer
+// than a step it is not tried.
 // Before, a bolt of a STEP assembly held above its head by a rod slid
 // 10 mm in its bore in 2,048 steps and was reported unfinished (minutes of
 // the verdict); now its pull reaches the rod and names it. A proved
@@ -148,7 +149,7 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
   // the crop's box), within the reach.
   const double last = std::min(reach, crop ? TravelUntilFaceReaches(robot_box, crop->box, direction, false)
                                            : TravelUntilFaceReaches(robot_box, static_box, direction, true));
-  double stretch = last;
+  StretchLength stretch(last);
   double s = 0;
   for (int step = 0; step < kMaxPullSteps && s <= reach; ++step) {
     DepthReport depth = at(s);
@@ -179,16 +180,16 @@ BlockingProbe Pull(const Pose& start, const Eigen::Vector3d& direction, const Ri
     }
     if (crop && !(crop->box.Contains(moved.min) && crop->box.Contains(moved.max))) break;
     const double walk = std::min(largest_step, std::max(depth.slack, tolerance / 10));
-    const double length = std::min(stretch, last - s);
+    const double length = std::min(stretch.next(), last - s);
     if (step >= kPullStepsBeforeStretches && length > walk) {
       ThrowIfCancelled();
       ++probe.steps;
       if (checker.IsValid(pose_at(s + length)) && checker.ProveTranslation(pose_at(s), length * direction)) {
         s += length;
-        stretch = 2 * length;
+        stretch.Proved(length);
         continue;
       }
-      stretch = 0.5 * length;
+      stretch.NotProved(length);
     }
     s += walk;
   }
@@ -402,18 +403,18 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
     // A translation is proved in stretches by the swept bound
     // (SlackValidity::ProveTranslation; a bolt drawn along its bore has a
     // slack near zero all the way): the first stretch is the whole segment,
-    // one proved doubles the next, one not proved halves it, and where it
-    // is no longer than the slack's step the segment is walked pose by pose.
+    // then as StretchLength says, and where it is no longer than the
+    // slack's step the segment is walked pose by pose.
     // Each stretch's end is judged like any checked pose (its depth
     // reported, the crop kept: D's ball inside the box at both ends of a
     // translation is inside it all the way).
     const bool translation = a.q.coeffs() == b.q.coeffs() && v.norm() > 0;
-    double stretch = 1.0;
+    StretchLength stretch(1.0);
     double s = 0;
     while (s < 1.0) {
       const double step = std::max(slack, tolerance / 10) / per_unit;
-      if (translation && std::min(stretch, 1.0 - s) > step) {
-        const double length = std::min(stretch, 1.0 - s);
+      if (translation && std::min(stretch.next(), 1.0 - s) > step) {
+        const double length = std::min(stretch.next(), 1.0 - s);
         const double end = length >= 1.0 - s ? 1.0 : s + length;
         Pose from = a, to = b;  // the rotation is a's all the way
         from.t = a.t + s * v;
@@ -421,13 +422,13 @@ ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const st
         const bool in_crop = !crop || crop->BallSlack(to.Apply(c), radius_c) >= tolerance / 10;
         if (in_crop && checker.ProveTranslation(from, to.t - from.t)) {
           s = end;
-          stretch = 2 * length;
+          stretch.Proved(length);
           ++report.stretches_proved;
           slack = judge(to, static_cast<int>(i), s);
           if (left_crop && *left_crop) return report;
           continue;
         }
-        stretch = 0.5 * length;
+        stretch.NotProved(length);
       }
       // Inside a crop `slack` is at most the ball's distance to the box's
       // faces, which judge() keeps >= tolerance / 10, so D stays inside the

@@ -323,6 +323,9 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   const MotionChecker motion(problem, validity, step, deadline);
   const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
   const double probe = 0.02 * problem.robot_diagonal;
+  // Where S is cropped, the pulls whose goal lies beyond the crop: their
+  // last pose within the bounds, walked only once no pull got D out.
+  std::vector<Pose> to_crop_edge;
   for (const Eigen::Vector3d& axis : axes) {
     for (double sign : {1.0, -1.0}) {
       ThrowIfCancelled();  // serial here (core/cancel.h)
@@ -348,13 +351,7 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
         }
       }
       if (!reached) {
-        // No goal within the bounds along this way: where S is cropped to
-        // D's reach, a pull that is free up to the crop's edge (a pin in a
-        // long tube, a rail that runs out of the box) may get D out of a
-        // larger crop: said, so that the crop grows before any sampling
-        // (PlanResult::pull_left_crop).
-        if (problem.crop && !result.pull_left_crop && last_in_bounds.t != problem.start.t)
-          result.pull_left_crop = motion.MotionValid(problem.start, last_in_bounds);
+        if (problem.crop && last_in_bounds.t != problem.start.t) to_crop_edge.push_back(last_in_bounds);
         continue;
       }
       if (!motion.MotionValid(problem.start, end)) continue;
@@ -370,6 +367,19 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
       break;
     }
     if (result.solved()) break;
+  }
+  // No goal within the bounds along these ways: where S is cropped to D's
+  // reach, a pull that is free up to the crop's edge (a pin in a long tube,
+  // a rail that runs out of the box) may get D out of a larger crop: said,
+  // so that the crop grows before any sampling (PlanResult::pull_left_crop).
+  // Asked only once no pull got D out: a part sliding along a fit to the
+  // crop's edge is walked a surface-depth search per stretch (CAx-IF s1's
+  // CATIA foot: 47 s on its first such pull, before the pull down that
+  // frees it in 3 s).
+  for (const Pose& edge : to_crop_edge) {
+    if (result.solved() || result.pull_left_crop) break;
+    ThrowIfCancelled();
+    result.pull_left_crop = motion.MotionValid(problem.start, edge);
   }
   // Pulls stopped by the clock (the safety net) are no answer: the run was
   // cut short (kTimeLimit), which the path artifact records.

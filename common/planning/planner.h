@@ -181,8 +181,8 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
 // two-pose path of the first pull that is valid, in that order; otherwise
 // not solved (kIterationLimit), with the checks counted, and where S is
 // cropped and a pull's goal lies beyond the crop, whether that pull is free
-// up to the crop's edge (PlanResult::pull_left_crop). Nothing is tried
-// where the problem has a goal pose.
+// up to the crop's edge (PlanResult::pull_left_crop; asked only once no
+// pull got D out). Nothing is tried where the problem has a goal pose.
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 

@@ -7,7 +7,8 @@
 // at level L tries L + 1, until the box holds S's whole AABB: then the scene
 // is planned uncropped, as before. A straight pull that is free up to the
 // crop's edge grows it at once, before the level's sampling (a pin in a
-// tube longer than the crop; workflow/plan_scene.cpp).
+// tube longer than the crop; workflow/plan_scene.cpp); that is asked only
+// once no pull got D out of the level (planning/planner.h).
 //
 // The cropped mesh remembers its box (TriangleMesh::cropped_to): a closed
 // shell of S the crop cut open is complete within it, so near its surface

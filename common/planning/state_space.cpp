@@ -235,10 +235,10 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, do
   // their cost) and only where the stretch's end is valid. The first
   // stretch is the rest of the motion; one proved doubles the next, one
   // not proved halves it, and where it is no longer than the slack's step
-  // the walk goes on pose by pose. Both ends of a stretch in bounds keep it
-  // in (the bounds are a box).
+  // the walk goes on pose by pose (StretchLength). Both ends of a stretch in
+  // bounds keep it in (the bounds are a box).
   const bool sweeps = slack_->ProvesTranslations() && per_unit > 0 && a.q.coeffs() == b.q.coeffs();
-  double stretch = 1.0;
+  StretchLength stretch(1.0);
   int walked = 0;
   bool proved = false;                    // `pose` ends a proved stretch (valid; its slack not measured)
   double s = 0, valid = -1.0, slack = 0;  // valid: the last valid pose's s
@@ -259,7 +259,7 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, do
       return valid;                       // out of time: blocked here
     if (CancelRequested()) return valid;  // the caller throws (core/cancel.h)
     if (sweeps && (proved || walked >= kStepsBeforeSweeping)) {
-      const double length = std::min(stretch, 1.0 - s);
+      const double length = std::min(stretch.next(), 1.0 - s);
       const double step = proved ? 0.0 : std::max(slack, slack_->MinStep()) / per_unit;
       if (length > step) {
         const double end = length >= 1.0 - s ? 1.0 : s + length;
@@ -268,11 +268,11 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, do
         if (problem_->InBounds(next) && slack_->IsValid(next) && slack_->ProveTranslation(pose, next.t - pose.t)) {
           s = end;
           pose = next;
-          stretch = 2 * length;
+          stretch.Proved(length);
           proved = true;
           continue;
         }
-        stretch = 0.5 * length;
+        stretch.NotProved(length);
       }
       if (proved) {  // measure the slack here, then step
         proved = false;

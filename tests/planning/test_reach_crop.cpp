@@ -6,11 +6,13 @@
 
 #include <filesystem>
 
+#include "collision/fcl_checker.h"
 #include "fixtures/generators.h"
 #include "fixtures/vehicle.h"
 #include "geometry/primitives.h"
 #include "geometry/triangle_box.h"
 #include "planning/exact_check.h"
+#include "planning/planner.h"
 #include "planning/reach_crop.h"
 #include "planning/state_space.h"
 #include "scene/scene.h"
@@ -195,6 +197,47 @@ TEST(ReachCrop, APinInATubeLongerThanTheCropComesOutAlongIt) {
   EXPECT_LT(planned.artifact.stats.iterations, 100);  // pulls only, no sampling
   const ExactCheckReport check = ExactCheckPath(scene, path, 0.05);
   EXPECT_TRUE(check.valid) << check.reason;
+}
+
+// A bar lying on a wide disc of S (over kCropMinTriangles, so cropped;
+// a post beside it, so that S's box rises above it): its pulls along its
+// length stay on the disc to the crop's edge, its pull up gets it out. Whether a pull is free to the crop's edge is
+// asked only once no pull got D out (each such pull, walked along a contact, may cost a surface-depth search per
+// stretch); here one did, so it is not asked.
+TEST(ReachCrop, PullsToTheCropsEdgeAreWalkedOnlyWhereNoPullGetsDOut) {
+  std::vector<Eigen::Vector2d> profile;  // (r, z): a disc 2 thick, its top at z = 0
+  constexpr int kRings = 800;
+  for (int i = 0; i <= kRings; ++i) profile.emplace_back(300.0 * i / kRings, 0.0);
+  for (int i = kRings; i >= 0; --i) profile.emplace_back(300.0 * i / kRings, -2.0);
+  Scene scene;
+  scene.file = "bar-on-disc/scene.yaml";
+  scene.name = "bar-on-disc";
+  scene.units = "mm";
+  scene.static_mesh = MakeSolidOfRevolution(profile, 64);
+  scene.static_mesh.Append(MakeBox({-5, 20, 0}, {5, 25, 30}));  // a post beside the bar
+  ASSERT_GT(static_cast<std::int64_t>(scene.static_mesh.triangles.size()), kCropMinTriangles);
+  scene.dynamic_mesh = MakeBox({-20, -4, 0.05}, {20, 4, 8.05});  // 0.05 above the disc
+  const PlanningProblem problem = MakePlanningProblem(scene, 0);
+  ASSERT_NE(problem.crop, nullptr);
+  const FclCollisionChecker checker(problem.robot, problem.environment);
+  PlannerOptions options;
+  options.seed = 1;
+  const PlanResult pulled = TryStraightPulls(problem, checker, options);
+  ASSERT_TRUE(pulled.solved());
+  const Eigen::Vector3d pull = pulled.path.back().t - pulled.path.front().t;
+  EXPECT_GT(pull.z(), 0.0);  // up, off the disc
+  EXPECT_NEAR(pull.head<2>().norm(), 0.0, 1e-9);
+  EXPECT_FALSE(pulled.pull_left_crop);
+  // Without the pull up (D under a lid just above it), the bar's pulls
+  // along the disc are free to the crop's edge, and that is said.
+  Scene covered = scene;
+  covered.static_mesh.Append(MakeBox({-30, -30, 8.1}, {30, 30, 10}));
+  const PlanningProblem lidded = MakePlanningProblem(covered, 0);
+  ASSERT_NE(lidded.crop, nullptr);
+  const FclCollisionChecker lid_checker(lidded.robot, lidded.environment);
+  const PlanResult blocked = TryStraightPulls(lidded, lid_checker, options);
+  EXPECT_FALSE(blocked.solved());
+  EXPECT_TRUE(blocked.pull_left_crop);
 }
 
 TEST(ReachCrop, RivetedPartStaysBlocked) {

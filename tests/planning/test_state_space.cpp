@@ -103,5 +103,30 @@ TEST(StateSpace, UniformSamplesStayInBounds) {
   for (int i = 0; i < 1000; ++i) EXPECT_TRUE(problem.InBounds(problem.SampleUniform(random)));
 }
 
+// How long a stretch of a translation is proved at once: doubled while
+// proved, halved when not; after a stretch not proved, kept at the length
+// proved until that many proofs in a row, then doubled again.
+TEST(StretchLength, DoublesWhileProvedAndWaitsAfterAFailure) {
+  StretchLength stretch(8.0);
+  EXPECT_EQ(stretch.next(), 8.0);
+  stretch.Proved(3.0);  // the motion's end came first: doubled from there
+  EXPECT_EQ(stretch.next(), 6.0);
+  stretch.NotProved(6.0);
+  EXPECT_EQ(stretch.next(), 3.0);
+  stretch.NotProved(3.0);
+  EXPECT_EQ(stretch.next(), 1.5);
+  for (int k = 1; k < StretchLength::kProofsBeforeGrowing; ++k) {
+    stretch.Proved(1.5);
+    EXPECT_EQ(stretch.next(), 1.5) << k;
+  }
+  stretch.Proved(1.5);
+  EXPECT_EQ(stretch.next(), 3.0);
+  stretch.Proved(3.0);  // still in a row: doubled at once
+  EXPECT_EQ(stretch.next(), 6.0);
+  stretch.NotProved(6.0);
+  stretch.Proved(3.0);
+  EXPECT_EQ(stretch.next(), 3.0);  // the count starts again
+}
+
 }  // namespace
 }  // namespace ausbau
