@@ -16,7 +16,9 @@
 #include <TDF_Tool.hxx>
 #include <TDataStd_Name.hxx>
 #include <TDocStd_Document.hxx>
+#include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Face.hxx>
 #include <XCAFApp_Application.hxx>
@@ -34,6 +36,8 @@
 #include "core/cancel.h"
 #include "core/child_process.h"
 #include "core/error.h"
+#include "geometry/closest_point.h"
+#include "geometry/triangle_bvh.h"
 
 namespace ausbau {
 namespace {
@@ -86,7 +90,55 @@ Eigen::Isometry3d ToIsometry(const gp_Trsf& trsf) {
 struct Prototype {
   TriangleMesh mesh;
   int faces = 0, faces_without_triangles = 0;
+  double overlapping_surface_mm2 = 0;  // StepPart::overlapping_surface_mm2
 };
+
+// The area of the triangles of `mesh` that lie on a triangle of another
+// face of the same solid (face_of, solid_of: per triangle; solid -1: a
+// face in no solid, not asked). A valid solid's faces never lie on one
+// another; where they do, a face was tessellated over more of its surface
+// than its boundary holds. Seen on CAx-IF s1's CATIA V5 export
+// (s1-c5-214, HEAD_BACK): a quarter of a sphere whose sides lie on the
+// sphere's seam came back from OpenCASCADE 7.6 as the other three
+// quarters, over the neighbouring quarter and over HEAD_FRONT's dome, so
+// that HEAD_FRONT seemed 1 mm deep in it. On: within `gap` (a few chord
+// errors: two faces of one surface, tessellated apart) of the other
+// triangle, at a point inside it (not at its edge: faces meeting at a
+// sharp angle), with normals within 25 degrees either way.
+double OverlappingSurface(const TriangleMesh& mesh, const std::vector<int>& face_of, const std::vector<int>& solid_of,
+                          double gap) {
+  const int n = static_cast<int>(mesh.triangles.size());
+  std::vector<Eigen::Vector3d> normals(n);
+  std::vector<double> areas(n);
+  for (int t = 0; t < n; ++t) {
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d cross =
+        (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+    areas[t] = 0.5 * cross.norm();
+    normals[t] = areas[t] > 0 ? Eigen::Vector3d(cross.normalized()) : Eigen::Vector3d::Zero();
+  }
+  const TriangleBvh bvh(mesh.vertices, mesh.triangles);
+  double overlap = 0;
+  for (int t = 0; t < n; ++t) {
+    if (solid_of[t] < 0 || areas[t] == 0) continue;
+    const auto& f = mesh.triangles[t];
+    const Eigen::Vector3d centre = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3.0;
+    bool on_other = false;
+    bvh.ForEachTriangleNear(centre.array() - gap, centre.array() + gap, [&](int k) {
+      if (solid_of[k] != solid_of[t] || face_of[k] == face_of[t] || std::abs(normals[t].dot(normals[k])) < 0.9)
+        return true;
+      const auto& g = mesh.triangles[k];
+      Eigen::Vector3d weights;
+      const Eigen::Vector3d nearest =
+          ClosestPointOnTriangle(centre, mesh.vertices[g[0]], mesh.vertices[g[1]], mesh.vertices[g[2]],
+                                 DegenerateTriangles::kNearestCorner, FaceWeights::kDividedBySum, &weights);
+      on_other = (nearest - centre).norm() <= gap && weights.minCoeff() > 0;
+      return !on_other;
+    });
+    if (on_other) overlap += areas[t];
+  }
+  return overlap;
+}
 
 // The shape's faces as triangles, welded where two faces share a vertex
 // bit for bit (OpenCASCADE discretises a shared edge once, so the faces of
@@ -98,9 +150,18 @@ Prototype Tessellate(const TopoDS_Shape& shape, const StepTessellation& tessella
                                   tessellation.angular_deflection_rad, Standard_False);
   Prototype out;
   std::map<std::array<double, 3>, int> index_of;
+  // Per triangle, its face and its solid (OverlappingSurface).
+  TopTools_IndexedMapOfShape solids;
+  TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+  std::map<const TopoDS_TShape*, int> solid_of_face;
+  for (int s = 1; s <= solids.Extent(); ++s)
+    for (TopExp_Explorer face_it(solids(s), TopAbs_FACE); face_it.More(); face_it.Next())
+      solid_of_face.emplace(face_it.Current().TShape().get(), s - 1);
+  std::vector<int> face_of, solid_of;
   for (TopExp_Explorer face_it(shape, TopAbs_FACE); face_it.More(); face_it.Next()) {
     const TopoDS_Face& face = TopoDS::Face(face_it.Current());
     ++out.faces;
+    const auto solid = solid_of_face.find(face.TShape().get());
     TopLoc_Location location;
     const Handle(Poly_Triangulation) triangles = BRep_Tool::Triangulation(face, location);
     if (triangles.IsNull() || triangles->NbTriangles() == 0) {
@@ -124,8 +185,11 @@ Prototype Tessellate(const TopoDS_Shape& shape, const StepTessellation& tessella
       const std::array<int, 3> tri{node_index[a], node_index[b], node_index[c]};
       if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;  // degenerate after welding
       out.mesh.triangles.push_back(tri);
+      face_of.push_back(out.faces);
+      solid_of.push_back(solid == solid_of_face.end() ? -1 : solid->second);
     }
   }
+  out.overlapping_surface_mm2 = OverlappingSurface(out.mesh, face_of, solid_of, 3 * tessellation.deflection_mm);
   return out;
 }
 
@@ -216,6 +280,7 @@ class TreeWalker {
     for (const Eigen::Vector3d& v : prototype.mesh.vertices) part.mesh.vertices.push_back(part.placement * v);
     part.faces = prototype.faces;
     part.faces_without_triangles = prototype.faces_without_triangles;
+    part.overlapping_surface_mm2 = prototype.overlapping_surface_mm2;
     out_->parts.push_back(std::move(part));
   }
 
@@ -331,6 +396,7 @@ std::string Serialize(const StepAssembly& assembly) {
     out.Put(part.placement.matrix().data(), sizeof(double) * 16);
     out.Put<std::int64_t>(part.faces);
     out.Put<std::int64_t>(part.faces_without_triangles);
+    out.Put<double>(part.overlapping_surface_mm2);
     out.Put<std::uint64_t>(part.mesh.vertices.size());
     out.Put(part.mesh.vertices.data(), sizeof(Eigen::Vector3d) * part.mesh.vertices.size());
     out.Put<std::uint64_t>(part.mesh.triangles.size());
@@ -354,6 +420,7 @@ StepAssembly Deserialize(const std::string& bytes) {
     in.Get(part.placement.matrix().data(), sizeof(double) * 16);
     part.faces = static_cast<int>(in.Get<std::int64_t>());
     part.faces_without_triangles = static_cast<int>(in.Get<std::int64_t>());
+    part.overlapping_surface_mm2 = in.Get<double>();
     part.mesh.vertices.resize(in.Get<std::uint64_t>());
     in.Get(part.mesh.vertices.data(), sizeof(Eigen::Vector3d) * part.mesh.vertices.size());
     part.mesh.triangles.resize(in.Get<std::uint64_t>());

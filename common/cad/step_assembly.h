@@ -42,6 +42,10 @@ struct StepPart {
   TriangleMesh mesh;                // world coordinates (mm), welded where faces share a vertex exactly
   int faces = 0;                    // CAD faces of the part
   int faces_without_triangles = 0;  // faces OpenCASCADE could not tessellate (left out)
+  // The area (mm^2, the product's own) of its triangles that lie on another
+  // face of the same solid: 0 for a valid tessellation; more, a face was
+  // tessellated beyond its boundary (the mesh is not the part there).
+  double overlapping_surface_mm2 = 0;
 };
 
 struct StepAssembly {

@@ -44,6 +44,10 @@ struct StepScenes {
   int products = 0, instances = 0;
   long long triangles = 0;
   int faces_without_triangles = 0;
+  // Instances whose faces lie on one another over more than 1% of their
+  // surface (StepPart::overlapping_surface_mm2): the name, and that area
+  // in mm^2.
+  std::vector<std::pair<std::string, double>> overlapping;
 };
 
 // Reads and tessellates the STEP file (ReadStepAssembly), writes the OBJ

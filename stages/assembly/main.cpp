@@ -101,6 +101,13 @@ int SplitStepAssembly(const AssemblyStageOptions& options) {
   if (scenes.faces_without_triangles > 0) {
     LogWarn("%d CAD faces could not be tessellated and are missing from the meshes", scenes.faces_without_triangles);
   }
+  for (const auto& [name, area] : scenes.overlapping) {
+    LogWarn(
+        "%s: faces of one solid lie on each other over %.4g mm^2: a face was tessellated beyond its boundary "
+        "(OpenCASCADE's reading of the CAD face, not the part); its mesh is wrong there, and so is any verdict "
+        "where it touches D",
+        TerminalSafe(name).c_str(), area);
+  }
   return kExitOk;
 }
 

@@ -358,6 +358,27 @@ TEST(PublicStepAssemblies, As1AndDm1ComeBackAsTheirTreesSay) {
   ASSERT_EQ(dm1.parts.size(), 7u);  // the material products have no shape
   const Aabb bracket = dm1.parts[0].mesh.Bounds();
   EXPECT_NEAR(bracket.max.z() - bracket.min.z(), 100, 1e-6);  // in mm
+
+  // No face of these lies on another (a valid tessellation).
+  for (const StepAssembly* assembly : {&as1, &pe, &dm1})
+    for (const StepPart& part : assembly->parts) EXPECT_EQ(part.overlapping_surface_mm2, 0) << PathText(part);
+}
+
+// CATIA V5's s1 head back (data/step/README.md): a quarter of its outer
+// sphere (radius 60 mm) comes back from OpenCASCADE as the other three
+// quarters, over the neighbouring quarter and the front half. The mesh is
+// not the part there, and that is said: about 20,800 mm^2 of its triangles
+// lie on another face of the solid (the neighbouring quarter, about
+// 10,800 mm^2, both ways).
+TEST(PublicStepAssemblies, AFaceTessellatedBeyondItsBoundaryIsFound) {
+  const StepAssembly head = ReadStepAssembly(testing::SourceDir() / "data" / "step" / "s1-c5-214-HEAD_BACK.step", {});
+  ASSERT_EQ(head.parts.size(), 1u);
+  const StepPart& part = head.parts[0];
+  EXPECT_EQ(part.faces, 12);
+  const Aabb box = part.mesh.Bounds();
+  EXPECT_NEAR(box.max.x() - box.min.x(), 130, 0.1);  // 70 mm of the part, and 60 of the front half
+  EXPECT_GT(part.overlapping_surface_mm2, 2 * 10000.0);
+  EXPECT_LT(part.overlapping_surface_mm2, 2 * 11310.0);  // both ways over one quarter (4 pi 60^2 / 4 = 11,310)
 }
 
 TEST_F(StepAssemblyTest, BadInputIsAClearError) {
