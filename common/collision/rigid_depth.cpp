@@ -393,23 +393,51 @@ std::vector<int> SlabAxes(const Shell& shell) {
   return axes;
 }
 
+}  // namespace
+
+// PairMeasure's models of the shells themselves (not of their moulded
+// fasteners' rigid rest, which ClassifyParts finds after it measures).
+struct ShellModels {
+  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
+  std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
+  std::vector<std::vector<int>> robot_slab_axes, static_slab_axes;
+};
+
+namespace {
+
 // FCL models for every shell that is part of a non-convex pair: built for
-// all shells of both sides as soon as either side has a non-convex shell.
-void BuildFallbackModels(const PartModel& parts, PairMeasure* measure) {
+// all shells of both sides as soon as either side has a non-convex shell
+// (none otherwise: empty).
+std::shared_ptr<const ShellModels> BuildShellModels(const PartModel& parts) {
+  auto models = std::make_shared<ShellModels>();
   const auto any_non_convex = [](const std::vector<Shell>& shells) {
     return std::any_of(shells.begin(), shells.end(), [](const Shell& s) { return !s.convex; });
   };
-  if (!any_non_convex(parts.robot_shells) && !any_non_convex(parts.static_shells)) return;
+  if (!any_non_convex(parts.robot_shells) && !any_non_convex(parts.static_shells)) return models;
   for (const auto& s : parts.robot_shells) {
-    measure->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
-    measure->robot_surface.push_back(std::make_shared<DepthSurface>(s));
-    measure->robot_slab_axes.push_back(SlabAxes(s));
+    models->robot_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+    models->robot_surface.push_back(std::make_shared<DepthSurface>(s));
+    models->robot_slab_axes.push_back(SlabAxes(s));
   }
   for (const auto& s : parts.static_shells) {
-    measure->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
-    measure->static_surface.push_back(std::make_shared<DepthSurface>(s));
-    measure->static_slab_axes.push_back(SlabAxes(s));
+    models->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
+    models->static_surface.push_back(std::make_shared<DepthSurface>(s));
+    models->static_slab_axes.push_back(SlabAxes(s));
   }
+  return models;
+}
+
+// The models PairMeasure needs: the shells' (`models`: built once per
+// PartModel) and, where a non-convex pair needs them, the rigid rest of
+// each shell with moulded fasteners.
+void BuildFallbackModels(const PartModel& parts, const ShellModels& models, PairMeasure* measure) {
+  measure->robot_bvh = models.robot_bvh;
+  measure->static_bvh = models.static_bvh;
+  measure->robot_surface = models.robot_surface;
+  measure->static_surface = models.static_surface;
+  measure->robot_slab_axes = models.robot_slab_axes;
+  measure->static_slab_axes = models.static_slab_axes;
+  if (models.robot_bvh.empty()) return;  // only convex pairs
   // The rigid rest of each shell with moulded fasteners (PairMeasure::rigid_bvh).
   measure->rigid_bvh.assign(parts.robot_shells.size(), nullptr);
   measure->rigid_rest.assign(parts.robot_shells.size(), nullptr);
@@ -674,7 +702,8 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   measure.robot = &parts->robot_shells;
   measure.statics = &parts->static_shells;
   measure.resolution = tolerance / 10;
-  BuildFallbackModels(*parts, &measure);
+  parts->shell_models = BuildShellModels(*parts);
+  BuildFallbackModels(*parts, *parts->shell_models, &measure);
   const ShellTree tree(parts->static_shells);
   const Eigen::Isometry3d pose = installed.ToIsometry();
   std::vector<std::vector<std::pair<int, double>>> deep_pairs(n);  // (static shell, depth) deeper than the tolerance
@@ -797,7 +826,8 @@ RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, dou
   impl_->measure.statics = &parts_->static_shells;
   impl_->measure.resolution = limit_ / 10;
   impl_->measure.masks = &parts_->masks;
-  BuildFallbackModels(*parts_, &impl_->measure);
+  BuildFallbackModels(*parts_, parts_->shell_models ? *parts_->shell_models : *BuildShellModels(*parts_),
+                      &impl_->measure);
   // Pairs farther apart than this are not measured; their slack is at least
   // this. A few percent of D's size keeps the pair count small near S and
   // the steps long away from it.

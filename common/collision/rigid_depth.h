@@ -115,6 +115,8 @@ struct MouldedRule {
   static constexpr double kMaxShareOfShell = 0.05;
 };
 
+struct ShellModels;  // rigid_depth.cpp
+
 struct PartModel {
   std::vector<Shell> robot_shells;       // D, in the frame its poses refer to
   std::vector<Shell> static_shells;      // S, world
@@ -154,6 +156,13 @@ struct PartModel {
   std::vector<std::vector<int>> cluster_engages;
   std::vector<std::vector<int>> mask_engages;
   double tolerance = 0;  // the one used to classify
+  // The shells' models for measuring (FCL trees, depth surfaces, slab
+  // axes; rigid_depth.cpp), built by ClassifyParts for its own
+  // measurements and reused by every RigidDepthChecker of this model: on
+  // CAx-IF s1's head (S about 300,000 triangles) each build took 3.4 s,
+  // four per ausbau-plan run. Null (a model made by hand): each checker
+  // builds its own.
+  std::shared_ptr<const ShellModels> shell_models;
 
   // Whether robot shell r's fasteners (a fastener shell's cluster, or the
   // moulded fasteners of a rigid shell) may bend into static shell s.

@@ -318,12 +318,13 @@ namespace {
 // set). With a crop, D's bounding ball must stay inside crop->box at every
 // checked pose, and the advancement steps are bounded by how far it is from
 // the box's faces, so D stays inside between checked poses too; when it
-// does not, *left_crop is set and the check stops.
+// does not, *left_crop is set and the check stops. `parts` (or null, then
+// classified here): the scene's parts at this tolerance and rule.
 ExactCheckReport CheckPathIn(const Scene& scene, const ReachCrop* crop, const std::vector<Pose>& waypoints,
                              double tolerance, UnmeasuredInterference unmeasured, const ProgressCallback& progress,
-                             bool* left_crop) {
+                             bool* left_crop, std::shared_ptr<const PartModel> parts) {
   ExactCheckReport report;
-  report.parts = ClassifySceneParts(scene, tolerance, unmeasured);
+  report.parts = parts ? parts : ClassifySceneParts(scene, tolerance, unmeasured);
   const RigidDepthChecker checker(report.parts, tolerance, tolerance / 10);
   TriangleMesh robot = scene.dynamic_mesh;
   for (auto& v : robot.vertices) v -= scene.dynamic_origin;
@@ -472,7 +473,18 @@ bool RemovesPart(const ExactCheckReport& report) {
 }
 
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
-                                UnmeasuredInterference unmeasured, const ProgressCallback& progress) {
+                                UnmeasuredInterference unmeasured, const ProgressCallback& progress,
+                                ExactCheckModels* models) {
+  // The parts of crop level `level` (-1: the whole S) from `models`, or
+  // null; and the ones a check classified, kept there.
+  const auto known = [&](int level) -> std::shared_ptr<const PartModel> {
+    if (!models) return nullptr;
+    const auto it = models->by_level.find(level);
+    return it == models->by_level.end() ? nullptr : it->second;
+  };
+  const auto keep = [&](int level, const ExactCheckReport& report) {
+    if (models) models->by_level.emplace(level, report.parts);
+  };
   if (waypoints.empty()) {
     ExactCheckReport report;
     report.reason = "the path has no waypoint";
@@ -496,13 +508,16 @@ ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& way
     Scene cropped = scene;
     cropped.static_mesh = crop->environment;
     bool left = false;
-    ExactCheckReport report = CheckPathIn(cropped, &*crop, waypoints, tolerance, unmeasured, progress, &left);
+    ExactCheckReport report =
+        CheckPathIn(cropped, &*crop, waypoints, tolerance, unmeasured, progress, &left, known(level));
+    keep(level, report);
     if (left) continue;
     report.crop_level = level;
     report.checked_triangles = crop->kept_triangles;
     return report;
   }
-  ExactCheckReport report = CheckPathIn(scene, nullptr, waypoints, tolerance, unmeasured, progress, nullptr);
+  ExactCheckReport report = CheckPathIn(scene, nullptr, waypoints, tolerance, unmeasured, progress, nullptr, known(-1));
+  keep(-1, report);
   report.checked_triangles = static_cast<std::int64_t>(scene.static_mesh.triangles.size());
   return report;
 }

@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,9 +82,17 @@ bool RemovesPart(const ExactCheckReport& report);
 
 // `progress`: the segments checked of the path's (core/log.h); empty =
 // silent. Throws Cancelled between poses when cancelled (core/cancel.h).
+// `models` (or null): the parts classified per crop level, kept between
+// calls: a caller that checks several paths of one scene with the same
+// tolerance and rule (ausbau-smooth: its input and its output) passes the
+// same one, and each level is classified once (a classification of s1's
+// head, S about 300,000 triangles, takes seconds).
+struct ExactCheckModels {
+  std::map<int, std::shared_ptr<const PartModel>> by_level;  // -1: the whole S
+};
 ExactCheckReport ExactCheckPath(const Scene& scene, const std::vector<Pose>& waypoints, double tolerance,
                                 UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
-                                const ProgressCallback& progress = {});
+                                const ProgressCallback& progress = {}, ExactCheckModels* models = nullptr);
 
 // Adds waypoints so that interpolating each segment the plain way (about
 // D's mesh origin shifted by dynamic_origin) stays within `deviation` of

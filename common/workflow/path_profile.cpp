@@ -28,8 +28,9 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
 }
 
 TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, ValidityMode validity,
-                                double rigid_tolerance_mm) {
+                                double rigid_tolerance_mm, const PartModel* classified) {
   if (validity != ValidityMode::kRigidExact) return problem.robot;
+  if (classified && classified->FastenerCount() == 0) return problem.robot;  // as ClearanceRobot says then
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene, nullptr);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));

@@ -30,8 +30,12 @@ std::vector<DensePose> Densify(const PlanningProblem& problem, const std::vector
 // The part of D whose clearance a path of `validity` reports and keeps
 // (planning convention): the rigid shells for rigid-exact (its fasteners
 // bend through S by design; classified at the tolerance, mm), else all of D.
+// `classified` (or null): D's parts as another check of this scene at this
+// tolerance classified them, in whatever frame (the verdict's exact
+// check): where that found no fastener, all of D is rigid, and it is not
+// classified again (seconds on a large S).
 TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& problem, ValidityMode validity,
-                                double rigid_tolerance_mm);
+                                double rigid_tolerance_mm, const PartModel* classified = nullptr);
 
 // Per dense pose along a path: the pose, its path parameter s (normalized
 // metric length from the start, u = 0.5) and its clearance with where.

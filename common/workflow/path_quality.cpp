@@ -10,7 +10,8 @@
 
 namespace ausbau {
 
-PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, double rigid_tolerance_mm) {
+PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, double rigid_tolerance_mm,
+                               const PartModel* classified) {
   PathQuality quality;
   const PlanningProblem problem = MakePlanningProblem(scene);
   std::vector<Pose> poses;
@@ -24,7 +25,8 @@ PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, dou
   quality.first_rigid_segment = IsVolumeValidity(path.validity) ? std::max(0, path.inter_index) : 0;
   quality.clearance_kept = path.clearance;
   if (poses.size() < 2) return quality;
-  const ClearanceMeter meter(problem, PathClearanceRobot(scene, problem, path.validity, rigid_tolerance_mm));
+  const ClearanceMeter meter(problem,
+                             PathClearanceRobot(scene, problem, path.validity, rigid_tolerance_mm, classified));
   quality.segment_clearance.assign(poses.size() - 1, std::numeric_limits<double>::infinity());
   for (const ProfilePose& p : ProfileAlongPath(problem, meter, poses)) {
     // The first dense pose (the start) belongs to segment 0.

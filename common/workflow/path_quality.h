@@ -38,8 +38,9 @@ struct PathQuality {
 
 // Measures the path artifact's waypoints (interpolated about its reference
 // point, as planned) in `scene`; `rigid_tolerance_mm` classifies D's shells
-// for a rigid-exact path.
-PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, double rigid_tolerance_mm);
+// for a rigid-exact path (`classified`: see PathClearanceRobot).
+PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, double rigid_tolerance_mm,
+                               const PartModel* classified = nullptr);
 
 // The `path_quality` object of verdict.json (schemas/verdict.md).
 std::string PathQualityJson(const PathQuality& quality);

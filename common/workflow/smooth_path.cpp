@@ -64,12 +64,16 @@ void SetLengths(const SmoothResult& result, PathArtifact* artifact) {
 SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem, const PathArtifact& input,
                               const std::string& input_file, const SmoothPlannedPathOptions& options) {
   const double tolerance = RigidToleranceInSceneUnits(options.volume.rigid_tolerance_mm, scene, nullptr);
-  const ExactCheckReport input_check = ExactCheckPath(scene, input.waypoints, tolerance);
+  // The input's and the output's checks classify each crop level once.
+  ExactCheckModels exact_models;
+  const ExactCheckReport input_check =
+      ExactCheckPath(scene, input.waypoints, tolerance, UnmeasuredInterference::kRigid, {}, &exact_models);
   if (!input_check.valid) throw InputErrorAt(input_file, "the input path fails the exact check: " + input_check.reason);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));
   const RigidDepthChecker checker(parts, tolerance / 2, tolerance / 4, NewContacts::kCollide);
   SmoothedPath out;
+  out.clearance_robot = ClearanceRobot(problem, parts.get());
   out.planning_path = ToPlanning(problem, input.waypoints);
   const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, parts.get());
   out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
@@ -78,7 +82,8 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   out.artifact.clearance = guard->clearance();
   out.artifact.waypoints = DensifyForPlainInterpolation(ToScene(problem, out.result.path), problem.reference_point,
                                                         problem.dynamic_origin, tolerance / 10);
-  const ExactCheckReport check = ExactCheckPath(scene, out.artifact.waypoints, tolerance);
+  const ExactCheckReport check =
+      ExactCheckPath(scene, out.artifact.waypoints, tolerance, UnmeasuredInterference::kRigid, {}, &exact_models);
   if (!check.valid) {
     LogWarn("smoothed path fails the exact check (%s); keeping the input path", check.reason.c_str());
     out.artifact.waypoints = input.waypoints;
@@ -254,6 +259,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
                                        input_check.reason);
   }
   SmoothedPath out;
+  out.clearance_robot = problem.robot;
   out.planning_path = ToPlanning(problem, input.waypoints);
   const FclCollisionChecker checker(problem.robot, problem.environment);
   if (!volume_mode && (!options.volume.voxels.empty() || !options.volume.labels.empty())) {

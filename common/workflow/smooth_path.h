@@ -32,6 +32,10 @@ struct SmoothedPath {
   std::vector<Pose> planning_path;     // the same poses in planning convention (for the profile)
   std::unique_ptr<VolumeModel> model;  // volume modes; null otherwise
   SmoothResult result;                 // lengths before and after, shortcuts
+  // The part of D whose clearance the profile measures (PathClearanceRobot:
+  // the rigid shells of a rigid-exact path, else all of D), as the
+  // smoothing classified it.
+  TriangleMesh clearance_robot;
 };
 
 // `input_file` names the input in errors. Throws InputError when the input

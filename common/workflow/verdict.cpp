@@ -106,9 +106,10 @@ std::string PoseJson(const Pose& pose) {
 
 // The path's quality figures and clearance (path_quality.h), with a warning
 // where it comes closer to S than the clearance it was meant to keep.
-void JudgePathQuality(const Scene& scene, Verdict* v) {
+// `classified`: D's parts as the exact check classified them (or null).
+void JudgePathQuality(const Scene& scene, const PartModel* classified, Verdict* v) {
   if (!v->path.success || v->path.waypoints.size() < 2) return;
-  v->quality = MeasurePathQuality(scene, v->path, v->inputs.rigid_tolerance_mm);
+  v->quality = MeasurePathQuality(scene, v->path, v->inputs.rigid_tolerance_mm, classified);
   const std::string warning = ClearanceWarning(*v->quality, v->units);
   if (!warning.empty()) LogWarn("%s", warning.c_str());
 }
@@ -307,7 +308,9 @@ Verdict JudgeRun(const Scene& scene, const VerdictInputs& options) {
     AddPullStopper(scene, unmeasured, &v);
   }
   v.max_volume = FindMaxVolume(path);
-  JudgePathQuality(scene, &v);
+  // The exact check's classification of D, where it ran (rigid: at the
+  // rigid rule).
+  JudgePathQuality(scene, exact && unmeasured == UnmeasuredInterference::kRigid ? exact->parts.get() : nullptr, &v);
   const bool volume_mode = IsVolumeValidity(path.validity);
   // tau and psi: the path's own (what it was planned with), else the tau file's.
   v.tau_value = std::nan("");

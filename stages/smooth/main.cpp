@@ -53,10 +53,8 @@ int Smooth(const StageRun& run, const SmoothStageOptions& options) {
   WritePathArtifact(run.output, smoothed.artifact, run.provenance);
   if (!options.csv.empty()) WritePathCsv(options.csv, smoothed.artifact.waypoints);
   if (!options.profile.empty()) {
-    WritePathProfile(
-        options.profile, problem, smoothed.result.path, smoothed.model.get(),
-        PathClearanceRobot(run.scene, problem, smoothed.artifact.validity, options.smooth.volume.rigid_tolerance_mm),
-        run.scene.units);
+    WritePathProfile(options.profile, problem, smoothed.result.path, smoothed.model.get(), smoothed.clearance_robot,
+                     run.scene.units);
   }
   LogInfo("written to %s%s%s%s%s", run.output.c_str(), options.csv.empty() ? "" : ", ", options.csv.c_str(),
           options.profile.empty() ? "" : ", ", options.profile.c_str());

@@ -225,6 +225,31 @@ TEST(RigidDepth, NewContactsOfANonConvexPartCollideWhilePlanning) {
   EXPECT_NEAR(exact.Measure(PoseAt(0.52, 0, 0)).rigid_depth, 0.02, 0.005);
 }
 
+// ClassifyParts builds the shells' models (FCL trees, depth surfaces) for
+// its own measurements and keeps them in the PartModel; every checker of
+// that model reuses them. A model without them (made by hand) gets its own:
+// the same answers either way.
+TEST(RigidDepth, CheckersReuseTheModelsTheClassificationBuilt) {
+  const TriangleMesh robot = MakePrism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 5}, {0, 5}}, 0, 2);
+  TriangleMesh environment = MakeBox({-10, -10, -1}, {10, 10, 0});
+  environment.Append(MakeBox({4.5, -10, 0}, {10, 10, 5}));
+  const auto parts = ClassifyParts(robot, environment, Pose{}, 0.05);
+  ASSERT_NE(parts->shell_models, nullptr);  // a non-convex shell: models built
+  auto bare = std::make_shared<PartModel>(*parts);
+  bare->shell_models = nullptr;
+  const RigidDepthChecker shared(parts, 0.05, 0.01, NewContacts::kCollide);
+  const RigidDepthChecker own(bare, 0.05, 0.01, NewContacts::kCollide);
+  for (double x : {0.0, 0.2, 0.4, 0.45, 0.49, 0.52, 0.6, 1.0}) {
+    for (double z : {-0.03, -0.01, 0.0, 0.5}) {
+      const Pose pose = PoseAt(x, 0, z);
+      EXPECT_EQ(shared.MeasureSlack(pose), own.MeasureSlack(pose)) << x << " " << z;
+      EXPECT_EQ(shared.ProveTranslation(pose, Eigen::Vector3d(0.3, 0, 0)),
+                own.ProveTranslation(pose, Eigen::Vector3d(0.3, 0, 0)))
+          << x << " " << z;
+    }
+  }
+}
+
 TEST(RigidDepth, ClipsThatInterfereAreFastenersAndMayNotCutDeeper) {
   TriangleMesh robot = MakeBox({-50, -50, 1}, {50, 50, 4});  // panel (anchor)
   robot.Append(MakeBox({-0.75, -5, -4}, {0.75, 5, 1.5}));    // clip beam, in a 4 mm wide hole

@@ -9,6 +9,7 @@
 
 #include "artifact/artifact.h"
 #include "collision/fcl_checker.h"
+#include "collision/scene_parts.h"
 #include "generated_scene.h"
 #include "geometry/primitives.h"
 #include "planning/clearance.h"
@@ -163,6 +164,18 @@ TEST(PathQuality, FiguresOfAStraightPath) {
                           "\"segments_below_clearance\"", "\"clearance_kept\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   }
+  // As a rigid-exact path: the rigid shells' clearance. Given the parts
+  // another check classified (the verdict's exact check; here no fastener),
+  // the same figures without classifying D again.
+  path.validity = ValidityMode::kRigidExact;
+  const PathQuality rigid = MeasurePathQuality(scene, path, 0.05);
+  const auto parts =
+      ClassifySceneParts(scene, RigidToleranceInSceneUnits(0.05, scene, nullptr), UnmeasuredInterference::kRigid);
+  ASSERT_EQ(parts->FastenerCount(), 0);
+  const PathQuality reused = MeasurePathQuality(scene, path, 0.05, parts.get());
+  EXPECT_EQ(reused.segment_clearance, rigid.segment_clearance);
+  EXPECT_EQ(reused.min.clearance, rigid.min.clearance);
+  EXPECT_EQ(reused.min.on_robot, rigid.min.on_robot);
 }
 
 TEST(PathQuality, ProfileHasPosesAndUnits) {

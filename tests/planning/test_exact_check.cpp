@@ -47,6 +47,31 @@ TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
   EXPECT_FALSE(ExactCheckPath(scene, short_path, 0.05).valid);
 }
 
+// A caller that checks several paths of one scene (ausbau-smooth: its
+// input and its output) passes the same ExactCheckModels: the scene is
+// classified once, and every answer is the one without it.
+TEST(ExactCheck, PathsOfOneSceneShareTheirClassification) {
+  const KeyScene key;
+  Scene scene;
+  scene.dynamic_mesh = key.robot;
+  scene.static_mesh = key.environment;
+  scene.units = "mm";
+  ExactCheckModels models;
+  const std::vector<Pose> up = {Pose{}, PoseAt(0, 0, 40)};
+  const std::vector<Pose> cut = {Pose{}, PoseAt(40, 0, 0), PoseAt(40, 0, 40)};
+  const ExactCheckReport first = ExactCheckPath(scene, up, 0.05, UnmeasuredInterference::kRigid, {}, &models);
+  const ExactCheckReport second = ExactCheckPath(scene, cut, 0.05, UnmeasuredInterference::kRigid, {}, &models);
+  ASSERT_EQ(models.by_level.size(), 1u);  // not cropped: the whole S
+  EXPECT_EQ(first.parts, second.parts);   // the same classification, not a second one
+  const ExactCheckReport alone = ExactCheckPath(scene, cut, 0.05);
+  EXPECT_NE(alone.parts, second.parts);
+  EXPECT_TRUE(first.valid);
+  EXPECT_EQ(second.valid, alone.valid);
+  EXPECT_EQ(second.reason, alone.reason);
+  EXPECT_EQ(second.max_rigid_depth, alone.max_rigid_depth);
+  EXPECT_EQ(second.first_bad_segment, alone.first_bad_segment);
+}
+
 TEST(ExactCheck, DensifyKeepsPlainInterpolationNearThePlannersOne) {
   // D metres from its mesh origin, turned 2 degrees about its own centre.
   const Eigen::Vector3d reference(3000, 0, 0), origin(0, 0, 0);
