@@ -22,12 +22,18 @@ using testing::PoseAt;
 
 using testing::KeyScene;  // a rigid key through a slot in a 2 mm plate (test_key_scene.h)
 
-TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
+// The key scene as a scene (mm).
+Scene KeyAsScene() {
   const KeyScene key;
   Scene scene;
   scene.dynamic_mesh = key.robot;
   scene.static_mesh = key.environment;
   scene.units = "mm";
+  return scene;
+}
+
+TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
+  const Scene scene = KeyAsScene();
   // Straight up and out: valid.
   std::vector<Pose> up = {Pose{}, PoseAt(0, 0, 40)};
   const ExactCheckReport ok = ExactCheckPath(scene, up, 0.05);
@@ -51,11 +57,7 @@ TEST(ExactCheck, PlainInterpolationAndTheVerdictOfAPath) {
 // input and its output) passes the same ExactCheckModels: the scene is
 // classified once, and every answer is the one without it.
 TEST(ExactCheck, PathsOfOneSceneShareTheirClassification) {
-  const KeyScene key;
-  Scene scene;
-  scene.dynamic_mesh = key.robot;
-  scene.static_mesh = key.environment;
-  scene.units = "mm";
+  const Scene scene = KeyAsScene();
   ExactCheckModels models;
   const std::vector<Pose> up = {Pose{}, PoseAt(0, 0, 40)};
   const std::vector<Pose> cut = {Pose{}, PoseAt(40, 0, 0), PoseAt(40, 0, 40)};
