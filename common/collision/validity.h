@@ -108,9 +108,9 @@ class SlackValidity : public PoseValidity {
 // then doubled again: a part sliding along a fit or a contact is proved in
 // stretches of about one length all the way, and a proof that is not
 // reached costs more than a proof of half its length that is (the swept
-// surface-depth search runs to its budget: CAx-IF s1's CATIA foot on its
-// bracket, 150 ms against 90 ms). Doubling after every proof, half of the
-// proofs there failed, and they took two thirds of the time.
+// surface-depth search runs to its budget: CAx-IF s1's CATIA foot along
+// its fit in the body, 150 ms against 90 ms). Doubling after every proof,
+// half of the proofs there failed, and they took two thirds of the time.
 class StretchLength {
  public:
   explicit StretchLength(double first) : next_(first) {}
