@@ -150,7 +150,7 @@ StepScenes WriteStepAssemblyScenes(const fs::path& step, const fs::path& output,
     // Said where it is more than a sliver: 1% of the part's surface (s1-c5's
     // HEAD_BACK: 23%; s1-tu's FOOTBACK: 0.002 mm^2 of sliver triangles
     // along a sharp edge).
-    if (part.overlapping_surface_mm2 > 0.01 * SurfaceArea(part.mesh))
+    if (part.overlapping_surface_mm2 > 0 && part.overlapping_surface_mm2 > 0.01 * SurfaceArea(part.mesh))
       out.overlapping.emplace_back(part.name, part.overlapping_surface_mm2);
     if (part.mesh.triangles.empty()) {
       if (empty.size() < 3) empty.push_back(JoinPath(part.path, part.path.size()));

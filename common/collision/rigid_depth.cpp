@@ -101,14 +101,28 @@ struct DepthQuery {
   bool contact_collides = false;
 };
 
+}  // namespace
+
+// The models of the shells themselves (PartModel::shell_models; not of
+// their moulded fasteners' rigid rest, which ClassifyParts finds after it
+// measures). Filled only where a non-convex pair needs them
+// (BuildShellModels).
+struct ShellModels {
+  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
+  std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
+  // Per convex shell: the face normals SlabGap bounds along (SlabAxes).
+  std::vector<std::vector<int>> robot_slab_axes, static_slab_axes;
+};
+
+namespace {
+
 // The pair depth of a robot shell at `pose` and a static shell: see
 // ConvexSignedDepth; for non-convex pairs the surface depth where their
-// surfaces meet (collision/mesh_depth.h), else minus FCL's distance.
-struct PairMeasure {
+// surfaces meet (collision/mesh_depth.h), else minus FCL's distance. The
+// shells' models are its base (BuildFallbackModels).
+struct PairMeasure : ShellModels {
   const std::vector<Shell>* robot = nullptr;
   const std::vector<Shell>* statics = nullptr;
-  // Filled only where a non-convex pair needs them (BuildFallbackModels).
-  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
   // Robot shells with moulded fasteners: the surface that bounds the rigid
   // rest (the triangles outside the fasteners' boxes and each box's face on
   // the plate, which holds the cut), and a vertex of it; null elsewhere.
@@ -121,9 +135,6 @@ struct PairMeasure {
     TriangleBvh bvh;
   };
   std::vector<std::shared_ptr<const RestSurface>> rigid_rest;
-  std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
-  // Per convex shell: the face normals SlabGap bounds along (SlabAxes).
-  std::vector<std::vector<int>> robot_slab_axes, static_slab_axes;
   double resolution = 0;  // of the surface depth
   // Per robot shell, the boxes of its moulded fasteners (PartModel::masks);
   // null: none anywhere.
@@ -393,18 +404,6 @@ std::vector<int> SlabAxes(const Shell& shell) {
   return axes;
 }
 
-}  // namespace
-
-// PairMeasure's models of the shells themselves (not of their moulded
-// fasteners' rigid rest, which ClassifyParts finds after it measures).
-struct ShellModels {
-  std::vector<std::shared_ptr<FclModel>> robot_bvh, static_bvh;
-  std::vector<std::shared_ptr<const DepthSurface>> robot_surface, static_surface;
-  std::vector<std::vector<int>> robot_slab_axes, static_slab_axes;
-};
-
-namespace {
-
 // FCL models for every shell that is part of a non-convex pair: built for
 // all shells of both sides as soon as either side has a non-convex shell
 // (none otherwise: empty).
@@ -431,13 +430,8 @@ std::shared_ptr<const ShellModels> BuildShellModels(const PartModel& parts) {
 // PartModel) and, where a non-convex pair needs them, the rigid rest of
 // each shell with moulded fasteners.
 void BuildFallbackModels(const PartModel& parts, const ShellModels& models, PairMeasure* measure) {
-  measure->robot_bvh = models.robot_bvh;
-  measure->static_bvh = models.static_bvh;
-  measure->robot_surface = models.robot_surface;
-  measure->static_surface = models.static_surface;
-  measure->robot_slab_axes = models.robot_slab_axes;
-  measure->static_slab_axes = models.static_slab_axes;
-  if (models.robot_bvh.empty()) return;  // only convex pairs
+  static_cast<ShellModels&>(*measure) = models;  // shared pointers: the models themselves are not copied
+  if (models.robot_bvh.empty()) return;          // only convex pairs
   // The rigid rest of each shell with moulded fasteners (PairMeasure::rigid_bvh).
   measure->rigid_bvh.assign(parts.robot_shells.size(), nullptr);
   measure->rigid_rest.assign(parts.robot_shells.size(), nullptr);

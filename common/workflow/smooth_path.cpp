@@ -30,13 +30,12 @@ std::vector<Pose> ToScene(const PlanningProblem& problem, const std::vector<Pose
 }
 
 // The clearance guard of --clearance (planning/clearance.h) on the part of
-// D that must keep clear (`parts`: its rigid shells; null: all of D).
+// D that must keep clear (`robot`: ClearanceRobot's, planning convention).
 std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProblem& problem,
-                                          const SmoothOptions& options, const PartModel* parts) {
+                                          const SmoothOptions& options, const TriangleMesh& robot) {
   const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
   LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance, scene.units.c_str());
-  return std::make_unique<ClearanceGuard>(problem, ClearanceRobot(problem, parts), clearance,
-                                          ClearanceStep(problem, clearance));
+  return std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance));
 }
 
 // The warning line where the smoothed path (from segment `first` on) comes
@@ -75,7 +74,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   SmoothedPath out;
   out.clearance_robot = ClearanceRobot(problem, parts.get());
   out.planning_path = ToPlanning(problem, input.waypoints);
-  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, parts.get());
+  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, out.clearance_robot);
   out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
   out.artifact = input;
   out.artifact.units = scene.units;
@@ -188,7 +187,7 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
       scene.units.c_str(), input.tau, first.shortcuts, first.partial_shortcuts, first.attempts);
   SmoothOptions second_options = options.smooth;
   second_options.seed = options.smooth.seed + 1;
-  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, nullptr);
+  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, problem.robot);
   const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options, guard.get());
   SmoothResult& result = out->result;
   result.path = first.path;
@@ -274,7 +273,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   // path is then smoothed again at a 4x finer step before the input path is
   // kept, as ausbau-plan certifies again (plan_scene.cpp).
   const std::unique_ptr<ClearanceGuard> guard =
-      volume_mode ? nullptr : MakeGuard(scene, problem, options.smooth, nullptr);
+      volume_mode ? nullptr : MakeGuard(scene, problem, options.smooth, problem.robot);
   for (int round = 1;; ++round) {
     SmoothPlannedPathOptions within = options;
     if (round > 1) within.smooth.resolution /= 4;
