@@ -84,7 +84,28 @@ ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double 
 }
 
 ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step)
-    : meter_(problem, robot), clearance_(clearance), step_(step) {}
+    : meter_(problem, robot),
+      clearance_(clearance),
+      step_(step),
+      // A retreat's end is computed along its direction: on the line up to rounding.
+      on_line_(1e-6 * problem.robot_diagonal) {}
+
+bool ClearanceGuard::RetracesFirstSegment(const std::vector<Pose>& replaced,
+                                          const std::vector<Pose>& replacement) const {
+  if (replaced.size() < 2 || replacement.size() != 2) return false;
+  const Pose& a = replaced[0];
+  const Pose& b = replaced[1];
+  const Pose& end = replacement[1];
+  if (replacement[0].t != a.t || replacement[0].q.coeffs() != a.q.coeffs()) return false;
+  if (b.q.coeffs() != a.q.coeffs() || end.q.coeffs() != a.q.coeffs()) return false;  // translations only
+  const Eigen::Vector3d along = b.t - a.t;
+  const double length = along.norm();
+  if (!(length > 0)) return false;
+  const Eigen::Vector3d direction = along / length;
+  const double s = (end.t - a.t).dot(direction);
+  const double off_line = (end.t - a.t - s * direction).norm();
+  return s >= 0 && s <= length + on_line_ && off_line <= on_line_;
+}
 
 bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vector<Pose>& replacement) const {
   if (!(clearance_ > 0)) return true;
@@ -94,6 +115,7 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
   // walking the replacement (as1's rod at a fine tessellation: 384 distance
   // queries in contact along its 192 mm pull, 21 s, for each retreat).
   if (!replaced.empty() && meter_.At(replaced.front(), false).clearance <= 0) return true;
+  if (RetracesFirstSegment(replaced, replacement)) return true;
   const double kNoStop = -std::numeric_limits<double>::infinity();
   const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;
   if (added >= clearance_) return true;
@@ -104,7 +126,7 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
 }
 
 ClearanceSample ClearanceGuard::Closest(const std::vector<Pose>& path) const {
-  return meter_.AlongPath(path, clearance_, step_);
+  return meter_.AlongPath(path, clearance_, step_, -std::numeric_limits<double>::infinity(), false);
 }
 
 double ClearanceGuard::MinCapped(const std::vector<Pose>& path) const {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 
 #include "core/json_writer.h"
 #include "planning/smoother.h"
@@ -28,6 +30,7 @@ PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, dou
   const ClearanceMeter meter(problem,
                              PathClearanceRobot(scene, problem, path.validity, rigid_tolerance_mm, classified));
   quality.segment_clearance.assign(poses.size() - 1, std::numeric_limits<double>::infinity());
+  std::optional<Pose> closest_pose;
   for (const ProfilePose& p : ProfileAlongPath(problem, meter, poses)) {
     // The first dense pose (the start) belongs to segment 0.
     const int segment = p.dense.segment;
@@ -41,7 +44,13 @@ PathQuality MeasurePathQuality(const Scene& scene, const PathArtifact& path, dou
     if (segment >= quality.first_rigid_segment && p.clearance.clearance < quality.min.clearance) {
       quality.min = p.clearance;
       quality.min_s = p.s;
+      closest_pose = p.dense.pose;
     }
+  }
+  if (closest_pose) {  // its nearest points, measured once
+    const ClearanceSample at = meter.At(*closest_pose, true);
+    quality.min.on_robot = at.on_robot;
+    quality.min.on_static = at.on_static;
   }
   for (std::size_t i = quality.first_rigid_segment; i < quality.segment_clearance.size(); ++i) {
     if (quality.segment_clearance[i] < quality.clearance_kept) quality.below.push_back(static_cast<int>(i));

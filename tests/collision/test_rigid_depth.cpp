@@ -225,6 +225,29 @@ TEST(RigidDepth, NewContactsOfANonConvexPartCollideWhilePlanning) {
   EXPECT_NEAR(exact.Measure(PoseAt(0.52, 0, 0)).rigid_depth, 0.02, 0.005);
 }
 
+// A convex pin (radius 4.9) in the bore (radius 5) of a tube 600 long: the
+// check proves the pair apart from the tube's triangles near the pin alone
+// (it once scanned all of S, the tube's radius as its reach); the answers
+// at the middle and near an end, centred, a hair off and cutting in.
+TEST(RigidDepth, APinInALongTubesBoreIsClearUntilItCutsIn) {
+  const TriangleMesh pin = MakeSolidOfRevolution({{0, -10}, {4.9, -10}, {4.9, 10}, {0, 10}}, 32);
+  const TriangleMesh tube = MakeSolidOfRevolution({{5, -300}, {10, -300}, {10, 300}, {5, 300}}, 32);
+  const auto parts = ClassifyParts(pin, tube, Pose{}, 0.05);
+  ASSERT_EQ(parts->robot_shells.size(), 1u);
+  EXPECT_TRUE(parts->robot_shells[0].convex);
+  EXPECT_FALSE(parts->static_shells[0].convex);
+  for (const NewContacts contacts : {NewContacts::kMeasure, NewContacts::kCollide}) {
+    const RigidDepthChecker checker(parts, 0.05, 0.01, contacts);
+    for (const double z : {0.0, 250.0, -285.0}) {
+      EXPECT_TRUE(checker.IsValid(PoseAt(0, 0, z))) << z;
+      EXPECT_TRUE(checker.IsValid(PoseAt(0.03, 0, z))) << z;  // still clear of the bore
+      EXPECT_FALSE(checker.IsValid(PoseAt(0.5, 0, z))) << z;  // 0.4 into the tube
+      EXPECT_FALSE(checker.IsValid(PoseAt(0, -0.5, z))) << z;
+    }
+    EXPECT_TRUE(checker.IsValid(PoseAt(0.5, 0, 320)));  // out of the tube's end
+  }
+}
+
 // ClassifyParts builds the shells' models (FCL trees, depth surfaces) for
 // its own measurements and keeps them in the PartModel; every checker of
 // that model reuses them. A model without them (made by hand) gets its own:

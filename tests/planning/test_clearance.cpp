@@ -97,6 +97,26 @@ TEST(Clearance, GuardRefusesOnlyWhatComesCloserBelowD) {
   EXPECT_TRUE(none.Accepts(detour, {At(1.49, -2), At(1.49, 2)}));
 }
 
+// A retreat along the replaced path's own first segment visits only poses
+// of that segment: taken without walking it (its walk may sample closer than
+// the replaced path's own walk did). Anything else is walked as before.
+TEST(Clearance, GuardTakesARetraceOfTheFirstSegmentWithoutWalkingIt) {
+  const Scene scene = BoxScene();
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  // A step of 6.5: the walk of the replaced y = -3 .. 3 at x = 1.4 samples
+  // only its ends (1.50 from S), the walk of y = -3 .. 0 its end too (0.1).
+  const ClearanceGuard guard(problem, problem.robot, 0.5, 6.5);
+  const std::vector<Pose> replaced = {At(1.4, -3), At(1.4, 3)};
+  EXPECT_TRUE(guard.Accepts(replaced, {At(1.4, -3), At(1.4, 0)}));
+  // Off its line, or turned: walked, and refused (0.05 and less < 0.5).
+  EXPECT_FALSE(guard.Accepts(replaced, {At(1.4, -3), At(1.45, 0)}));
+  Pose turned = At(1.4, 0);
+  turned.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()));
+  EXPECT_FALSE(guard.Accepts(replaced, {At(1.4, -3), turned}));
+  // Beyond the segment's end: walked.
+  EXPECT_FALSE(guard.Accepts({At(1.4, -3), At(1.4, -2)}, {At(1.4, -3), At(1.4, 0)}));
+}
+
 TEST(Clearance, WithClearanceIsStricterThanItsBase) {
   const Scene scene = BoxScene();
   const PlanningProblem problem = MakePlanningProblem(scene);
