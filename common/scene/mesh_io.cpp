@@ -703,12 +703,27 @@ MeshFile ParseMeshFile(const fs::path& path) {
   // every importer on the content, which for some text takes minutes. Only
   // the formats assimp names are read.
   const std::string extension = path.extension().string();
+  std::string lower = extension;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  // assimp takes a STEP file for IFC (the same file syntax) and says "IFC:
+  // Unrecognized file schema: AUTOMOTIVE_DESIGN": a CAD model is no mesh.
+  // Its solids are tessellated once by ausbau-assembly (OpenCASCADE, a
+  // layer above this one), not by every stage that loads the scene.
+  if (lower == ".step" || lower == ".stp" || lower == ".p21") {
+    throw InputErrorAt(name, "cannot read mesh (a STEP file is a CAD model, not a mesh: `ausbau-assembly --assembly " +
+                                 path.filename().string() +
+                                 " -o DIR` tessellates it and writes a scene per part, which reads DIR/" +
+                                 path.stem().string() + ".tessellated.obj)");
+  }
+  if (lower == ".igs" || lower == ".iges") {
+    throw InputErrorAt(name,
+                       "cannot read mesh (an IGES file is a CAD model, not a mesh: export STEP and run "
+                       "ausbau-assembly on it, or export a mesh: .obj, .stl, .ply)");
+  }
   if (extension.empty() || !importer.IsExtensionSupported(extension.c_str())) {
     throw InputErrorAt(name, "cannot read mesh (unknown format '" + extension +
                                  "': expected a format assimp reads, e.g. .obj, .stl, .ply, .off, .dae)");
   }
-  std::string lower = extension;
-  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (lower == ".obj") {
     CheckObjStructure(path, name);
     importer.SetIOHandler(new OnlyThisFile(name));  // the importer owns it

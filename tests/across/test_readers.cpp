@@ -249,6 +249,16 @@ TEST_F(Readers, MeshOfUnknownFormatFailsFast) {
   ExpectInputError([&] { LoadMesh(bare); }, {bare.string(), "unknown format ''"});
 }
 
+// assimp would read a STEP file as IFC and fail with "IFC: Unrecognized file
+// schema": a CAD model is named as such, with the tool that tessellates it.
+TEST_F(Readers, ACadModelNamedAsAMeshSaysWhatReadsIt) {
+  const fs::path step = Write("car.STEP", "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\nENDSEC;\nEND-ISO-10303-21;\n");
+  ExpectInputError([&] { LoadMesh(step); }, {step.string(), "a STEP file is a CAD model",
+                                             "ausbau-assembly --assembly car.STEP", "car.tessellated.obj"});
+  const fs::path iges = Write("car.igs", "");
+  ExpectInputError([&] { LoadMesh(iges); }, {iges.string(), "an IGES file is a CAD model", "export STEP"});
+}
+
 // A binary little-endian PLY header for 3 float vertices and 1 face whose
 // list count has type `count_type`, and the 36 bytes of those vertices.
 std::string BinaryPlyHeaderAndVertices(const std::string& count_type) {
