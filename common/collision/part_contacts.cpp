@@ -6,8 +6,10 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "collision/fcl_model.h"
+#include "collision/mesh_depth.h"
 #include "core/format.h"
 #include "geometry/shells.h"
 
@@ -39,16 +41,41 @@ std::vector<TriangleMesh> SplitParts(const TriangleMesh& environment, const std:
   return parts;
 }
 
-// The exact depth where every shell on both sides is convex, else < 0.
-double ExactDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3d& pose,
+// The rigid check's depth of D in the part (collision/rigid_depth.h): the
+// largest over pairs of D's shells and the part's whose boxes meet, the
+// separating-axis depth where both are convex, else the surface depth (how
+// far a point of either surface lies inside the other), to 0.01% of D's
+// diagonal (beyond 1% of it, to 1/16 of itself). < 0 where a pair has no depth to measure (two
+// open sheets). FCL's deepest triangle pair is no depth: two faces lying on
+// one another (a bracket standing on a block) gave the block's height.
+double RigidDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3d& pose,
                   const TriangleMesh& part_mesh) {
   const std::vector<Shell> part_shells = SplitIntoShells(part_mesh);
+  Aabb robot_box;
+  for (const Shell& r : robot_shells) robot_box.Extend(r.box);
+  SurfaceDepthOptions options;
+  options.resolution = 1e-4 * robot_box.Diagonal();
+  options.coarse_above = 1e-2 * robot_box.Diagonal();  // deeper: to 1/16 (a plate through a plate: minutes else)
   double depth = 0;
   for (const Shell& r : robot_shells) {
-    if (!r.convex) return -1;
+    Aabb placed;  // the shell's box, turned with D: a box about it in the world
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d c((corner & 1) ? r.box.max.x() : r.box.min.x(),
+                              (corner & 2) ? r.box.max.y() : r.box.min.y(),
+                              (corner & 4) ? r.box.max.z() : r.box.min.z());
+      placed.Extend(pose * c);
+    }
+    std::unique_ptr<DepthSurface> robot_surface;
     for (const Shell& p : part_shells) {
-      if (!p.convex) return -1;
-      depth = std::max(depth, ConvexSignedDepth(r, pose, p));
+      if (placed.SeparatedFrom(p.box)) continue;
+      if (r.convex && p.convex) {
+        depth = std::max(depth, ConvexSignedDepth(r, pose, p));
+        continue;
+      }
+      if (!robot_surface) robot_surface = std::make_unique<DepthSurface>(r);
+      const DepthSurface part_surface(p);
+      if (!robot_surface->solid() && !part_surface.solid()) return -1;
+      depth = std::max(depth, MeasureSurfaceDepth(*robot_surface, pose, part_surface, options).upper);
     }
   }
   return depth;
@@ -73,7 +100,7 @@ PartContact Measure(const FclModel& robot, const std::vector<Shell>& robot_shell
         contact.point = c.pos;
       }
     }
-    const double exact = ExactDepth(robot_shells, tf, part_mesh);
+    const double exact = RigidDepth(robot_shells, tf, part_mesh);
     if (exact >= 0) {
       contact.depth = exact;
       contact.depth_exact = true;

@@ -19,12 +19,15 @@ struct PartContact {
   int part = -1;
   std::string name;
   bool intersects = false;  // D's triangles cross the part's
-  // Intersecting: where D's shells and the part's are all convex, the exact
-  // penetration depth (the largest over the shell pairs of the shortest
-  // translation that separates them; geometry/shells.h) and depth_exact;
-  // otherwise the deepest penetration FCL reports over the crossing
-  // triangle pairs (how far a triangle's vertex lies beyond the other's
-  // plane: a local measure only).
+  // Intersecting: the rigid check's depth and depth_exact: the largest over
+  // the shell pairs of the shortest translation that separates two convex
+  // shells (geometry/shells.h), or of the surface depth of a non-convex
+  // pair (collision/mesh_depth.h: how far a point of either surface lies
+  // inside the other; to 0.01% of D's diagonal, beyond 1% of it to 1/16 of
+  // itself). Where a
+  // pair has no depth (two open sheets), the deepest penetration FCL reports
+  // over the crossing triangle pairs (how far a triangle's vertex lies
+  // beyond the other's plane: a local measure only), not exact.
   double depth = 0;
   bool depth_exact = false;
   double distance = 0;                              // apart: the smallest distance between D and the part

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <regex>
 
 #include "collision/part_contacts.h"
@@ -49,6 +50,28 @@ TEST(PartContacts, NamesTheIntersectingPartFirstThenTheNearOnes) {
       MeasurePartContacts(robot, away, environment, part_of_triangle, {"side", "lid", "far"}, 5.0, 8);
   ASSERT_EQ(alone.size(), 1u);
   EXPECT_EQ(alone[0].name, "far");
+}
+
+// A non-convex D (an L) standing on a block: the rigid check's surface
+// depth, about 0 (FCL's deepest crossing triangle pair, the "local
+// estimate" before, measures how far a vertex lies beyond another
+// triangle's plane: for faces lying on one another, up to a part's size).
+// Pressed 0.3 into the block: 0.3.
+TEST(PartContacts, ANonConvexPartOnABlockHasTheSurfaceDepth) {
+  const TriangleMesh robot = MakePrism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 5}, {0, 5}}, 0, 2);
+  const TriangleMesh block = MakeBox({-10, -10, -30}, {10, 10, 0});
+  const double resolution = 1e-4 * std::sqrt(4 * 4 + 5 * 5 + 2 * 2);
+  const std::vector<PartContact> standing = MeasurePartContacts(robot, Pose(), block, {}, {"block"}, 5.0, 8);
+  ASSERT_EQ(standing.size(), 1u);
+  EXPECT_TRUE(standing[0].intersects);
+  EXPECT_TRUE(standing[0].depth_exact);
+  EXPECT_LE(standing[0].depth, resolution);
+  Pose pressed;
+  pressed.t = Eigen::Vector3d(0, 0, -0.3);
+  const std::vector<PartContact> in = MeasurePartContacts(robot, pressed, block, {}, {"block"}, 5.0, 8);
+  ASSERT_EQ(in.size(), 1u);
+  EXPECT_TRUE(in[0].depth_exact);
+  EXPECT_NEAR(in[0].depth, 0.3, 0.3 / 16);
 }
 
 // A post (1 x 1 x 10) held by three parts of S, each touching it within the
