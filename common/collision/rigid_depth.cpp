@@ -7,7 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <mutex>
 #include <numeric>
+#include <optional>
 #include <queue>
 
 #include "collision/fcl_model.h"
@@ -409,10 +412,68 @@ std::vector<int> SlabAxes(const Shell& shell) {
   return axes;
 }
 
+// S's shells and their models, kept for the next classification of the
+// same S (the same triangles, crop box included). A stage classifies one S
+// several times: ausbau-plan for its search and again for the exact check
+// of the path it writes (D in another frame), ausbau-smooth and
+// ausbau-verdict likewise; and S (a CAD assembly's rest, 300,000 triangles)
+// is nearly all of the work: splitting it into shells and building their
+// FCL trees and depth surfaces, 45% of a plan of CAx-IF s1's head.
+struct StaticSide {
+  TriangleMesh mesh;  // the key, compared in full
+  std::vector<Shell> shells;
+  std::once_flag models_built;  // the models: only where some pair is non-convex
+  std::vector<std::shared_ptr<FclModel>> bvh;
+  std::vector<std::shared_ptr<const DepthSurface>> surface;
+  std::vector<std::vector<int>> slab_axes;
+};
+
+bool SameMesh(const TriangleMesh& a, const TriangleMesh& b) {
+  const auto same_box = [](const std::optional<Aabb>& x, const std::optional<Aabb>& y) {
+    return x.has_value() == y.has_value() && (!x || (x->min == y->min && x->max == y->max));
+  };
+  return a.vertices.size() == b.vertices.size() && a.triangles.size() == b.triangles.size() &&
+         same_box(a.cropped_to, b.cropped_to) && a.vertices == b.vertices && a.triangles == b.triangles;
+}
+
+// The StaticSide of `environment`, from the last few classified (those
+// together no more than kKeptTriangles, so a stage's memory stays about
+// what its largest S needs), else split now.
+std::shared_ptr<StaticSide> StaticSideOf(const TriangleMesh& environment) {
+  constexpr std::size_t kKeptTriangles = 2'000'000;
+  static std::mutex mutex;
+  static std::deque<std::shared_ptr<StaticSide>> kept;  // the most recent first
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (auto it = kept.begin(); it != kept.end(); ++it) {
+      if (!SameMesh((*it)->mesh, environment)) continue;
+      std::shared_ptr<StaticSide> side = *it;
+      kept.erase(it);
+      kept.push_front(side);
+      return side;
+    }
+  }
+  auto side = std::make_shared<StaticSide>();
+  side->mesh = environment;
+  side->shells = SplitIntoShells(environment);
+  const std::lock_guard<std::mutex> lock(mutex);
+  kept.push_front(side);
+  std::size_t triangles = 0;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    triangles += kept[i]->mesh.triangles.size();
+    if (i > 0 && triangles > kKeptTriangles) {
+      kept.resize(i);
+      break;
+    }
+  }
+  return side;
+}
+
 // FCL models for every shell that is part of a non-convex pair: built for
 // all shells of both sides as soon as either side has a non-convex shell
-// (none otherwise: empty).
-std::shared_ptr<const ShellModels> BuildShellModels(const PartModel& parts) {
+// (none otherwise: empty). `side`: S's, whose models are built once and
+// shared (else built here).
+std::shared_ptr<const ShellModels> BuildShellModels(const PartModel& parts, StaticSide* side) {
   auto models = std::make_shared<ShellModels>();
   const auto any_non_convex = [](const std::vector<Shell>& shells) {
     return std::any_of(shells.begin(), shells.end(), [](const Shell& s) { return !s.convex; });
@@ -423,11 +484,23 @@ std::shared_ptr<const ShellModels> BuildShellModels(const PartModel& parts) {
     models->robot_surface.push_back(std::make_shared<DepthSurface>(s));
     models->robot_slab_axes.push_back(SlabAxes(s));
   }
-  for (const auto& s : parts.static_shells) {
-    models->static_bvh.push_back(BuildFclModel(s.vertices, s.triangles));
-    models->static_surface.push_back(std::make_shared<DepthSurface>(s));
-    models->static_slab_axes.push_back(SlabAxes(s));
+  const auto build_static = [&parts](std::vector<std::shared_ptr<FclModel>>* bvh,
+                                     std::vector<std::shared_ptr<const DepthSurface>>* surface,
+                                     std::vector<std::vector<int>>* slab_axes) {
+    for (const auto& s : parts.static_shells) {
+      bvh->push_back(BuildFclModel(s.vertices, s.triangles));
+      surface->push_back(std::make_shared<DepthSurface>(s));
+      slab_axes->push_back(SlabAxes(s));
+    }
+  };
+  if (side == nullptr) {
+    build_static(&models->static_bvh, &models->static_surface, &models->static_slab_axes);
+    return models;
   }
+  std::call_once(side->models_built, build_static, &side->bvh, &side->surface, &side->slab_axes);
+  models->static_bvh = side->bvh;
+  models->static_surface = side->surface;
+  models->static_slab_axes = side->slab_axes;
   return models;
 }
 
@@ -681,7 +754,8 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   for (const auto& v : robot.vertices)
     installed_magnitude = std::max(installed_magnitude, installed.Apply(v).cwiseAbs().maxCoeff());
   parts->robot_shells = SplitIntoShells(robot, installed_magnitude);
-  parts->static_shells = SplitIntoShells(environment);
+  const std::shared_ptr<StaticSide> static_side = StaticSideOf(environment);
+  parts->static_shells = static_side->shells;
   const int n = static_cast<int>(parts->robot_shells.size());
   parts->role.assign(n, ShellRole::kRigid);
   parts->cluster.assign(n, -1);
@@ -701,7 +775,7 @@ std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const 
   measure.robot = &parts->robot_shells;
   measure.statics = &parts->static_shells;
   measure.resolution = tolerance / 10;
-  parts->shell_models = BuildShellModels(*parts);
+  parts->shell_models = BuildShellModels(*parts, static_side.get());
   BuildFallbackModels(*parts, *parts->shell_models, &measure);
   const ShellTree tree(parts->static_shells);
   const Eigen::Isometry3d pose = installed.ToIsometry();
@@ -825,7 +899,7 @@ RigidDepthChecker::RigidDepthChecker(std::shared_ptr<const PartModel> parts, dou
   impl_->measure.statics = &parts_->static_shells;
   impl_->measure.resolution = limit_ / 10;
   impl_->measure.masks = &parts_->masks;
-  BuildFallbackModels(*parts_, parts_->shell_models ? *parts_->shell_models : *BuildShellModels(*parts_),
+  BuildFallbackModels(*parts_, parts_->shell_models ? *parts_->shell_models : *BuildShellModels(*parts_, nullptr),
                       &impl_->measure);
   // Pairs farther apart than this are not measured; their slack is at least
   // this. A few percent of D's size keeps the pair count small near S and
@@ -854,6 +928,13 @@ RigidDepthChecker::PairRule RigidDepthChecker::Rule(int robot_shell, int static_
     rule.allowed = limit_;
   }
   return rule;
+}
+
+bool SharesStaticModels(const PartModel& a, const PartModel& b) {
+  if (!a.shell_models || !b.shell_models) return false;
+  const auto& x = a.shell_models->static_surface;
+  const auto& y = b.shell_models->static_surface;
+  return !x.empty() && x == y;
 }
 
 bool RigidDepthChecker::CheckValid(const Pose& pose) const {

@@ -193,11 +193,20 @@ struct PartModel {
 enum class UnmeasuredInterference { kRigid, kFastener };
 
 // Splits D and S into shells and classifies D's shells at `installed` (the
-// start pose, in the robot mesh's frame). `tolerance` in scene units.
+// start pose, in the robot mesh's frame). `tolerance` in scene units. S's
+// shells and models are kept for the next classification of the same S (the
+// same triangles and crop box): a stage classifies one S for its search and
+// again for the exact check of what it writes (D in another frame), and S is
+// nearly all of the work (the last few S's are kept, together up to 2
+// million triangles).
 std::shared_ptr<const PartModel> ClassifyParts(const TriangleMesh& robot, const TriangleMesh& environment,
                                                const Pose& installed, double tolerance,
                                                UnmeasuredInterference unmeasured = UnmeasuredInterference::kRigid,
                                                const FitRule& fit = {});
+
+// Whether two classifications share S's models (the same S classified
+// again), and so measure S from the same trees and surfaces.
+bool SharesStaticModels(const PartModel& a, const PartModel& b);
 
 struct DepthReport {
   // Deepest penetration of a rigid shell into S (> 0), or minus a lower bound

@@ -225,6 +225,32 @@ TEST(RigidDepth, NewContactsOfANonConvexPartCollideWhilePlanning) {
   EXPECT_NEAR(exact.Measure(PoseAt(0.52, 0, 0)).rigid_depth, 0.02, 0.005);
 }
 
+// The same S classified again, with D in another frame (the exact check
+// after a search): S's shells and models are the first classification's,
+// and every answer is the same as from models of its own. A different S
+// (another crop of it) gets its own.
+TEST(RigidDepth, TheSameSClassifiedAgainSharesItsModels) {
+  const TriangleMesh robot = MakePrism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 5}, {0, 5}}, 0, 2);
+  TriangleMesh environment = MakeBox({-10, -10, -1}, {10, 10, 0});
+  environment.Append(MakeBox({4.5, -10, 0}, {10, 10, 5}));
+  const auto first = ClassifyParts(robot, environment, Pose{}, 0.05);
+  TriangleMesh shifted = robot;  // D about another reference point
+  for (auto& v : shifted.vertices) v -= Eigen::Vector3d(2, 1, 0);
+  const auto again = ClassifyParts(shifted, environment, PoseAt(2, 1, 0), 0.05);
+  EXPECT_TRUE(SharesStaticModels(*first, *again));
+  auto own = std::make_shared<PartModel>(*again);
+  own->shell_models = nullptr;  // a checker builds its own
+  const RigidDepthChecker shared(again, 0.05, 0.01), separate(own, 0.05, 0.01);
+  for (double x : {0.0, 0.4, 0.52, 0.6}) {
+    for (double z : {-0.03, 0.0, 0.5}) {
+      EXPECT_EQ(shared.MeasureSlack(PoseAt(2 + x, 1, z)), separate.MeasureSlack(PoseAt(2 + x, 1, z))) << x << " " << z;
+    }
+  }
+  TriangleMesh cropped = environment;
+  cropped.cropped_to = Aabb{Eigen::Vector3d::Constant(-20), Eigen::Vector3d::Constant(20)};
+  EXPECT_FALSE(SharesStaticModels(*first, *ClassifyParts(robot, cropped, Pose{}, 0.05)));
+}
+
 // A convex pin (radius 4.9) in the bore (radius 5) of a tube 600 long: the
 // check proves the pair apart from the tube's triangles near the pin alone
 // (it once scanned all of S, the tube's radius as its reach); the answers
