@@ -38,7 +38,7 @@ TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& probl
 }
 
 std::vector<ProfilePose> ProfileAlongPath(const PlanningProblem& problem, const ClearanceMeter& meter,
-                                          const std::vector<Pose>& path, bool with_points) {
+                                          const std::vector<Pose>& path) {
   std::vector<ProfilePose> out;
   if (path.empty()) return out;
   // At most ~2000 rows: the step is 1% of D's diagonal or longer.
@@ -54,7 +54,7 @@ std::vector<ProfilePose> ProfileAlongPath(const PlanningProblem& problem, const 
     ProfilePose row;
     row.dense = p;
     row.s = s;
-    row.clearance = meter.At(p.pose, with_points);
+    row.clearance = meter.At(p.pose, false);
     row.clearance.segment = p.segment;
     row.clearance.fraction = p.fraction;
     out.push_back(row);

@@ -38,8 +38,8 @@ TriangleMesh PathClearanceRobot(const Scene& scene, const PlanningProblem& probl
                                 double rigid_tolerance_mm, const PartModel* classified = nullptr);
 
 // Per dense pose along a path: the pose, its path parameter s (normalized
-// metric length from the start, u = 0.5) and its clearance with where (the
-// nearest points only where asked).
+// metric length from the start, u = 0.5) and its clearance with where (its
+// segment and fraction).
 struct ProfilePose {
   DensePose dense;
   double s = 0;
@@ -48,12 +48,11 @@ struct ProfilePose {
 
 // The dense poses of the profile: a step of 1% of D's diagonal, or longer
 // so that there are at most ~2000; clearance measured at every one (FCL
-// distance of `meter`'s part of D and S; 0 in contact). `with_points`:
-// also the nearest points of D and S at every pose (ClearanceMeter::At),
-// a collision query and a slower distance query each, which the profile's
-// rows and the smallest clearance do not need.
+// distance of `meter`'s part of D and S; 0 in contact). Without the
+// nearest points (ClearanceMeter::At's `with_points`: a collision query and
+// a slower distance query at every pose), which the rows do not need.
 std::vector<ProfilePose> ProfileAlongPath(const PlanningProblem& problem, const ClearanceMeter& meter,
-                                          const std::vector<Pose>& path, bool with_points = false);
+                                          const std::vector<Pose>& path);
 
 // profile.csv: a first comment line with the units and the pose
 // convention, then the header
