@@ -787,14 +787,8 @@ class SurfaceDepthSearch {
     const Eigen::Isometry3d b_to_a = a_to_b.inverse();
     // b's box in a's coordinates, at both ends of the sweep.
     const Eigen::Vector3d back = b_to_a.linear() * sweep;
-    Aabb query;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3d p((corner & 1) ? b.box_.max.x() : b.box_.min.x(),
-                              (corner & 2) ? b.box_.max.y() : b.box_.min.y(),
-                              (corner & 4) ? b.box_.max.z() : b.box_.min.z());
-      query.Extend(b_to_a * p);
-      query.Extend(b_to_a * p - back);
-    }
+    Aabb query = b.box_.Transformed(b_to_a);
+    query.Extend(Aabb{query.min - back, query.max - back});
     a.bvh_.ForEachTriangleNear(query.min, query.max, [&](int t) {
       if (skip && (*skip)[t]) return true;
       const auto& tri = a.triangles_[t];

@@ -60,13 +60,7 @@ double RigidDepth(const std::vector<Shell>& robot_shells, const Eigen::Isometry3
   double depth = 0;
   std::vector<std::unique_ptr<DepthSurface>> part_surfaces(part_shells.size());  // built where a pair needs one
   for (const Shell& r : robot_shells) {
-    Aabb placed;  // the shell's box, turned with D: a box about it in the world
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3d c((corner & 1) ? r.box.max.x() : r.box.min.x(),
-                              (corner & 2) ? r.box.max.y() : r.box.min.y(),
-                              (corner & 4) ? r.box.max.z() : r.box.min.z());
-      placed.Extend(pose * c);
-    }
+    const Aabb placed = r.box.Transformed(pose);  // about the shell, turned with D
     std::unique_ptr<DepthSurface> robot_surface;
     for (std::size_t i = 0; i < part_shells.size(); ++i) {
       const Shell& p = part_shells[i];

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <limits>
 #include <optional>
@@ -33,6 +34,16 @@ struct Aabb {
   // Strictly separated along some axis (touching counts as overlap).
   bool SeparatedFrom(const Aabb& other) const {
     return (max.array() < other.min.array()).any() || (other.max.array() < min.array()).any();
+  }
+  // The box about this box's eight corners moved by `pose`: it holds every
+  // point of this box, moved.
+  Aabb Transformed(const Eigen::Isometry3d& pose) const {
+    Aabb out;
+    for (int corner = 0; corner < 8; ++corner) {
+      out.Extend(pose * Eigen::Vector3d((corner & 1) ? max.x() : min.x(), (corner & 2) ? max.y() : min.y(),
+                                        (corner & 4) ? max.z() : min.z()));
+    }
+    return out;
   }
 };
 
