@@ -727,14 +727,30 @@ ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const PlanningProblem problem = MakePlanningProblem(scene);
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
                                    UnmeasuredInterference::kRigid, SceneFitRule(scene));
-  if (!parts->non_convex_interference.empty()) {
+  if (parts->non_convex_interference.empty()) return ValidityMode::kRigidExact;
+  // The volume model bounds how far such shells bend; the shells it keeps
+  // rigid are classified as the verdict's exact check of a volume path does
+  // (VolumeModel::GuardRigidParts). Where one of those already clashes with
+  // S (the anchor of a bowden collet pressed 2.6 mm into its plate), that
+  // check refuses every path: the volume model would only take minutes
+  // (voxels, labels, tau: 168 s) to the same NOT REMOVABLE that rigid-exact
+  // gives at once, with the clash named.
+  const auto as_volume = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
+                                       UnmeasuredInterference::kFastener, SceneFitRule(scene));
+  if (!as_volume->rigid_interference.empty()) {
     LogInfo(
-        "%s of D intersects a non-convex shell of S at the installed pose (a clip or a fit in a welded "
-        "plate?): labeled-mliv",
-        parts->Describe(parts->non_convex_interference.front(), true).c_str());
-    return ValidityMode::kLabeledMliv;
+        "%s of D intersects a non-convex shell of S at the installed pose, but %s, rigid in the volume model "
+        "too, already penetrates S %.4g deep there: rigid-exact",
+        parts->Describe(parts->non_convex_interference.front(), true).c_str(),
+        as_volume->Describe(as_volume->rigid_interference.front(), true).c_str(),
+        as_volume->installed_depth[as_volume->rigid_interference.front()]);
+    return ValidityMode::kRigidExact;
   }
-  return ValidityMode::kRigidExact;
+  LogInfo(
+      "%s of D intersects a non-convex shell of S at the installed pose (a clip or a fit in a welded "
+      "plate?): labeled-mliv",
+      parts->Describe(parts->non_convex_interference.front(), true).c_str());
+  return ValidityMode::kLabeledMliv;
 }
 
 }  // namespace ausbau

@@ -93,7 +93,9 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options);
 // a snap clip and a friction-fit rail look alike): that interference needs
 // the volume model, labeled-mliv. A single-solid part (a cap, a peg, a
 // bracket: the anchor alone) that overlaps S is rigid-exact: its overlap is
-// a fit interference or a clash (collision/rigid_depth.h).
+// a fit interference or a clash (collision/rigid_depth.h). So is a scene
+// where a shell the volume model keeps rigid already clashes with S: the
+// verdict's exact check would refuse any path the volume model found.
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm);
 
 }  // namespace ausbau
