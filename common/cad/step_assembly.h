@@ -42,6 +42,11 @@ struct StepPart {
   TriangleMesh mesh;                // world coordinates (mm), welded where faces share a vertex exactly
   int faces = 0;                    // CAD faces of the part
   int faces_without_triangles = 0;  // faces OpenCASCADE could not tessellate (left out)
+  // Faces OpenCASCADE tessellated only with a coarser interior than the
+  // chord error asked for (up to 16x; their edges at it), and an upper
+  // bound of those faces' chord error measured on their triangles (mm).
+  int faces_meshed_coarser = 0;
+  double coarser_chord_error_mm = 0;
   // The area (mm^2, the product's own) of its triangles that lie on another
   // face of the same solid: 0 for a valid tessellation; more, a face was
   // tessellated beyond its boundary (the mesh is not the part there).

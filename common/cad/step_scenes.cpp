@@ -71,6 +71,8 @@ std::string PartSourceJson(const StepPart& part) {
       .Add("placement", PlacementJson(part.placement))
       .Int("faces", part.faces)
       .Int("faces_without_triangles", part.faces_without_triangles)
+      .Int("faces_meshed_coarser", part.faces_meshed_coarser)
+      .Number("coarser_chord_error_mm", part.coarser_chord_error_mm)
       .Number("overlapping_surface_mm2", part.overlapping_surface_mm2);
   return out.Text();
 }
@@ -147,6 +149,9 @@ StepScenes WriteStepAssemblyScenes(const fs::path& step, const fs::path& output,
   for (std::size_t k = 0; k < assembly.parts.size(); ++k) {
     StepPart& part = assembly.parts[k];
     out.faces_without_triangles += part.faces_without_triangles;
+    if (part.faces_without_triangles > 0) out.without_faces.emplace_back(part.name, part.faces_without_triangles);
+    if (part.faces_meshed_coarser > 0)
+      out.coarser.push_back({part.name, part.faces_meshed_coarser, part.coarser_chord_error_mm});
     // Said where it is more than a sliver: 1% of the part's surface (s1-c5's
     // HEAD_BACK: 23%; s1-tu's FOOTBACK: 0.002 mm^2 of sliver triangles
     // along a sharp edge).

@@ -44,6 +44,18 @@ struct StepScenes {
   int products = 0, instances = 0;
   long long triangles = 0;
   int faces_without_triangles = 0;
+  // The instances with faces left out (StepPart::faces_without_triangles):
+  // name and count.
+  std::vector<std::pair<std::string, int>> without_faces;
+  // The instances with faces tessellated with a coarser interior
+  // (StepPart::faces_meshed_coarser): name, count, and the largest chord
+  // error bound of those faces (mm).
+  struct Coarser {
+    std::string name;
+    int faces = 0;
+    double chord_error_mm = 0;
+  };
+  std::vector<Coarser> coarser;
   // Instances whose faces lie on one another over more than 1% of their
   // surface (StepPart::overlapping_surface_mm2): the name, and that area
   // in mm^2.

@@ -99,7 +99,19 @@ int SplitStepAssembly(const AssemblyStageOptions& options) {
           scenes.file_units.empty() ? "not given" : scenes.file_units.c_str(), scenes.mesh.string().c_str(),
           scenes.parts.size(), options.output.c_str());
   if (scenes.faces_without_triangles > 0) {
-    LogWarn("%d CAD faces could not be tessellated and are missing from the meshes", scenes.faces_without_triangles);
+    std::string parts;
+    for (std::size_t k = 0; k < scenes.without_faces.size() && k < 10; ++k)
+      parts += (k ? ", " : "") + TerminalSafe(scenes.without_faces[k].first) + " (" +
+               std::to_string(scenes.without_faces[k].second) + ")";
+    if (scenes.without_faces.size() > 10) parts += ", ...";
+    LogWarn(
+        "%d CAD faces could not be tessellated and are missing from the meshes: %s; those parts are open "
+        "surfaces there, and a verdict where they touch D is not the CAD's",
+        scenes.faces_without_triangles, parts.c_str());
+  }
+  for (const StepScenes::Coarser& part : scenes.coarser) {
+    LogInfo("%s: %d CAD face%s tessellated only with a coarser interior (chord error at most %.3g mm there)",
+            TerminalSafe(part.name).c_str(), part.faces, part.faces == 1 ? "" : "s", part.chord_error_mm);
   }
   for (const auto& [name, area] : scenes.overlapping) {
     LogWarn(
