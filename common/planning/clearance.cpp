@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 
 #include "collision/rigid_depth.h"
@@ -54,19 +55,26 @@ ClearanceSample ClearanceMeter::At(const Pose& pose, bool with_points) const {
   return sample;
 }
 
-ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor, double step, double stop_below,
-                                      bool with_points) const {
+void ClearanceMeter::Walk(const Pose& a, const Pose& b, double floor, double step, bool with_points,
+                          const std::function<bool(const ClearanceSample&)>& visit) const {
   const double total = MaxDisplacement(a, b, problem_->robot_radius);
-  ClearanceSample best;
   double f = 0;
   for (;;) {
     ClearanceSample sample = At(f == 0 ? a : Interpolate(a, b, f), with_points);
     sample.fraction = f;
-    if (sample.clearance < best.clearance) best = sample;
-    if (sample.clearance < stop_below || f >= 1 || !(total > 0)) break;
+    if (!visit(sample) || f >= 1 || !(total > 0)) break;
     const double advance = std::max(step, sample.clearance - floor);
     f = std::min(1.0, f + advance / total);
   }
+}
+
+ClearanceSample ClearanceMeter::Along(const Pose& a, const Pose& b, double floor, double step, double stop_below,
+                                      bool with_points) const {
+  ClearanceSample best;
+  Walk(a, b, floor, step, with_points, [&](const ClearanceSample& sample) {
+    if (sample.clearance < best.clearance) best = sample;
+    return !(sample.clearance < stop_below);
+  });
   return best;
 }
 
@@ -83,12 +91,30 @@ ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double 
   return best;
 }
 
-ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step)
+ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step,
+                               const std::vector<Pose>& input)
     : meter_(problem, robot),
       clearance_(clearance),
       step_(step),
       // A retreat's end is computed along its direction: on the line up to rounding.
-      on_line_(1e-6 * problem.robot_diagonal) {}
+      on_line_(1e-6 * problem.robot_diagonal) {
+  floor_ = FloorOf(input);
+}
+
+double ClearanceGuard::FloorOf(const std::vector<Pose>& path) const {
+  if (!(clearance_ > 0) || path.empty()) return clearance_;
+  bool reached = false;  // a sample at least d from S so far
+  double after = std::numeric_limits<double>::infinity(), overall = after;
+  const auto visit = [&](const ClearanceSample& sample) {
+    overall = std::min(overall, sample.clearance);
+    if (reached) after = std::min(after, sample.clearance);
+    if (sample.clearance >= clearance_) reached = true;
+    return true;
+  };
+  if (path.size() == 1) visit(meter_.At(path.front(), false));
+  for (std::size_t i = 0; i + 1 < path.size(); ++i) meter_.Walk(path[i], path[i + 1], clearance_, step_, false, visit);
+  return std::min(clearance_, reached ? after : overall);
+}
 
 bool ClearanceGuard::RetracesFirstSegment(const std::vector<Pose>& replaced,
                                           const std::vector<Pose>& replacement) const {
@@ -118,7 +144,7 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
   if (RetracesFirstSegment(replaced, replacement)) return true;
   const double kNoStop = -std::numeric_limits<double>::infinity();
   const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;
-  if (added >= clearance_) return true;
+  if (added >= floor_) return true;  // floor_ <= d
   // Below d: accepted only when the replaced part comes at least as close
   // (its walk stops at the first sample that does).
   const double removed = meter_.AlongPath(replaced, clearance_, step_, added, false).clearance;

@@ -32,10 +32,20 @@ std::vector<Pose> ToScene(const PlanningProblem& problem, const std::vector<Pose
 // The clearance guard of --clearance (planning/clearance.h) on the part of
 // D that must keep clear (`robot`: ClearanceRobot's, planning convention).
 std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProblem& problem,
-                                          const SmoothOptions& options, const TriangleMesh& robot) {
+                                          const SmoothOptions& options, const TriangleMesh& robot,
+                                          const std::vector<Pose>& input) {
   const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
-  LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance, scene.units.c_str());
-  return std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance));
+  auto guard = std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input);
+  if (guard->floor() < clearance) {
+    LogInfo(
+        "keeping a clearance of %.4g %s from S where the path allows (--clearance); the planned path comes %.4g %s "
+        "from S after first leaving it by that much, so shortcuts may come as close",
+        clearance, scene.units.c_str(), guard->floor(), scene.units.c_str());
+  } else {
+    LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance,
+            scene.units.c_str());
+  }
+  return guard;
 }
 
 // The warning line where the smoothed path (from segment `first` on) comes
@@ -74,7 +84,8 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   SmoothedPath out;
   out.clearance_robot = ClearanceRobot(problem, parts.get());
   out.planning_path = ToPlanning(problem, input.waypoints);
-  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, out.clearance_robot);
+  const std::unique_ptr<ClearanceGuard> guard =
+      MakeGuard(scene, problem, options.smooth, out.clearance_robot, out.planning_path);
   out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
   out.artifact = input;
   out.artifact.units = scene.units;
@@ -187,7 +198,7 @@ int SmoothInIState(const Scene& scene, const PlanningProblem& problem, const Pat
       scene.units.c_str(), input.tau, first.shortcuts, first.partial_shortcuts, first.attempts);
   SmoothOptions second_options = options.smooth;
   second_options.seed = options.smooth.seed + 1;
-  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, problem.robot);
+  const std::unique_ptr<ClearanceGuard> guard = MakeGuard(scene, problem, options.smooth, problem.robot, sigma2);
   const SmoothResult second = SmoothPath(problem, checker, sigma2, second_options, guard.get());
   SmoothResult& result = out->result;
   result.path = first.path;
@@ -273,7 +284,7 @@ SmoothedPath SmoothPlannedPath(const Scene& scene, const PlanningProblem& proble
   // path is then smoothed again at a 4x finer step before the input path is
   // kept, as ausbau-plan certifies again (plan_scene.cpp).
   const std::unique_ptr<ClearanceGuard> guard =
-      volume_mode ? nullptr : MakeGuard(scene, problem, options.smooth, problem.robot);
+      volume_mode ? nullptr : MakeGuard(scene, problem, options.smooth, problem.robot, out.planning_path);
   for (int round = 1;; ++round) {
     SmoothPlannedPathOptions within = options;
     if (round > 1) within.smooth.resolution /= 4;

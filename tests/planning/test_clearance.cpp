@@ -81,10 +81,11 @@ TEST(Clearance, DefaultIsHalfAMillimetreInTheSceneUnits) {
 TEST(Clearance, GuardRefusesOnlyWhatComesCloserBelowD) {
   const Scene scene = BoxScene();
   const PlanningProblem problem = MakePlanningProblem(scene);
-  const ClearanceGuard guard(problem, problem.robot, 0.5, 0.01);
   // The replaced detour keeps 1.5 (x = 0); the shortcut at x = 1.2 keeps
   // only 0.3 < d: refused. At x = 0.9 it keeps 0.6 >= d: accepted.
   const std::vector<Pose> detour = {At(0, -2), At(0, 2)};
+  const ClearanceGuard guard(problem, problem.robot, 0.5, 0.01, detour);
+  EXPECT_DOUBLE_EQ(guard.floor(), 0.5);
   EXPECT_FALSE(guard.Accepts(detour, {At(1.2, -2), At(1.2, 2)}));
   EXPECT_TRUE(guard.Accepts(detour, {At(0.9, -2), At(0.9, 2)}));
   // Where the replaced part came closer (0.1), a change to 0.3 is better: accepted.
@@ -93,8 +94,30 @@ TEST(Clearance, GuardRefusesOnlyWhatComesCloserBelowD) {
   EXPECT_NEAR(guard.MinCapped({At(0), At(1.2)}), 0.3, 1e-9);
   EXPECT_DOUBLE_EQ(guard.MinCapped({At(0), At(0.5)}), 0.5);
   // d = 0: no condition.
-  const ClearanceGuard none(problem, problem.robot, 0.0, 0.01);
+  const ClearanceGuard none(problem, problem.robot, 0.0, 0.01, detour);
   EXPECT_TRUE(none.Accepts(detour, {At(1.49, -2), At(1.49, 2)}));
+}
+
+// The floor: where the path to be smoothed comes within 0.1 of S later on
+// (x = 1.4), a shortcut may come that close anywhere, however far the part
+// it replaces kept; D's way out of its seat does not count.
+TEST(Clearance, GuardLetsShortcutsComeAsCloseAsThePathMust) {
+  const Scene scene = BoxScene();
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const std::vector<Pose> detour = {At(0, -0.5), At(0, 0.5)};
+  // Clear by 1.5 first, then 0.1 from S at x = 1.4: the floor is 0.1.
+  const ClearanceGuard narrow_later(problem, problem.robot, 0.5, 0.01, {At(0, -0.5), At(0, 0.5), At(1.4, 0.5), At(1.4, 0)});
+  EXPECT_NEAR(narrow_later.floor(), 0.1, 1e-9);
+  EXPECT_TRUE(narrow_later.Accepts(detour, {At(1.2, -0.5), At(1.2, 0.5)}));    // 0.3 >= 0.1
+  EXPECT_FALSE(narrow_later.Accepts(detour, {At(1.45, -0.5), At(1.45, 0.5)}));  // 0.05 < 0.1
+  // Starting 0.05 from S (its seat), then clear by at least d: the seat
+  // does not lower the floor, d is kept as before.
+  const ClearanceGuard out_of_a_seat(problem, problem.robot, 0.5, 0.01, {At(1.45, -0.5), At(0, -0.5), At(0, 0.5)});
+  EXPECT_DOUBLE_EQ(out_of_a_seat.floor(), 0.5);
+  EXPECT_FALSE(out_of_a_seat.Accepts(detour, {At(1.2, -0.5), At(1.2, 0.5)}));
+  // Never clear by d: the floor is the whole path's smallest clearance.
+  const ClearanceGuard never_clear(problem, problem.robot, 0.5, 0.01, {At(1.45, -0.5), At(1.2, 0.5)});
+  EXPECT_NEAR(never_clear.floor(), 0.05, 1e-9);
 }
 
 // A retreat along the replaced path's own first segment visits only poses
@@ -105,8 +128,8 @@ TEST(Clearance, GuardTakesARetraceOfTheFirstSegmentWithoutWalkingIt) {
   const PlanningProblem problem = MakePlanningProblem(scene);
   // A step of 6.5: the walk of the replaced y = -3 .. 3 at x = 1.4 samples
   // only its ends (1.50 from S), the walk of y = -3 .. 0 its end too (0.1).
-  const ClearanceGuard guard(problem, problem.robot, 0.5, 6.5);
   const std::vector<Pose> replaced = {At(1.4, -3), At(1.4, 3)};
+  const ClearanceGuard guard(problem, problem.robot, 0.5, 6.5, {At(0, -3), At(0, 3)});
   EXPECT_TRUE(guard.Accepts(replaced, {At(1.4, -3), At(1.4, 0)}));
   // Off its line, or turned: walked, and refused (0.05 and less < 0.5).
   EXPECT_FALSE(guard.Accepts(replaced, {At(1.4, -3), At(1.45, 0)}));
@@ -139,7 +162,7 @@ TEST(Clearance, SmoothingKeepsItAndZeroChangesNothing) {
   SmoothOptions smooth;
   smooth.seed = 3;
   const SmoothResult plain = SmoothPath(problem, checker, plan.path, smooth);
-  const ClearanceGuard zero(problem, problem.robot, 0.0, 0.01);
+  const ClearanceGuard zero(problem, problem.robot, 0.0, 0.01, plan.path);
   const SmoothResult with_zero = SmoothPath(problem, checker, plan.path, smooth, &zero);
   ASSERT_EQ(with_zero.path.size(), plain.path.size());
   for (std::size_t i = 0; i < plain.path.size(); ++i) {
@@ -149,7 +172,7 @@ TEST(Clearance, SmoothingKeepsItAndZeroChangesNothing) {
   // A clearance of 2% of D's diagonal: the smoothed path comes no closer
   // below it than the planned one (measured at the guard's own step).
   const double d = 0.02 * problem.robot_diagonal;
-  const ClearanceGuard guard(problem, problem.robot, d, ClearanceStep(problem, d));
+  const ClearanceGuard guard(problem, problem.robot, d, ClearanceStep(problem, d), plan.path);
   const SmoothResult kept = SmoothPath(problem, checker, plan.path, smooth, &guard);
   EXPECT_GE(guard.MinCapped(kept.path), guard.MinCapped(plan.path) - ClearanceStep(problem, d));
   EXPECT_LE(kept.after.normalized, kept.before.normalized + 1e-12);
