@@ -106,9 +106,10 @@ TEST(Clearance, GuardLetsShortcutsComeAsCloseAsThePathMust) {
   const PlanningProblem problem = MakePlanningProblem(scene);
   const std::vector<Pose> detour = {At(0, -0.5), At(0, 0.5)};
   // Clear by 1.5 first, then 0.1 from S at x = 1.4: the floor is 0.1.
-  const ClearanceGuard narrow_later(problem, problem.robot, 0.5, 0.01, {At(0, -0.5), At(0, 0.5), At(1.4, 0.5), At(1.4, 0)});
+  const ClearanceGuard narrow_later(problem, problem.robot, 0.5, 0.01,
+                                    {At(0, -0.5), At(0, 0.5), At(1.4, 0.5), At(1.4, 0)});
   EXPECT_NEAR(narrow_later.floor(), 0.1, 1e-9);
-  EXPECT_TRUE(narrow_later.Accepts(detour, {At(1.2, -0.5), At(1.2, 0.5)}));    // 0.3 >= 0.1
+  EXPECT_TRUE(narrow_later.Accepts(detour, {At(1.2, -0.5), At(1.2, 0.5)}));     // 0.3 >= 0.1
   EXPECT_FALSE(narrow_later.Accepts(detour, {At(1.45, -0.5), At(1.45, 0.5)}));  // 0.05 < 0.1
   // Starting 0.05 from S (its seat), then clear by at least d: the seat
   // does not lower the floor, d is kept as before.
