@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "collision/scene_parts.h"
 #include "core/cancel.h"
@@ -252,11 +253,31 @@ BlockingReport ProbeWhatBlocks(const Scene& scene, double tolerance, UnmeasuredI
   for (const auto& w : world) robot_box.Extend(w);
   const double reach = (robot_box.max - robot_box.min).norm() + (static_box.max - static_box.min).norm();
   const double largest_step = 0.05 * (robot_box.max - robot_box.min).norm();
+  // Where a rigid shell already clashes with S at the installed pose, every
+  // pull is stopped there before it moves: that pose is measured once for
+  // all six (each pull measured it in full, the same each time: a Voron
+  // bowden module's rear plate, an open shell 4 mm deep in a chain anchor,
+  // took six depth searches of a minute each).
+  std::optional<DepthReport> stopped_at_start;
+  if (!report.parts->rigid_interference.empty()) {
+    DepthReport depth = checker.MeasureUntilTooDeep(scene.start);
+    if (depth.rigid_depth > tolerance) stopped_at_start = until_out ? depth : checker.Measure(scene.start);
+  }
   for (int axis = 0; axis < 3; ++axis) {
     for (double sign : {1.0, -1.0}) {
       if (until_out && !report.probes.empty() && report.probes.back().separated) break;
-      report.probes.push_back(Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box,
-                                   crop ? &*crop : nullptr, tolerance, reach, largest_step, until_out));
+      if (stopped_at_start) {
+        BlockingProbe probe;
+        probe.direction = sign * axes.col(axis);
+        probe.steps = report.probes.empty() ? 1 : 0;
+        probe.depth = stopped_at_start->rigid_depth;
+        probe.rigid_shell = stopped_at_start->rigid_shell;
+        probe.static_shell = stopped_at_start->rigid_static_shell;
+        report.probes.push_back(probe);
+      } else {
+        report.probes.push_back(Pull(scene.start, sign * axes.col(axis), checker, robot_box, static_box,
+                                     crop ? &*crop : nullptr, tolerance, reach, largest_step, until_out));
+      }
       const BlockingProbe& p = report.probes.back();
       if (!until_out) {
         LogInfo("what blocks: pull %zu of 6 %s after %s (%d depth measurements)", report.probes.size(),

@@ -95,6 +95,30 @@ TEST(ExactCheck, DensifyKeepsPlainInterpolationNearThePlannersOne) {
   EXPECT_TRUE(assumed);
 }
 
+TEST(WhatBlocks, AClashAtTheInstalledPoseStopsEveryPullThereMeasuredOnce) {
+  // A peg 2 x 1 x 10 whose side is 1 deep in a wall (far more than a fit of
+  // a part this size): every pull is stopped where it starts, by the same
+  // pose, which is measured once (1 depth measurement, the others none).
+  Scene scene;
+  scene.units = "mm";
+  scene.dynamic_mesh = MakeBox({-1, -0.5, 0}, {1, 0.5, 10});
+  scene.static_mesh = MakeBox({0, -5, -5}, {5, 5, 15});
+  const double tolerance = 0.05;
+  const BlockingReport report = ProbeWhatBlocks(scene, tolerance);
+  ASSERT_FALSE(report.parts->rigid_interference.empty());
+  ASSERT_EQ(report.probes.size(), 6u);
+  for (std::size_t i = 0; i < report.probes.size(); ++i) {
+    const BlockingProbe& p = report.probes[i];
+    EXPECT_FALSE(p.separated);
+    EXPECT_FALSE(p.unfinished);
+    EXPECT_EQ(p.free_distance, 0);
+    EXPECT_NEAR(p.depth, 1.0, 1e-9);  // out along -x, the least way
+    EXPECT_EQ(p.steps, i == 0 ? 1 : 0);
+    EXPECT_NEAR(p.direction.norm(), 1.0, 1e-9);
+  }
+  EXPECT_NE(report.summary.find("already penetrates S at the installed pose"), std::string::npos) << report.summary;
+}
+
 TEST(WhatBlocks, StraightPullsNameTheWallsAndTheWayOut) {
   // A rigid peg 2 x 1 x 10 in a pocket: walls 0.5 from it in x and y, a
   // floor 0.3 under it, open above. Pulls along its axes (z, x, y, both
