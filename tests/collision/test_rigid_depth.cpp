@@ -8,6 +8,7 @@
 #include "fixtures/box_scenes.h"
 #include "geometry/primitives.h"
 #include "geometry/shells.h"
+#include "test_dented_lug.h"
 #include "test_key_scene.h"
 #include "test_poses.h"
 
@@ -476,14 +477,7 @@ TEST(RigidDepth, ANonConvexShellInterferingIsMeasured) {
   // its depth is measured (the surface depth), so it is a fastener like a
   // convex clip.
   TriangleMesh robot = MakeBox({-20, -20, 0}, {20, 20, 2});
-  const int base = static_cast<int>(robot.vertices.size());
-  for (const Eigen::Vector3d& v :
-       std::vector<Eigen::Vector3d>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, -4}, {0.5, 0.5, -0.5}})
-    robot.vertices.push_back(v);
-  for (auto tri : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 4, 2}, {2, 4, 3}, {3, 4, 1}}) {
-    for (int& i : tri) i += base;
-    robot.triangles.push_back(tri);
-  }
+  testing::AppendDentedLug(&robot);
   const TriangleMesh plate = MakeBox({-30, -30, -3}, {30, 30, -1});
   const auto parts = ClassifyParts(robot, plate, Pose{}, 0.05);
   ASSERT_EQ(parts->robot_shells.size(), 2u);

@@ -3,11 +3,9 @@
 // plate S below it.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <vector>
-
 #include "geometry/primitives.h"
 #include "scene/scene.h"
+#include "test_dented_lug.h"
 #include "workflow/plan_scene.h"
 
 namespace ausbau {
@@ -17,14 +15,7 @@ namespace {
 // reaching 4 below it, z down to -4.
 TriangleMesh BlockWithDentedLug() {
   TriangleMesh robot = MakeBox({-20, -20, 0}, {20, 20, 10});
-  const int base = static_cast<int>(robot.vertices.size());
-  for (const Eigen::Vector3d& v :
-       std::vector<Eigen::Vector3d>{{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0, 0, -4}, {0.5, 0.5, -0.5}})
-    robot.vertices.push_back(v);
-  for (auto tri : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 4, 2}, {2, 4, 3}, {3, 4, 1}}) {
-    for (int& i : tri) i += base;
-    robot.triangles.push_back(tri);
-  }
+  testing::AppendDentedLug(&robot);
   return robot;
 }
 
