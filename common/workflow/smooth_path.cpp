@@ -38,8 +38,8 @@ std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProb
   auto guard = std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input);
   if (guard->floor() < clearance) {
     LogInfo(
-        "keeping a clearance of %.4g %s from S where the path allows (--clearance); the planned path comes %.4g %s "
-        "from S after first leaving it by that much, so shortcuts may come as close",
+        "keeping a clearance of %.4g %s from S where the path allows (--clearance); the planned path must come "
+        "%.4g %s from S (its closest after it is first that far from S), so shortcuts may come as close",
         clearance, scene.units.c_str(), guard->floor(), scene.units.c_str());
   } else {
     LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance,
