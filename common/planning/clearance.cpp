@@ -97,8 +97,12 @@ ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMes
       clearance_(clearance),
       step_(step),
       // A retreat's end is computed along its direction: on the line up to rounding.
-      on_line_(1e-6 * problem.robot_diagonal) {
-  floor_ = FloorOf(input);
+      on_line_(1e-6 * problem.robot_diagonal),
+      input_(input) {}
+
+double ClearanceGuard::floor() const {
+  if (!floor_) floor_ = FloorOf(input_);
+  return *floor_;
 }
 
 double ClearanceGuard::FloorOf(const std::vector<Pose>& path) const {
@@ -144,7 +148,7 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
   if (RetracesFirstSegment(replaced, replacement)) return true;
   const double kNoStop = -std::numeric_limits<double>::infinity();
   const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;
-  if (added >= floor_) return true;  // floor_ <= d
+  if (added >= clearance_ || added >= floor()) return true;
   // Below d: accepted only when the replaced part comes at least as close
   // (its walk stops at the first sample that does).
   const double removed = meter_.AlongPath(replaced, clearance_, step_, added, false).clearance;

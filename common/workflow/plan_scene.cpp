@@ -725,25 +725,25 @@ PlannedPath PlanScene(const Scene& scene, const PlanSceneOptions& options) {
 ValidityMode ChooseValidity(const Scene& scene, double rigid_tolerance_mm) {
   const double tolerance = RigidToleranceInSceneUnits(rigid_tolerance_mm, scene, nullptr);
   const PlanningProblem problem = MakePlanningProblem(scene);
+  // Classified as the volume model's rigid guard and the verdict's check of
+  // a volume path do (VolumeModel::GuardRigidParts): which shells other
+  // than the anchor intersect a non-convex shell does not depend on that,
+  // and it says which shells the volume model keeps rigid.
   const auto parts = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
-                                   UnmeasuredInterference::kRigid, SceneFitRule(scene));
+                                   UnmeasuredInterference::kFastener, SceneFitRule(scene));
   if (parts->non_convex_interference.empty()) return ValidityMode::kRigidExact;
-  // The volume model bounds how far such shells bend; the shells it keeps
-  // rigid are classified as the verdict's exact check of a volume path does
-  // (VolumeModel::GuardRigidParts). Where one of those already clashes with
-  // S (the anchor of a bowden collet pressed 2.6 mm into its plate), that
-  // check refuses every path: the volume model would only take minutes
-  // (voxels, labels, tau: 168 s) to the same NOT REMOVABLE that rigid-exact
-  // gives at once, with the clash named.
-  const auto as_volume = ClassifyParts(problem.robot, problem.environment, problem.start, tolerance,
-                                       UnmeasuredInterference::kFastener, SceneFitRule(scene));
-  if (!as_volume->rigid_interference.empty()) {
+  // The volume model bounds how far such shells bend. Where a shell it keeps
+  // rigid already clashes with S (the anchor of a bowden collet pressed 2.6
+  // mm into its plate), its exact check refuses every path: the volume model
+  // would only take minutes (voxels, labels, tau: 168 s) to the same NOT
+  // REMOVABLE that rigid-exact gives at once, with the clash named.
+  if (!parts->rigid_interference.empty()) {
     LogInfo(
         "%s of D intersects a non-convex shell of S at the installed pose, but %s, rigid in the volume model "
         "too, already penetrates S %.4g deep there: rigid-exact",
         parts->Describe(parts->non_convex_interference.front(), true).c_str(),
-        as_volume->Describe(as_volume->rigid_interference.front(), true).c_str(),
-        as_volume->installed_depth[as_volume->rigid_interference.front()]);
+        parts->Describe(parts->rigid_interference.front(), true).c_str(),
+        parts->installed_depth[parts->rigid_interference.front()]);
     return ValidityMode::kRigidExact;
   }
   LogInfo(

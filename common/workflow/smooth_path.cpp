@@ -35,17 +35,8 @@ std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProb
                                           const SmoothOptions& options, const TriangleMesh& robot,
                                           const std::vector<Pose>& input) {
   const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
-  auto guard = std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input);
-  if (guard->floor() < clearance) {
-    LogInfo(
-        "keeping a clearance of %.4g %s from S where the path allows (--clearance); the planned path must come "
-        "%.4g %s from S (its closest after it is first that far from S), so shortcuts may come as close",
-        clearance, scene.units.c_str(), guard->floor(), scene.units.c_str());
-  } else {
-    LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance,
-            scene.units.c_str());
-  }
-  return guard;
+  LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance, scene.units.c_str());
+  return std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input);
 }
 
 // The warning line where the smoothed path (from segment `first` on) comes
