@@ -118,15 +118,23 @@ struct MouldedRule {
 struct ShellModels;  // rigid_depth.cpp
 
 struct PartModel {
-  std::vector<Shell> robot_shells;       // D, in the frame its poses refer to
-  std::vector<Shell> static_shells;      // S, world
-  std::vector<ShellRole> role;           // per robot shell
-  std::vector<int> cluster;              // per robot shell: fastener cluster, -1 for rigid
-  std::vector<double> cluster_limit;     // per cluster: the depth it may reach (infinite: not limited)
-  std::vector<double> installed_depth;   // per robot shell: deepest penetration of S at the installed pose
-  int anchor = -1;                       // index of the anchor shell
-  std::vector<int> rigid_interference;   // rigid shells that clash with S at the installed pose
-  std::vector<FitInterference> fits;     // rigid pairs allowed their installed depth
+  std::vector<Shell> robot_shells;      // D, in the frame its poses refer to
+  std::vector<Shell> static_shells;     // S, world
+  std::vector<ShellRole> role;          // per robot shell
+  std::vector<int> cluster;             // per robot shell: fastener cluster, -1 for rigid
+  std::vector<double> cluster_limit;    // per cluster: the depth it may reach (infinite: not limited)
+  std::vector<double> installed_depth;  // per robot shell: deepest penetration of S at the installed pose
+  int anchor = -1;                      // index of the anchor shell
+  std::vector<int> rigid_interference;  // rigid shells that clash with S at the installed pose
+  std::vector<FitInterference> fits;    // rigid pairs allowed their installed depth
+  // Pairs that overlap at the installed pose by no more than the tolerance
+  // (a peg pressed 0.03 mm into its hole's wall, a square lead's corners in
+  // a round hole, a tessellation overlap): robot shell, static shell and
+  // that depth (area and release not measured). A checker lets such a pair
+  // stay that deep plus half its limit (OverlapDepth), or one whose limit
+  // is below the depth (the planners': half the tolerance) would call the
+  // installed pose itself invalid.
+  std::vector<FitInterference> overlaps;
   std::vector<MouldedFastener> moulded;  // fasteners moulded into rigid shells
   // Per robot shell: the boxes of its moulded fasteners (null: none).
   std::vector<std::shared_ptr<const DepthMask>> masks;
@@ -172,6 +180,8 @@ struct PartModel {
 
   // The installed depth a fit allows the pair, or 0.
   double FitDepth(int robot_shell, int static_shell) const;
+  // The pair's installed overlap within the tolerance (`overlaps`), or 0.
+  double OverlapDepth(int robot_shell, int static_shell) const;
 
   int FastenerCount() const;  // fastener shells and moulded fasteners
   const DepthMask* Mask(int shell) const {

@@ -387,6 +387,35 @@ TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
   EXPECT_NEAR(checker.Measure(PoseAt(0.1, 0, 0)).fit_depth, 0.4, 1e-12);
 }
 
+// Pressed 0.03 mm into the wall: within the tolerance (0.05), no fit. The
+// planners check at half the tolerance (0.025), where the installed pose
+// itself would be invalid ("start pose is in collision", an internal error
+// on a press fit of a few hundredths): the pair may stay as deep as it was
+// installed plus half the checker's limit, so the planner's allowance
+// (0.0425) plus its step floor never exceeds the final check's (0.055).
+TEST(RigidDepth, APegPressedInWithinTheToleranceMayStayThatDeep) {
+  const TriangleMesh peg = MakeBox({-5, -5, -10}, {5.03, 5, 10});
+  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
+  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
+  const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
+  EXPECT_EQ(parts->FastenerCount(), 0);
+  EXPECT_TRUE(parts->rigid_interference.empty());
+  EXPECT_TRUE(parts->fits.empty());
+  EXPECT_NEAR(parts->OverlapDepth(0, 0), 0.03, 1e-9);
+  EXPECT_EQ(parts->OverlapDepth(0, 1), 0);  // 0.5 mm from the other wall
+  const RigidDepthChecker planning(parts, 0.025, 0.0125);
+  EXPECT_TRUE(planning.IsValid(Pose{}));
+  EXPECT_TRUE(planning.IsValid(PoseAt(0, 0, 5)));       // drawn out along the wall
+  EXPECT_TRUE(planning.IsValid(PoseAt(0.01, 0, 0)));    // 0.04 deep
+  EXPECT_FALSE(planning.IsValid(PoseAt(0.015, 0, 0)));  // 0.045
+  const RigidDepthChecker final_check(parts, 0.05, 0.0125);
+  EXPECT_TRUE(final_check.IsValid(PoseAt(0.02, 0, 0)));   // 0.05
+  EXPECT_FALSE(final_check.IsValid(PoseAt(0.03, 0, 0)));  // 0.06
+  // The other wall keeps the plain limit.
+  EXPECT_TRUE(planning.IsValid(PoseAt(-0.47, 0, 0)));   // 0.03 from it
+  EXPECT_FALSE(planning.IsValid(PoseAt(-0.53, 0, 0)));  // 0.03 into it
+}
+
 TEST(RigidDepth, ASolidBlockDeepInAWallClashes) {
   // 3 mm into the wall: more than 5% of the peg's size: a clash.
   const TriangleMesh peg = MakeBox({-5, -5, -10}, {8, 5, 10});
@@ -485,6 +514,30 @@ TEST(RigidDepth, ANonConvexShellInterferingIsMeasured) {
   EXPECT_TRUE(std::isfinite(parts->installed_depth[1]));
   EXPECT_GT(parts->installed_depth[1], 0.05);
   EXPECT_EQ(parts->FastenerCount(), 1);
+  EXPECT_TRUE(parts->rigid_interference.empty());
+}
+
+// A lead in its hole, as KiCad models them: its wall lies 0.0478 mm inside
+// the hole's (two 32-gons 0.048 mm apart at their corners, faces parallel),
+// within the tolerance of 0.05. The surface depth is an upper bound within
+// a tenth of the tolerance, so it may first come out above 0.05; such a
+// pair is decided, and the lead is no fastener: the part is a rigid one
+// (ChooseValidity gives it to rigid-exact, not the volume model).
+TEST(RigidDepth, ALeadWithinTheToleranceOfItsHoleIsNoFastener) {
+  TriangleMesh robot = MakeBox({20, 20, 5}, {60, 60, 20});  // the body: the anchor
+  const double r = 5.048;                                   // the hole's 5, and the overlap
+  // A headed lead: non-convex, as are the plate's hole walls.
+  const TriangleMesh lead = MakeSolidOfRevolution({{0, -3}, {r, -3}, {r, 3}, {7, 3}, {7, 4}, {0, 4}}, 32);
+  robot.Append(lead);
+  const TriangleMesh plate = MakeSolidOfRevolution({{5, -2}, {15, -2}, {15, 2}, {5, 2}}, 32);
+  const auto parts = ClassifyParts(robot, plate, Pose{}, 0.05);
+  ASSERT_EQ(parts->robot_shells.size(), 2u);
+  const int lead_shell = parts->anchor == 0 ? 1 : 0;
+  EXPECT_FALSE(parts->robot_shells[lead_shell].convex);
+  EXPECT_GT(parts->installed_depth[lead_shell], 0.047);
+  EXPECT_LE(parts->installed_depth[lead_shell], 0.05);
+  EXPECT_EQ(parts->FastenerCount(), 0);
+  EXPECT_TRUE(parts->non_convex_interference.empty());
   EXPECT_TRUE(parts->rigid_interference.empty());
 }
 
