@@ -477,7 +477,8 @@ SmoothResult SmoothPath(const PlanningProblem& problem, const PoseValidity& vali
   const int attempts =
       options.attempts > 0 ? options.attempts : std::min<int>(2000, 100 + 10 * static_cast<int>(input.size()));
   SmoothOnce(problem, motion, guard, attempts, random, deadline, options.progress, &result);
-  LogDebug("shortcuts: %d kept of %d attempts", result.shortcuts, result.attempts);
+  LogInfo("shortcuts: %d kept of %d attempts, %lld poses checked", result.shortcuts, result.attempts,
+          static_cast<long long>(motion.checks()));
   result.after = MeasurePath(problem, result.path);
   // Step 5 only where the turning left is more than the tolerance a path is
   // held to (kTurnWorthAnAlternative): it removes no more than that, and

@@ -248,6 +248,7 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, do
       if (pose_is_a && !std::isnan(a_slack)) {
         slack = a_slack;  // measured by the caller (StartSlack)
       } else {
+        Count();
         slack = problem_->InBounds(pose) ? slack_->MeasureSlack(pose) : -1.0;
       }
       if (slack < 0) return valid;
@@ -265,6 +266,7 @@ double MotionChecker::Advance(const Pose& a, const Pose& b, Pose* last_valid, do
         const double end = length >= 1.0 - s ? 1.0 : s + length;
         Pose next = b;  // a translation: its rotation is a's all the way
         if (end < 1.0) next.t = a.t + end * (b.t - a.t);
+        Count();
         if (problem_->InBounds(next) && slack_->IsValid(next) && slack_->ProveTranslation(pose, next.t - pose.t)) {
           s = end;
           pose = next;
@@ -362,6 +364,7 @@ bool MotionChecker::MotionValid(const Pose& a, const Pose& b) const {
 }
 
 double MotionChecker::StartSlack(const Pose& a) const {
+  Count();
   if (!problem_->InBounds(a)) return -1.0;
   if (slack_) return slack_->MeasureSlack(a);
   return validity_->IsValid(a) ? 0.0 : -1.0;

@@ -147,7 +147,13 @@ class MotionChecker {
   MotionChecker(const PlanningProblem& problem, const PoseValidity& validity, double step,
                 std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
-  bool IsValid(const Pose& pose) const { return problem_->InBounds(pose) && validity_->IsValid(pose); }
+  bool IsValid(const Pose& pose) const {
+    Count();
+    return problem_->InBounds(pose) && validity_->IsValid(pose);
+  }
+  // The poses checked so far (validity or slack measured): the smoother's
+  // budget counts them (planning/smoother.h).
+  std::int64_t checks() const { return checks_.load(std::memory_order_relaxed); }
   // Whether motions are walked by conservative advancement (the validity
   // measures its slack): their poses then do not depend on `step`.
   bool WalksBySlack() const { return slack_ != nullptr; }
@@ -195,6 +201,7 @@ class MotionChecker {
                  double a_slack = std::numeric_limits<double>::quiet_NaN()) const;
   // Past the deadline, or cancelled.
   bool OutOfTime() const;
+  void Count() const { checks_.fetch_add(1, std::memory_order_relaxed); }
 
   // Sweeps (PoseValidity::ProveMotion) of the walk without slack: only
   // after this many steps pose by pose, and only over this many steps or
@@ -226,6 +233,7 @@ class MotionChecker {
   // depend on it, only the number of checks).
   mutable std::atomic<double> sweep_gain_{1.0};
   mutable std::atomic<std::int64_t> sweep_chances_{0};
+  mutable std::atomic<std::int64_t> checks_{0};
   static constexpr std::int64_t kSweepProbe = 16;
 };
 
