@@ -92,12 +92,13 @@ ClearanceSample ClearanceMeter::AlongPath(const std::vector<Pose>& path, double 
 }
 
 ClearanceGuard::ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step,
-                               const std::vector<Pose>& input)
+                               const std::vector<Pose>& input, double contact)
     : meter_(problem, robot),
       clearance_(clearance),
       step_(step),
       // A retreat's end is computed along its direction: on the line up to rounding.
       on_line_(1e-6 * problem.robot_diagonal),
+      contact_(contact),
       input_(input) {}
 
 double ClearanceGuard::floor() const {
@@ -144,7 +145,10 @@ bool ClearanceGuard::Accepts(const std::vector<Pose>& replaced, const std::vecto
   // within 0 of S and every replacement is accepted: one query instead of
   // walking the replacement (as1's rod at a fine tessellation: 384 distance
   // queries in contact along its 192 mm pull, 21 s, for each retreat).
-  if (!replaced.empty() && meter_.At(replaced.front(), false).clearance <= 0) return true;
+  // Within `contact` of S is touching too: a Voron M3 screw 0.003 mm from
+  // its hole's wall at the installed pose kept its turning path (0.315 rad)
+  // because the straight pull out of the hole ran 0.001 mm from the wall.
+  if (!replaced.empty() && meter_.At(replaced.front(), false).clearance <= contact_) return true;
   if (RetracesFirstSegment(replaced, replacement)) return true;
   const double kNoStop = -std::numeric_limits<double>::infinity();
   const double added = meter_.AlongPath(replacement, clearance_, step_, kNoStop, false).clearance;

@@ -108,17 +108,21 @@ class ClearanceMeter {
 //   where D is first d from S on; of the whole input path where it never is).
 // So no change makes the clearance worse below d than it was there, or than
 // the path must come anyway (a narrow place it passes later); D's way out of
-// its seat (before it is first d from S) does not count for the floor. d = 0
-// (or no guard) accepts everything. Without the floor, a planned detour kept
+// its seat (before it is first d from S) does not count for the floor. A
+// part that starts where D touches S (within `contact`: clearances below
+// the rigid tolerance are contact, not a clearance to keep) may be replaced
+// by any motion. d = 0 (or no guard) accepts everything. Without the floor, a planned detour kept
 // its shape wherever a shortcut came closer to S than the detour did: a
 // Voron bowden module's M3 screw, whose planned path passes 0.0014 mm from
 // S after leaving its hole, smoothed to 114 mm and 3.5 rad of motion (25.5
 // mm and 0.32 rad without a guard).
 class ClearanceGuard : public ReplacementGuard {
  public:
-  // `input`: the path to be smoothed (the floor).
+  // `input`: the path to be smoothed (the floor). `contact`: how close
+  // to S counts as touching it (the rigid tolerance, where the validity
+  // allows that much depth; else 0), see Accepts.
   ClearanceGuard(const PlanningProblem& problem, const TriangleMesh& robot, double clearance, double step,
-                 const std::vector<Pose>& input);
+                 const std::vector<Pose>& input, double contact = 0);
 
   double clearance() const { return clearance_; }
   // Walked the first time it is asked (Accepts asks only for a replacement
@@ -146,7 +150,7 @@ class ClearanceGuard : public ReplacementGuard {
   double FloorOf(const std::vector<Pose>& path) const;
 
   ClearanceMeter meter_;
-  double clearance_, step_, on_line_;
+  double clearance_, step_, on_line_, contact_;
   std::vector<Pose> input_;
   mutable std::optional<double> floor_;
 };

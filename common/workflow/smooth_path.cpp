@@ -30,13 +30,14 @@ std::vector<Pose> ToScene(const PlanningProblem& problem, const std::vector<Pose
 }
 
 // The clearance guard of --clearance (planning/clearance.h) on the part of
-// D that must keep clear (`robot`: ClearanceRobot's, planning convention).
+// D that must keep clear (`robot`: ClearanceRobot's, planning convention);
+// `contact`: as ClearanceGuard's.
 std::unique_ptr<ClearanceGuard> MakeGuard(const Scene& scene, const PlanningProblem& problem,
                                           const SmoothOptions& options, const TriangleMesh& robot,
-                                          const std::vector<Pose>& input) {
+                                          const std::vector<Pose>& input, double contact = 0) {
   const double clearance = ClearanceInSceneUnits(options.clearance, scene.units);
   LogInfo("keeping a clearance of %.4g %s from S where the path allows (--clearance)", clearance, scene.units.c_str());
-  return std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input);
+  return std::make_unique<ClearanceGuard>(problem, robot, clearance, ClearanceStep(problem, clearance), input, contact);
 }
 
 // The warning line where the smoothed path (from segment `first` on) comes
@@ -76,7 +77,7 @@ SmoothedPath SmoothRigidExact(const Scene& scene, const PlanningProblem& problem
   out.clearance_robot = ClearanceRobot(problem, parts.get());
   out.planning_path = ToPlanning(problem, input.waypoints);
   const std::unique_ptr<ClearanceGuard> guard =
-      MakeGuard(scene, problem, options.smooth, out.clearance_robot, out.planning_path);
+      MakeGuard(scene, problem, options.smooth, out.clearance_robot, out.planning_path, tolerance);
   out.result = SmoothPath(problem, checker, out.planning_path, options.smooth, guard.get());
   out.artifact = input;
   out.artifact.units = scene.units;

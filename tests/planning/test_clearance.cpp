@@ -121,6 +121,24 @@ TEST(Clearance, GuardLetsShortcutsComeAsCloseAsThePathMust) {
   EXPECT_NEAR(never_clear.floor(), 0.05, 1e-9);
 }
 
+// A part that starts where D touches S (within `contact`, the rigid
+// tolerance in rigid-exact: a screw 0.003 mm from its hole's wall) may be
+// replaced by any motion: clearances below it are contact, not a clearance
+// to keep (its straight pull ran 0.001 mm from the wall and was refused).
+TEST(Clearance, GuardTakesAnyReplacementFromAPoseInContact) {
+  const Scene scene = BoxScene();
+  const PlanningProblem problem = MakePlanningProblem(scene);
+  const std::vector<Pose> replaced = {At(1.46), At(0), At(0, 3)};   // from 0.04 of S, then clear by 1.5
+  const std::vector<Pose> replacement = {At(1.46), At(1.48, 0.5)};  // to 0.02 from S
+  const ClearanceGuard touching(problem, problem.robot, 0.5, 0.01, replaced, 0.05);
+  EXPECT_TRUE(touching.Accepts(replaced, replacement));
+  // Without it, 0.02 < 0.04: refused; and from 0.1 of S, more than the
+  // contact, as well.
+  const ClearanceGuard plain(problem, problem.robot, 0.5, 0.01, replaced);
+  EXPECT_FALSE(plain.Accepts(replaced, replacement));
+  EXPECT_FALSE(touching.Accepts({At(1.4), At(0), At(0, 3)}, {At(1.4), At(1.48, 0.5)}));
+}
+
 // A retreat along the replaced path's own first segment visits only poses
 // of that segment: taken without walking it (its walk may sample closer than
 // the replaced path's own walk did). Anything else is walked as before.
