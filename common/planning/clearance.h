@@ -111,8 +111,9 @@ class ClearanceMeter {
 // its seat (before it is first d from S) does not count for the floor. A
 // part that starts where D touches S (within `contact`: clearances below
 // the rigid tolerance are contact, not a clearance to keep) may be replaced
-// by any motion. d = 0 (or no guard) accepts everything. Without the floor, a planned detour kept
-// its shape wherever a shortcut came closer to S than the detour did: a
+// by any motion. d = 0 (or no guard) accepts everything. Without the floor,
+// a planned detour kept its shape wherever a shortcut came closer to S than
+// the detour did: a
 // Voron bowden module's M3 screw, whose planned path passes 0.0014 mm from
 // S after leaving its hole, smoothed to 114 mm and 3.5 rad of motion (25.5
 // mm and 0.32 rad without a guard).

@@ -151,8 +151,8 @@ class MotionChecker {
     Count();
     return problem_->InBounds(pose) && validity_->IsValid(pose);
   }
-  // The poses checked so far (validity or slack measured): the smoother's
-  // budget counts them (planning/smoother.h).
+  // The poses checked so far (validity or slack measured; the smoother
+  // logs them).
   std::int64_t checks() const { return checks_.load(std::memory_order_relaxed); }
   // Whether motions are walked by conservative advancement (the validity
   // measures its slack): their poses then do not depend on `step`.
