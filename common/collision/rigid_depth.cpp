@@ -1039,9 +1039,13 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       const PairRule rule = Rule(r, s);
       // An unlimited fastener cannot lower the slack: measured for reports only.
       if (!report_fasteners && std::isinf(rule.allowed)) return;
-      // A fit pair counts only its depth beyond the installed fit.
+      // A fit pair counts only its depth beyond the installed fit, and a
+      // pair with an installed overlap only its depth beyond what it is
+      // allowed above the limit (Rule): the rigid depth reported exceeds
+      // the limit exactly where the slack is negative.
       const double fit = rigid ? parts.FitDepth(r, s) : 0.0;
-      const double allowed = rule.allowed - fit;
+      const double credit = rigid ? std::max(fit, rule.allowed - limit_) : 0.0;
+      const double allowed = rule.allowed - credit;
       // Beyond fit + limit the pose is invalid whatever the digits: the
       // number is measured to a share of itself (still an upper bound).
       // Below half the limit, the slack is no less than half the limit.
@@ -1060,7 +1064,7 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
       query.whole = rule.whole;
       query.contact_collides = !report_fasteners && ContactCollides(r, s);
       const double measured = impl_->measure.Depth(r, iso, s, query);
-      if (fit > 0) report.fit_depth = std::max(report.fit_depth, measured);
+      if (credit > 0) report.fit_depth = std::max(report.fit_depth, measured);
       // Moulded fasteners: the whole shell's reach, reported (not judged).
       if (report_fasteners && parts.Mask(r) != nullptr && !rule.whole) {
         DepthQuery whole;
@@ -1070,7 +1074,7 @@ DepthReport RigidDepthChecker::MeasurePairs(const Pose& pose, bool report_fasten
         whole.whole = true;
         report.fastener_depth = std::max(report.fastener_depth, impl_->measure.Depth(r, iso, s, whole));
       }
-      const double depth = measured - fit;
+      const double depth = measured - credit;
       report.slack = std::min(report.slack, allowed - depth);
       if (rule.fastener) {
         report.fastener_depth = std::max(report.fastener_depth, depth);

@@ -225,7 +225,9 @@ struct DepthReport {
   double rigid_depth = -std::numeric_limits<double>::infinity();
   int rigid_shell = -1, rigid_static_shell = -1;
   // A pair with an installed fit interference (PartModel::fits) counts in
-  // rigid_depth only by how far it is deeper than installed; its depth
+  // rigid_depth only by how far it is deeper than installed, and one with an
+  // installed overlap allowed more than the limit (PartModel::overlaps) by
+  // how far it is deeper than that allowance less the limit; their depth
   // itself is fit_depth.
   double fit_depth = 0;
   double fastener_depth = 0;  // deepest fastener penetration (reported, not judged)
