@@ -362,15 +362,22 @@ TEST(RigidDepth, AFastenerBendsOnlyIntoTheSolidItEngages) {
   EXPECT_NEAR(down.rigid_depth, 0.8, 1e-9);
 }
 
+// A solid peg 10 x 10 x 20 in a hole between two walls 2 thick (x >= 5 and
+// x <= -5.5), pressed `pressed` into the first; classified at the
+// tolerance 0.05. Static shell 0 is the wall it is pressed into.
+std::shared_ptr<const PartModel> PegPressedIntoAWall(double pressed) {
+  const TriangleMesh peg = MakeBox({-5, -5, -10}, {5 + pressed, 5, 10});
+  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
+  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
+  return ClassifyParts(peg, plate, Pose{}, 0.05);
+}
+
 TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
   // A solid peg pressed 0.3 mm into a hole's wall: the peg is the anchor,
   // and the overlap a layer of 0.3 x 10 x 2 mm (area 20 >= 100 x 0.3^2,
   // 0.3 <= 5% of the peg's 24 mm diagonal): a fit interference. The peg
   // may be drawn out along it, never pushed deeper.
-  const TriangleMesh peg = MakeBox({-5, -5, -10}, {5.3, 5, 10});
-  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
-  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
-  const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
+  const auto parts = PegPressedIntoAWall(0.3);
   EXPECT_EQ(parts->FastenerCount(), 0);
   EXPECT_TRUE(parts->rigid_interference.empty());
   ASSERT_EQ(parts->fits.size(), 1u);
@@ -394,10 +401,7 @@ TEST(RigidDepth, ASolidBlockPressedLightlyIntoAWallIsAFit) {
 // installed plus half the checker's limit, so the planner's allowance
 // (0.0425) plus its step floor never exceeds the final check's (0.055).
 TEST(RigidDepth, APegPressedInWithinTheToleranceMayStayThatDeep) {
-  const TriangleMesh peg = MakeBox({-5, -5, -10}, {5.03, 5, 10});
-  TriangleMesh plate = MakeBox({5, -20, -2}, {20, 20, 0});
-  plate.Append(MakeBox({-20, -20, -2}, {-5.5, 20, 0}));
-  const auto parts = ClassifyParts(peg, plate, Pose{}, 0.05);
+  const auto parts = PegPressedIntoAWall(0.03);
   EXPECT_EQ(parts->FastenerCount(), 0);
   EXPECT_TRUE(parts->rigid_interference.empty());
   EXPECT_TRUE(parts->fits.empty());
