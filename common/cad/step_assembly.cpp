@@ -267,10 +267,16 @@ Prototype Tessellate(const TopoDS_Shape& shape, const StepTessellation& tessella
 // is, only a number (an instance's index: OpenCASCADE's own export of dm1
 // names its instances "1", "2", ...), or an identifier CATIA V5 made up
 // ("*DIT33", "*MASTER": CAx-IF s1-c5's instances, whose products are
-// FOOT_FRONT_000, TAIL_TURBINE, ...).
+// FOOT_FRONT_000, TAIL_TURBINE, ...), or the identifier SolidWorks gives
+// every NEXT_ASSEMBLY_USAGE_OCCURRENCE, whose name it leaves blank
+// ("NAUO12": CubeFactory's shredder drivetrain, whose products are
+// 01_01_09-cylinder_screw_M5x25-DIN912, ...).
 bool NamesNothing(const std::string& name) {
-  if (std::all_of(name.begin(), name.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
-    return true;
+  const auto digits = [](std::string::const_iterator begin, std::string::const_iterator end) {
+    return std::all_of(begin, end, [](char c) { return std::isdigit(static_cast<unsigned char>(c)); });
+  };
+  if (digits(name.begin(), name.end())) return true;
+  if (name.size() > 4 && name.compare(0, 4, "NAUO") == 0 && digits(name.begin() + 4, name.end())) return true;
   if (name.size() > 1 && name[0] == '*' && std::all_of(name.begin() + 1, name.end(), [](char c) {
         return std::isupper(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c));
       }))

@@ -166,7 +166,8 @@ TEST_F(StepAssemblyTest, AnInstanceNamedByNothingOfItsOwnIsNamedAfterItsProduct)
   // instances "1", "2", ...: its nuts and bolts were scenes "1", "2-3".
   // CATIA V5 (CAx-IF s1-c5-214) names them "*DIT33", "*DIT34": the scenes
   // were "_DIT33", "_DIT34" where the products say FOOT_FRONT_000.
-  for (const std::string instance : {"7", "*DIT33"}) {
+  // SolidWorks names every instance after its NAUO's identifier: "NAUO7".
+  for (const std::string instance : {"7", "*DIT33", "NAUO7"}) {
     const fs::path file = dir_ / "bench.step";
     testing::StepFixtureOptions options;
     options.pin_instance_name = instance;
