@@ -27,6 +27,8 @@
 #   no-exits      no exit moves (pulls out, quarter turns) from new nodes
 #                 of the start tree (--exit-axes 0; disassembly only)
 #   exits-3       exit moves about all three of D's normal axes (--exit-axes 3)
+#   single-pulls  single straight pulls only: no two legs, no sampling from
+#                 where the pulls stopped (--pull-legs 1; disassembly only)
 #   gaussian      Gaussian sampling near obstacles (Boor et al. 1999)
 #   bridge        the bridge test (Hsu et al. 2003)
 #   mixed         a third each of uniform, Gaussian and bridge samples
@@ -61,6 +63,7 @@ flags_of() {
     no-passage) echo "--passage-neighbors 0" ;;
     no-exits) echo "--exit-axes 0" ;;
     exits-3) echo "--exit-axes 3" ;;
+    single-pulls) echo "--pull-legs 1" ;;
     gaussian) echo "--sampler gaussian" ;;
     bridge) echo "--sampler bridge" ;;
     mixed) echo "--sampler mixed" ;;

@@ -67,6 +67,11 @@ void AddPlannerOptions(StageDefinition& stage, PlannerOptions* planner) {
       "without a path it can certify, the search at --resolution starts afresh (docs/planning.md, \"A "
       "coarse search first\"); 0 = off; -1 = automatic: 4096 for rrtc and cr-rrtc with --validity collision, else 0",
       CacheKey::kYes);
+  stage.Option("--pull-legs", &planner->pull_legs,
+               "disassembly: straight pulls from the installed pose before sampling, 1 = single pulls only, 2 = "
+               "also two legs where none is free, and the sampling tree grown from where they stopped too "
+               "(docs/rigid-exact.md, \"Two legs, and where the pulls stopped\")",
+               CacheKey::kYes);
   planner->exit_axes = -1;  // automatic: ResolvedPlanner (workflow/plan_scene.cpp) decides by the validity
   stage.Option("--exit-axes", &planner->exit_axes,
                "rrtc, cr-rrtc, disassembly: from each new start-tree node, straight pulls out of S along this many "

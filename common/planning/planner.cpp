@@ -120,6 +120,7 @@ void PlannerOptions::Check() const {
   if (passage_neighbors < 0 || passage_neighbors > 1000) {
     throw OptionError(&passage_neighbors, "passage_neighbors", "must lie in [0, 1000] (0 = no second try)");
   }
+  if (pull_legs < 1 || pull_legs > 2) throw OptionError(&pull_legs, "pull_legs", "must be 1 or 2");
   if (exit_axes < -1 || exit_axes > 3) {
     throw OptionError(&exit_axes, "exit_axes", "must lie in [-1, 3] (0 = none, -1 = automatic)");
   }
@@ -301,6 +302,36 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
   return axes;
 }
 
+namespace {
+
+// The shortest pull from `from` along `direction` (to a probe's step) that
+// takes D into the goal region within the bounds; nothing when none within
+// `reach`. Where S is cropped, *last_in_bounds (if given) is the pull's last
+// probe within the bounds (convex: the ray leaves them once), `from` when
+// none. Reach over probe is about 100 (1 + S's size / D's) steps; for a D of
+// 1e-6 mm in S of tens it was billions, so the clock is read every 4096 of
+// them (past the deadline: nothing).
+std::optional<Pose> ShortestPullOut(const PlanningProblem& problem, const Pose& from, const Eigen::Vector3d& direction,
+                                    double reach, double probe, std::chrono::steady_clock::time_point deadline,
+                                    Pose* last_in_bounds) {
+  Pose end = from;
+  bool left_bounds = !problem.crop || last_in_bounds == nullptr;
+  if (last_in_bounds != nullptr) *last_in_bounds = from;
+  std::int64_t probes = 0;
+  for (double s = probe; s <= reach; s += probe) {
+    if (++probes % 4096 == 0 && std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    end.t = from.t + s * direction;
+    if (problem.InGoalRegion(end) && problem.InBounds(end)) return end;
+    if (!left_bounds) {
+      left_bounds = !problem.InBounds(end);
+      if (!left_bounds) *last_in_bounds = end;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options) {
   PlanResult result;
@@ -323,50 +354,46 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   const MotionChecker motion(problem, validity, step, deadline);
   const double reach = 2 * (problem.robot_diagonal + problem.environment_box.Diagonal());
   const double probe = 0.02 * problem.robot_diagonal;
+  // A path of straight pulls from the start, certified (planning/certify.h):
+  // solved into `result` when it holds.
+  const auto certified = [&](std::vector<Pose> path) {
+    ThrowIfCancelled();  // a pull stopped by a cancel is no answer
+    PlannerOptions repair = options;
+    repair.time_limit_s =
+        std::max(1.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
+    if (!CertifyPath(problem, validity, CertificationStep(problem, step), repair, &path, deadline).certified)
+      return false;
+    result.path = std::move(path);
+    result.status = PlanStatus::kSolved;
+    return true;
+  };
   // Where S is cropped, the pulls whose goal lies beyond the crop: their
   // last pose within the bounds, walked only once no pull got D out.
   std::vector<Pose> to_crop_edge;
-  for (const Eigen::Vector3d& axis : axes) {
+  // The pulls blocked on the way out: (axis, sign, end), for the second legs.
+  struct Blocked {
+    std::size_t axis;
+    double sign;
+    Pose end;
+  };
+  std::vector<Blocked> blocked;
+  for (std::size_t a = 0; a < axes.size() && !result.solved(); ++a) {
     for (double sign : {1.0, -1.0}) {
       ThrowIfCancelled();  // serial here (core/cancel.h)
       ++result.stats.iterations;
-      // The shortest pull (to a probe's step) that reaches the goal region.
-      Pose end = problem.start;
-      bool reached = false;
-      // Where S is cropped, also the last probe within the bounds (convex:
-      // the ray leaves them once).
-      Pose last_in_bounds = problem.start;
-      bool left_bounds = !problem.crop;
-      // Reach over probe is about 100 (1 + S's size / D's) steps; for a D
-      // of 1e-6 mm in S of tens it was billions, so the clock is read
-      // every 4096 of them (past the deadline the pull counts as blocked).
-      std::int64_t probes = 0;
-      for (double s = probe; s <= reach && !reached; s += probe) {
-        if (++probes % 4096 == 0 && std::chrono::steady_clock::now() >= deadline) break;
-        end.t = problem.start.t + s * sign * axis;
-        reached = problem.InGoalRegion(end) && problem.InBounds(end);
-        if (!left_bounds) {
-          left_bounds = !problem.InBounds(end);
-          if (!left_bounds) last_in_bounds = end;
-        }
-      }
-      if (!reached) {
+      Pose last_in_bounds;
+      const std::optional<Pose> end =
+          ShortestPullOut(problem, problem.start, sign * axes[a], reach, probe, deadline, &last_in_bounds);
+      if (!end) {
         if (problem.crop && last_in_bounds.t != problem.start.t) to_crop_edge.push_back(last_in_bounds);
         continue;
       }
-      if (!motion.MotionValid(problem.start, end)) continue;
-      ThrowIfCancelled();  // a pull stopped by a cancel is no answer
-      std::vector<Pose> path = {problem.start, end};
-      PlannerOptions repair = options;
-      repair.time_limit_s =
-          std::max(1.0, std::chrono::duration<double>(deadline - std::chrono::steady_clock::now()).count());
-      if (!CertifyPath(problem, validity, CertificationStep(problem, step), repair, &path, deadline).certified)
+      if (!motion.MotionValid(problem.start, *end)) {
+        blocked.push_back({a, sign, *end});
         continue;
-      result.path = std::move(path);
-      result.status = PlanStatus::kSolved;
-      break;
+      }
+      if (certified({problem.start, *end})) break;
     }
-    if (result.solved()) break;
   }
   // No goal within the bounds along these ways: where S is cropped to D's
   // reach, a pull that is free up to the crop's edge (a pin in a long tube,
@@ -381,10 +408,67 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
     ThrowIfCancelled();
     result.pull_left_crop = motion.MotionValid(problem.start, edge);
   }
+  // Two legs: a pin pulled out of its bore under a bracket, a bolt that
+  // must clear its hole before it slides out from under a flange. Each
+  // blocked pull is walked to where it stops, and from there D is pulled
+  // along every other axis, both ways (ShortestPullOut, as the first legs).
+  // Asked only once no single pull got D out, nor to the crop's edge (a
+  // larger crop comes first); a pull stopped at once gives no second leg.
+  // The walks count work: at most kSecondLegChecks checks in all (a part
+  // sliding along a contact in general position is walked a surface-depth
+  // search per pose), so that sampling keeps its time.
+  const std::int64_t second_legs_from = validity.checks();
+  for (const Blocked& first : blocked) {
+    if (options.pull_legs < 2) break;
+    if (result.solved() || result.pull_left_crop || validity.checks() - second_legs_from >= kSecondLegChecks) break;
+    ThrowIfCancelled();
+    Pose stop;
+    const auto walk_began = std::chrono::steady_clock::now();
+    const std::int64_t walk_checks = validity.checks();
+    const double fraction = motion.ValidPrefix(problem.start, first.end, &stop);
+    LogDebug("straight pulls: pull %zu%c stops after %.4g (%lld checks, %.2f s)", first.axis,
+             first.sign > 0 ? '+' : '-', (stop.t - problem.start.t).norm(),
+             static_cast<long long>(validity.checks() - walk_checks),
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - walk_began).count());
+    // A pull stopped within a step of the start (what a planner's edge of
+    // one step reaches too) took D out of nothing: a panel on its clips
+    // moves a fraction of a mm any way, and a second leg from there is
+    // as blocked as the first (the external set's moulded panels: 18 such
+    // stops, 16 second legs from each, each a surface-depth search).
+    const double walked = (stop.t - problem.start.t).norm();
+    if (fraction <= 0.0 || walked <= step) continue;
+    result.pull_stops.push_back(stop);
+    // And a step short of it, where the pull was not yet in contact with
+    // what stopped it (a tree grown from a contact walks its floor steps).
+    if (walked > 2 * step) {
+      Pose short_of = stop;
+      short_of.t -= (step / walked) * (stop.t - problem.start.t);
+      if (motion.IsValid(short_of)) result.pull_stops.push_back(short_of);
+    }
+    for (std::size_t a = 0; a < axes.size() && !result.solved(); ++a) {
+      if (a == first.axis) continue;
+      for (double sign : {1.0, -1.0}) {
+        if (validity.checks() - second_legs_from >= kSecondLegChecks) break;
+        ThrowIfCancelled();
+        ++result.stats.iterations;
+        const std::optional<Pose> end = ShortestPullOut(problem, stop, sign * axes[a], reach, probe, deadline, nullptr);
+        if (!end) continue;
+        const auto leg_began = std::chrono::steady_clock::now();
+        const std::int64_t leg_checks = validity.checks();
+        const bool free = motion.MotionValid(stop, *end);
+        LogDebug("straight pulls: then %zu%c: %s (%lld checks, %.2f s)", a, sign > 0 ? '+' : '-',
+                 free ? "free" : "blocked", static_cast<long long>(validity.checks() - leg_checks),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - leg_began).count());
+        if (!free) continue;
+        if (certified({problem.start, stop, *end})) break;
+      }
+    }
+  }
   // Pulls stopped by the clock (the safety net) are no answer: the run was
   // cut short (kTimeLimit), which the path artifact records.
   if (!result.solved() && std::chrono::steady_clock::now() >= deadline) result.status = PlanStatus::kTimeLimit;
-  result.stats.nodes = result.solved() ? 2 : 0;
+  if (result.solved()) result.pull_stops.clear();
+  result.stats.nodes = result.solved() ? static_cast<std::int64_t>(result.path.size()) : 0;
   result.stats.collision_checks = validity.checks() - checks;
   result.stats.invalid_checks = validity.invalid_checks() - invalid;
   result.stats.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();

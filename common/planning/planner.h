@@ -47,6 +47,17 @@ struct PlannerOptions {
   // ausbau-plan's collision validity 1 (measured: docs/benchmarks.md, "Exit
   // moves"), every other use 0 (not measured yet with slower validities).
   int exit_axes = 0;
+  // Disassembly: TryStraightPulls' legs. 1: single straight pulls only;
+  // 2: where none is free, two legs, and where the pulls stopped kept for
+  // start_branches (docs/rigid-exact.md, "Two legs, and where the pulls
+  // stopped").
+  int pull_legs = 2;
+  // rrtc, cr-rrtc: poses joined to the start tree's root before sampling,
+  // each reached from the start by a straight motion already walked valid
+  // at `resolution` (PlanResult::pull_stops: D lifted out of a tight bore
+  // up to what stops it, where sampling would need the few poses that
+  // line up with the bore); the path is certified as any other. Empty: none.
+  std::vector<Pose> start_branches;
   // Edge resolution: between two checked poses no vertex of D moves more
   // than this fraction of D's AABB diagonal.
   double resolution = 0.01;
@@ -106,6 +117,10 @@ struct PlanResult {
   // reach: one moved D validly up to the crop's edge without reaching the
   // goal, so a larger crop may let it out.
   bool pull_left_crop = false;
+  // Unsolved straight pulls: where the blocked pulls whose stops were
+  // walked (the two legs') stopped, each valid and reached from the start
+  // by its pull; for PlannerOptions::start_branches.
+  std::vector<Pose> pull_stops;
   bool solved() const { return status == PlanStatus::kSolved; }
 };
 
@@ -182,7 +197,15 @@ std::vector<Eigen::Vector3d> PullAxes(const TriangleMesh& robot, const Eigen::Qu
 // not solved (kIterationLimit), with the checks counted, and where S is
 // cropped and a pull's goal lies beyond the crop, whether that pull is free
 // up to the crop's edge (PlanResult::pull_left_crop; asked only once no
-// pull got D out). Nothing is tried where the problem has a goal pose.
+// pull got D out). Then, where no single pull is free (not even to the
+// crop's edge), two legs: each blocked pull walked to where it stops, and
+// from there a pull along each other axis, both ways (a pin lifted out of
+// its bore under a bracket, then slid out from under it), solved with the
+// three-pose path of the first free one; those walks stop after
+// kSecondLegChecks checks in all, and where first legs stopped more than a
+// step from the start is kept (PlanResult::pull_stops). Nothing is tried
+// where the problem has a goal pose.
+inline constexpr std::int64_t kSecondLegChecks = 1024;
 PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& validity,
                             const PlannerOptions& options);
 

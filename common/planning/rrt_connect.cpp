@@ -42,6 +42,16 @@ class RrtConnect {
       result.path = {problem_.start};
       result.status = PlanStatus::kSolved;
     }
+    // The start's branches (straight pulls' stops, walked valid): the tree
+    // grows from them as from any node.
+    for (const Pose& branch : options_.start_branches) {
+      if (result.solved()) break;
+      const int added = start_tree_.Add(branch, 0);
+      if (!problem_.goal && problem_.InGoalRegion(branch)) {
+        result.path = start_tree_.PathFromRoot(added);
+        result.status = PlanStatus::kSolved;
+      }
+    }
 
     bool grow_start = true;
     std::int64_t iteration = 0;

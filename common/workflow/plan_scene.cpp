@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "collision/farr_checker.h"
 #include "collision/fcl_checker.h"
@@ -14,6 +15,7 @@
 #include "collision/scene_parts.h"
 #include "core/cancel.h"
 #include "core/error.h"
+#include "core/format.h"
 #include "core/log.h"
 #include "geometry/shells.h"
 #include "inistate/inistate_planner.h"
@@ -152,9 +154,14 @@ PlanResult PlanKeepingClearance(
   // clearance is kept there (the straight way out bends nothing).
   const PlanResult pulled = TryStraightPulls(problem, validity, planner);
   if (pulled.solved()) {
-    const Eigen::Vector3d way = pulled.path.back().t - pulled.path.front().t;
-    LogInfo("straight pull: D comes out along [%.4f, %.4f, %.4f] (%.4g %s; %lld checks)", way.normalized().x(),
-            way.normalized().y(), way.normalized().z(), way.norm(), units.c_str(),
+    std::string legs;
+    for (std::size_t i = 1; i < pulled.path.size(); ++i) {
+      const Eigen::Vector3d way = pulled.path[i].t - pulled.path[i - 1].t;
+      if (!(way.norm() > 0)) continue;  // certification may repeat a pose
+      legs += Fmt("%s[%.4f, %.4f, %.4f] (%.4g %s)", legs.empty() ? "" : ", then ", way.normalized().x(),
+                  way.normalized().y(), way.normalized().z(), way.norm(), units.c_str());
+    }
+    LogInfo("straight pull: D comes out along %s; %lld checks", legs.c_str(),
             static_cast<long long>(pulled.stats.collision_checks));
     return pulled;
   }
@@ -183,6 +190,7 @@ PlanResult PlanKeepingClearance(
   // then overrun only by pulls longer than the limit).
   PlannerOptions sampling = planner;
   sampling.time_limit_s = planner.time_limit_s - pulled.stats.time_s;
+  sampling.start_branches = pulled.pull_stops;  // the tree grows from where the pulls stopped, too
   if (!(sampling.time_limit_s > 0)) {
     LogInfo("straight pulls took %.1f s of the time limit of %.1f s: none left for sampling", pulled.stats.time_s,
             planner.time_limit_s);
