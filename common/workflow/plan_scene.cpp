@@ -209,6 +209,7 @@ PlanResult PlanKeepingClearance(
     return with_pulls(plan(validity, sampling));
   }
   PlannerOptions first = sampling;
+  first.start_branches.clear();  // walked under `validity`, not checked for the clearance
   constexpr std::int64_t kFirstTryIterations = 2048;
   first.max_iterations =
       planner.max_iterations > 0 ? std::min(planner.max_iterations, kFirstTryIterations) : kFirstTryIterations;
