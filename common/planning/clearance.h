@@ -113,10 +113,9 @@ class ClearanceMeter {
 // the rigid tolerance are contact, not a clearance to keep) may be replaced
 // by any motion. d = 0 (or no guard) accepts everything. Without the floor,
 // a planned detour kept its shape wherever a shortcut came closer to S than
-// the detour did: a
-// Voron bowden module's M3 screw, whose planned path passes 0.0014 mm from
-// S after leaving its hole, smoothed to 114 mm and 3.5 rad of motion (25.5
-// mm and 0.32 rad without a guard).
+// the detour did: a Voron bowden module's M3 screw, whose planned path
+// passes 0.0014 mm from S after leaving its hole, smoothed to 114 mm and
+// 3.5 rad of motion (25.5 mm and 0.32 rad without a guard).
 class ClearanceGuard : public ReplacementGuard {
  public:
   // `input`: the path to be smoothed (the floor). `contact`: how close

@@ -419,8 +419,9 @@ PlanResult TryStraightPulls(const PlanningProblem& problem, const PoseValidity& 
   // search per pose), so that sampling keeps its time.
   const std::int64_t second_legs_from = validity.checks();
   for (const Blocked& first : blocked) {
-    if (options.pull_legs < 2) break;
-    if (result.solved() || result.pull_left_crop || validity.checks() - second_legs_from >= kSecondLegChecks) break;
+    if (options.pull_legs < 2 || result.solved() || result.pull_left_crop ||
+        validity.checks() - second_legs_from >= kSecondLegChecks)
+      break;
     ThrowIfCancelled();
     Pose stop;
     const auto walk_began = std::chrono::steady_clock::now();
